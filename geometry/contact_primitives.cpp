@@ -1,0 +1,63 @@
+#include "geometry/contact_primitives.hpp"
+
+#include <map>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace cleave::geometry {
+
+ContactPrimitives make_contact_primitives(const PolygonMesh& shape, const Eigen::Vector3d& centroid,
+                                          double dilation_radius) {
+  if (!(dilation_radius >= 0.0)) throw std::invalid_argument("dilation radius must be >= 0");
+  if (!shape.is_closed_and_consistently_oriented()) {
+    throw std::invalid_argument("contact primitives need a closed, consistently oriented mesh");
+  }
+  ContactPrimitives out;
+  out.origin = centroid;
+  out.dilation_radius = dilation_radius;
+  out.vertices.reserve(shape.vertices.size());
+  double reach = 0.0;
+  for (const auto& v : shape.vertices) {
+    out.vertices.push_back(v - centroid);
+    reach = std::max(reach, out.vertices.back().norm());
+  }
+  out.bounding_radius = reach + dilation_radius;
+
+  std::map<std::pair<int, int>, int> edge_of;  // undirected edge -> index in out.edges
+  for (std::size_t f = 0; f < shape.faces.size(); ++f) {
+    const auto& loop = shape.faces[f];
+    ContactFace face;
+    face.vertices = loop;
+    // Newell's method: area vector and area centroid of a planar polygon.
+    Eigen::Vector3d area_vec = Eigen::Vector3d::Zero();
+    Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+    const Eigen::Vector3d& p0 = out.vertices[loop[0]];
+    for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
+      const Eigen::Vector3d& p1 = out.vertices[loop[i]];
+      const Eigen::Vector3d& p2 = out.vertices[loop[i + 1]];
+      const Eigen::Vector3d tri = 0.5 * (p1 - p0).cross(p2 - p0);
+      area_vec += tri;
+      weighted += tri.norm() * (p0 + p1 + p2) / 3.0;
+      out.triangles.push_back(ContactTriangle{{loop[0], loop[i], loop[i + 1]}, static_cast<int>(f)});
+    }
+    face.area = area_vec.norm();
+    face.normal = area_vec / face.area;
+    face.centroid = weighted / face.area;
+    face.offset = face.normal.dot(face.centroid);
+    out.faces.push_back(std::move(face));
+
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const int a = loop[i], b = loop[(i + 1) % loop.size()];
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto [it, fresh] = edge_of.try_emplace(key, static_cast<int>(out.edges.size()));
+      if (fresh) out.edges.push_back(ContactEdge{key.first, key.second, -1, -1});
+      // The face that runs a -> b with a < b is on the edge's left.
+      (a < b ? out.edges[it->second].left_face : out.edges[it->second].right_face) =
+          static_cast<int>(f);
+    }
+  }
+  return out;
+}
+
+}  // namespace cleave::geometry

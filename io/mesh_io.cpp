@@ -1,0 +1,410 @@
+#include "io/mesh_io.hpp"
+
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/material.h>
+#include <assimp/mesh.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <memory>
+#include <random>
+#include <set>
+#include <string_view>
+#include <system_error>
+#include <utility>
+
+// What assimp 5.2 does with the three formats (checked against its exporter/importer sources
+// and by tests/test_mesh_io.cpp):
+//  * STL ("stl", "stlb"): the exporters run aiProcess_PreTransformVertices and then write
+//    every mesh of the scene into one stream: binary STL has a single facet count, ASCII STL
+//    a single "solid AssimpScene" block. Mesh names are lost, and a scene file reads back
+//    as one mesh holding all bodies (disjoint bodies stay disjoint, bodies that touch get
+//    their coincident corners welded). Per-fragment STL files keep the name in the file name.
+//  * OBJ: each mesh is written as a "g <mesh name>" group, polygons are kept as polygons,
+//    and the importer turns each group back into one named mesh with the same polygons.
+//  * assimp is built with single-precision ai_real, so coordinates go through float in
+//    every format (binary STL stores float32 anyway).
+
+namespace cleave::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+using geometry::PolygonMesh;
+
+[[noreturn]] void fail(const fs::path& file, const std::string& what) {
+  throw MeshIoError("mesh file '" + file.string() + "': " + what);
+}
+
+const char* assimp_format_id(MeshFormat f) {
+  switch (f) {
+    case MeshFormat::stl_binary:
+      return "stlb";
+    case MeshFormat::stl_ascii:
+      return "stl";
+    case MeshFormat::obj:
+      return "obj";
+  }
+  throw std::invalid_argument("unknown MeshFormat value " + std::to_string(static_cast<int>(f)));
+}
+
+/// A file name component we are willing to create: non-empty, no separators, not "." or "..".
+bool is_plain_file_name(const std::string& s) {
+  return !s.empty() && s != "." && s != ".." &&
+         s.find_first_of(std::string_view("/\\\0", 3)) == std::string::npos;
+}
+
+/// Checks what assimp would otherwise crash on or silently mangle.
+void check_mesh(const PolygonMesh& mesh, const fs::path& file) {
+  const std::string who = "mesh '" + mesh.name + "'";
+  if (mesh.name.size() >= MAXLEN) fail(file, who + " has a name too long for assimp");
+  if (mesh.vertices.empty() || mesh.faces.empty()) fail(file, who + " has no faces to write");
+  const auto n = static_cast<long long>(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+    const auto& f = mesh.faces[i];
+    if (f.size() < 3) {
+      fail(file, who + " face " + std::to_string(i) + " has " + std::to_string(f.size()) +
+                     " vertices (need at least 3)");
+    }
+    for (int v : f) {
+      if (v < 0 || v >= n) {
+        fail(file, who + " face " + std::to_string(i) + " refers to vertex " +
+                       std::to_string(v) + " of " + std::to_string(n));
+      }
+    }
+  }
+}
+
+/// Unit normal of a planar polygon by Newell's method (zero for a degenerate face).
+aiVector3D face_normal(const PolygonMesh& mesh, const std::vector<int>& face) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < face.size(); ++i) {
+    const Eigen::Vector3d& a = mesh.vertices[face[i]];
+    const Eigen::Vector3d& b = mesh.vertices[face[(i + 1) % face.size()]];
+    n += Eigen::Vector3d((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()),
+                         (a.x() - b.x()) * (a.y() + b.y()));
+  }
+  const double len = n.norm();
+  if (len > 0.0) n /= len;
+  return {static_cast<ai_real>(n.x()), static_cast<ai_real>(n.y()), static_cast<ai_real>(n.z())};
+}
+
+/// The mesh in assimp's "verbose" layout: every face corner has its own vertex, carrying the
+/// face's normal. The exporters then find normals already there and skip generating them:
+/// the STL facet normals are the true face normals, the OBJ gets flat shading, and assimp
+/// 5.2.5 never runs its non-verbose export path (MakeVerboseFormat, then normal generation,
+/// then JoinIdenticalVertices), which crashes on some polygon meshes. The OBJ exporter merges
+/// equal positions again when it writes, so the file still shares its vertices.
+aiMesh* to_ai_mesh(const PolygonMesh& mesh) {
+  std::size_t corners = 0;
+  for (const auto& f : mesh.faces) corners += f.size();
+  auto out = std::make_unique<aiMesh>();
+  out->mName.Set(mesh.name);
+  out->mMaterialIndex = 0;
+  out->mNumVertices = static_cast<unsigned>(corners);
+  out->mVertices = new aiVector3D[corners];
+  out->mNormals = new aiVector3D[corners];
+  out->mNumFaces = static_cast<unsigned>(mesh.faces.size());
+  out->mFaces = new aiFace[mesh.faces.size()];
+  unsigned next = 0;
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+    const auto& f = mesh.faces[i];
+    const aiVector3D normal = face_normal(mesh, f);
+    aiFace& face = out->mFaces[i];
+    face.mNumIndices = static_cast<unsigned>(f.size());
+    face.mIndices = new unsigned[f.size()];
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const Eigen::Vector3d& p = mesh.vertices[f[k]];
+      out->mVertices[next] = aiVector3D(static_cast<ai_real>(p.x()), static_cast<ai_real>(p.y()),
+                                        static_cast<ai_real>(p.z()));
+      out->mNormals[next] = normal;
+      face.mIndices[k] = next++;
+    }
+    out->mPrimitiveTypes |= f.size() == 3 ? aiPrimitiveType_TRIANGLE : aiPrimitiveType_POLYGON;
+  }
+  return out.release();
+}
+
+/// An in-memory scene: one material, a root node, and per mesh a child node named after it
+/// that references it (the OBJ exporter names its groups after the meshes it meets).
+std::unique_ptr<aiScene> build_scene(const std::vector<const PolygonMesh*>& meshes) {
+  auto scene = std::make_unique<aiScene>();
+
+  scene->mNumMaterials = 1;
+  scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  const aiString material_name("cleave_fragment");
+  scene->mMaterials[0]->AddProperty(&material_name, AI_MATKEY_NAME);
+  const aiColor3D grey(0.7f, 0.7f, 0.7f);
+  scene->mMaterials[0]->AddProperty(&grey, 1, AI_MATKEY_COLOR_DIFFUSE);
+
+  const auto n = static_cast<unsigned>(meshes.size());
+  scene->mNumMeshes = n;
+  scene->mMeshes = new aiMesh*[n]();
+  scene->mRootNode = new aiNode("root");
+  scene->mRootNode->mNumChildren = n;
+  scene->mRootNode->mChildren = new aiNode*[n]();
+  for (unsigned i = 0; i < n; ++i) {
+    scene->mMeshes[i] = to_ai_mesh(*meshes[i]);
+    auto* node = new aiNode(meshes[i]->name);
+    scene->mRootNode->mChildren[i] = node;
+    node->mParent = scene->mRootNode;
+    node->mNumMeshes = 1;
+    node->mMeshes = new unsigned[1]{i};
+  }
+  return scene;
+}
+
+/// A fresh, empty directory inside `dir`, removed (with what is left in it) on destruction.
+class StagingDir {
+ public:
+  StagingDir(const fs::path& dir, const fs::path& target) {
+    static std::atomic<unsigned long> counter{0};
+    std::random_device rd;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const fs::path p =
+          dir / (".cleave-tmp-" + std::to_string(rd()) + "-" + std::to_string(++counter));
+      std::error_code ec;
+      if (fs::create_directory(p, ec)) {
+        path_ = p;
+        return;
+      }
+      if (ec) fail(target, "cannot create a temporary directory in '" + dir.string() + "': " +
+                               ec.message());
+    }
+    fail(target, "cannot find a free temporary directory name in '" + dir.string() + "'");
+  }
+  StagingDir(const StagingDir&) = delete;
+  StagingDir& operator=(const StagingDir&) = delete;
+  ~StagingDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+/// Exports `meshes` as one file `dir/file_name`: assimp writes it (and for OBJ its .mtl)
+/// into a staging directory next to the target, then each file is renamed into `dir`,
+/// companions first and the main file last. Returns the final paths, main file first.
+std::vector<fs::path> export_file(const std::vector<const PolygonMesh*>& meshes, const fs::path& dir,
+                                  const std::string& file_name, MeshFormat format) {
+  const fs::path target = dir / file_name;
+  const bool stl = format != MeshFormat::obj;
+  std::vector<PolygonMesh> triangulated;
+  std::vector<const PolygonMesh*> to_write;
+  for (const PolygonMesh* m : meshes) {
+    check_mesh(*m, target);
+    if (stl) triangulated.push_back(m->triangulated());
+  }
+  if (stl) {
+    for (const PolygonMesh& m : triangulated) to_write.push_back(&m);
+  } else {
+    to_write = meshes;
+  }
+  const std::unique_ptr<aiScene> scene = build_scene(to_write);
+
+  const StagingDir staging(dir, target);
+  const fs::path staged = staging.path() / file_name;
+  Assimp::Exporter exporter;
+  aiReturn rc = aiReturn_FAILURE;
+  try {
+    rc = exporter.Export(scene.get(), assimp_format_id(format), staged.string());
+  } catch (const std::exception& e) {
+    fail(target, std::string("assimp export threw: ") + e.what());
+  }
+  if (rc != aiReturn_SUCCESS) fail(target, std::string("assimp export failed: ") +
+                                               exporter.GetErrorString());
+
+  std::error_code ec;
+  if (!fs::is_regular_file(staged, ec)) fail(target, "assimp reported success but wrote nothing");
+  std::vector<fs::path> companions;
+  for (const auto& entry : fs::directory_iterator(staging.path(), ec)) {
+    if (entry.path().filename() != staged.filename()) companions.push_back(entry.path());
+  }
+  if (ec) fail(target, "cannot list the temporary directory: " + ec.message());
+  std::sort(companions.begin(), companions.end());
+
+  std::vector<fs::path> written{target};
+  for (const fs::path& p : companions) {
+    const fs::path final_path = dir / p.filename();
+    fs::rename(p, final_path, ec);
+    if (ec) fail(final_path, "cannot rename the finished temporary file: " + ec.message());
+    written.push_back(final_path);
+  }
+  fs::rename(staged, target, ec);
+  if (ec) fail(target, "cannot rename the finished temporary file: " + ec.message());
+  return written;
+}
+
+/// Name of the first node (depth first) that references mesh `index`, or "".
+std::string node_name_for_mesh(const aiNode* node, unsigned index) {
+  if (node == nullptr) return {};
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    if (node->mMeshes[i] == index) return {node->mName.C_Str(), node->mName.length};
+  }
+  for (unsigned i = 0; i < node->mNumChildren; ++i) {
+    std::string s = node_name_for_mesh(node->mChildren[i], index);
+    if (!s.empty()) return s;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string to_string(MeshFormat f) {
+  switch (f) {
+    case MeshFormat::stl_binary:
+      return "stl";
+    case MeshFormat::stl_ascii:
+      return "stl_ascii";
+    case MeshFormat::obj:
+      return "obj";
+  }
+  throw std::invalid_argument("unknown MeshFormat value " + std::to_string(static_cast<int>(f)));
+}
+
+std::string to_string(MeshLayout l) {
+  switch (l) {
+    case MeshLayout::scene:
+      return "scene";
+    case MeshLayout::per_fragment:
+      return "per_fragment";
+  }
+  throw std::invalid_argument("unknown MeshLayout value " + std::to_string(static_cast<int>(l)));
+}
+
+MeshFormat parse_mesh_format(const std::string& s) {
+  if (s == "stl") return MeshFormat::stl_binary;
+  if (s == "stl_ascii") return MeshFormat::stl_ascii;
+  if (s == "obj") return MeshFormat::obj;
+  throw std::invalid_argument("unknown mesh format '" + s +
+                              "' (accepted: \"stl\", \"stl_ascii\", \"obj\")");
+}
+
+MeshLayout parse_mesh_layout(const std::string& s) {
+  if (s == "scene") return MeshLayout::scene;
+  if (s == "per_fragment") return MeshLayout::per_fragment;
+  throw std::invalid_argument("unknown mesh layout '" + s +
+                              "' (accepted: \"scene\", \"per_fragment\")");
+}
+
+std::string extension(MeshFormat f) {
+  switch (f) {
+    case MeshFormat::stl_binary:
+    case MeshFormat::stl_ascii:
+      return ".stl";
+    case MeshFormat::obj:
+      return ".obj";
+  }
+  throw std::invalid_argument("unknown MeshFormat value " + std::to_string(static_cast<int>(f)));
+}
+
+std::vector<fs::path> write_meshes(const std::vector<PolygonMesh>& meshes, const fs::path& dir,
+                                   const std::string& stem, MeshFormat format,
+                                   MeshLayout layout) {
+  const std::string ext = extension(format);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) fail(dir, "cannot create the output directory: " + ec.message());
+
+  std::vector<fs::path> written;
+  if (layout == MeshLayout::scene) {
+    if (!is_plain_file_name(stem)) fail(dir / (stem + ext), "the stem is not a plain file name");
+    if (meshes.empty()) fail(dir / (stem + ext), "no meshes to write");
+    std::vector<const PolygonMesh*> all;
+    for (const PolygonMesh& m : meshes) all.push_back(&m);
+    return export_file(all, dir, stem + ext, format);
+  }
+
+  std::set<std::string> seen;
+  for (const PolygonMesh& m : meshes) {
+    const fs::path target = dir / (m.name + ext);
+    if (!is_plain_file_name(m.name)) {
+      fail(target, "mesh name '" + m.name + "' is not a plain file name");
+    }
+    if (!seen.insert(m.name).second) fail(target, "two meshes are named '" + m.name + "'");
+  }
+  for (const PolygonMesh& m : meshes) {
+    std::vector<fs::path> files = export_file({&m}, dir, m.name + ext, format);
+    written.insert(written.end(), files.begin(), files.end());
+  }
+  return written;
+}
+
+std::vector<PolygonMesh> read_meshes(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) fail(file, "no such file");
+  if (!fs::is_regular_file(file, ec)) fail(file, "not a regular file");
+
+  Assimp::Importer importer;
+  // Only positions matter. STL facet normals (and OBJ normals, UVs) would keep corners that
+  // share a position apart in aiProcess_JoinIdenticalVertices, so drop them first.
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                  aiComponent_COLORS | aiComponent_TEXCOORDS);
+  const unsigned flags =
+      aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+  const aiScene* scene = nullptr;
+  try {
+    scene = importer.ReadFile(file.string(), flags);
+  } catch (const std::exception& e) {
+    fail(file, std::string("assimp import threw: ") + e.what());
+  }
+  if (scene == nullptr) fail(file, std::string("assimp cannot read it: ") +
+                                       importer.GetErrorString());
+  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
+    fail(file, "assimp read it only partially (scene flagged incomplete)");
+  }
+  if (scene->mNumMeshes == 0 || scene->mMeshes == nullptr) fail(file, "it holds no mesh");
+
+  std::vector<PolygonMesh> out;
+  out.reserve(scene->mNumMeshes);
+  for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
+    const aiMesh* m = scene->mMeshes[mi];
+    const std::string which = "mesh " + std::to_string(mi);
+    if (m == nullptr || m->mNumFaces == 0 || m->mNumVertices == 0 || m->mVertices == nullptr ||
+        m->mFaces == nullptr) {
+      fail(file, which + " has no faces");
+    }
+    PolygonMesh pm;
+    pm.name.assign(m->mName.C_Str(), m->mName.length);
+    if (pm.name.empty()) pm.name = node_name_for_mesh(scene->mRootNode, mi);
+    if (pm.name.empty()) {
+      pm.name = file.stem().string();
+      if (scene->mNumMeshes > 1) pm.name += "_" + std::to_string(mi);
+    }
+    pm.vertices.reserve(m->mNumVertices);
+    for (unsigned v = 0; v < m->mNumVertices; ++v) {
+      const aiVector3D& p = m->mVertices[v];
+      pm.vertices.emplace_back(p.x, p.y, p.z);
+    }
+    pm.faces.reserve(m->mNumFaces);
+    for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
+      const aiFace& f = m->mFaces[fi];
+      if (f.mNumIndices < 3 || f.mIndices == nullptr) {
+        fail(file, which + " face " + std::to_string(fi) + " has " +
+                       std::to_string(f.mNumIndices) + " vertices (points and lines are not "
+                       "surfaces)");
+      }
+      std::vector<int> face(f.mIndices, f.mIndices + f.mNumIndices);
+      for (int v : face) {
+        if (v < 0 || static_cast<unsigned>(v) >= m->mNumVertices) {
+          fail(file, which + " face " + std::to_string(fi) + " refers to a missing vertex");
+        }
+      }
+      pm.faces.push_back(std::move(face));
+    }
+    out.push_back(std::move(pm));
+  }
+  return out;
+}
+
+}  // namespace cleave::io

@@ -1,0 +1,639 @@
+/// \file
+/// Scenario files: TOML read with toml++ and checked key by key.
+///
+/// File format (scenarios/reference.toml is the same, as a commented example):
+///
+///   [scenario]                 # optional table
+///   name = "demo"              # optional, default: the file stem (or the source name's stem)
+///   description = "..."        # optional
+///   length_unit = "mm"         # optional, "m" | "mm" | "um" (default "mm"); every length
+///                              # below is in this unit and is converted to metres
+///
+///   [specimen]                 # required table
+///   shape = "box"              # required: "box" | "disc" | "beam"
+///   size = [12.0, 12.0, 4.0]   # box only, required: a, b, c (3 numbers > 0)
+///   diameter = 15.0            # disc only, required (> 0)
+///   thickness = 5.0            # disc and beam, required (> 0)
+///   length = 20.0              # beam only, required (> 0)
+///   height = 5.0               # beam only, required (> 0)
+///   notch_width = 0.0          # beam only, optional (>= 0, < length), default 0
+///   notch_depth = 0.0          # beam only, optional (>= 0, < height), default 0;
+///                              # width and depth are both 0 or both > 0
+///   keep = "cell_inside"       # optional: "cell_inside" | "centre_inside"
+///
+///   [grain]                    # required table
+///   r = 1.0                    # required: lattice side length (> 0)
+///   r_bar = 0.9                # optional: grain side length, 0 < r_bar <= r, default r
+///   t = 1.0                    # required: lattice layer pitch (> 0)
+///   t_bar = 1.0                # optional: grain thickness, 0 < t_bar <= t, default t
+///
+///   [orientation]              # optional table
+///   seed = 42                  # optional: integer >= 0, default 1
+///   family_mix = 0.5           # optional: probability of the <11-20> family, in [0, 1],
+///                              # default 0.5
+///   angles = [0, 60, 120]      # optional: non-empty, each 0, 60 or 120, no duplicates,
+///                              # default [0, 60, 120]
+///
+///   [split]                    # optional table
+///   min_fragment_fraction = 0.01   # optional: in [0, 0.5), default 0.01
+///
+///   [output]                   # optional table
+///   mesh_format = "stl"        # optional: "stl" (binary) | "stl_ascii" | "obj", default "stl"
+///   mesh_layout = "scene"      # optional: "scene" | "per_fragment", default "scene"
+///
+/// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
+/// Tables other than these, keys other than these, and keys of another shape (`diameter` in a
+/// box) are errors. Every error is a ScenarioError reading
+/// "FILE:LINE:COL: key 'table.key': message", positioned at the offending value (an unknown
+/// key at its name, a missing key at its table's header, a missing table at 1:1). An error
+/// without a position in the file (a file that cannot be read) reads "FILE: message"; one that
+/// concerns no key (a TOML syntax error) leaves out the "key '...': " part.
+
+#include "io/scenario.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace cleave::io {
+
+namespace {
+
+using geometry::KeepRule;
+using geometry::Outline;
+
+std::string format_error(const std::string& file, int line, int column, const std::string& key,
+                         const std::string& message) {
+  std::string out = file;
+  if (line > 0) out += fmt::format(":{}:{}", line, column);
+  out += ": ";
+  if (!key.empty()) out += fmt::format("key '{}': ", key);
+  out += message;
+  return out;
+}
+
+int line_of(const toml::source_region& where) {
+  return static_cast<int>(where.begin.line);
+}
+int column_of(const toml::source_region& where) {
+  return static_cast<int>(where.begin.column);
+}
+
+/// Where a key of a table is written: its name when toml++ recorded it, else its value.
+const toml::source_region& key_source(const toml::key& key, const toml::node& value) {
+  return key.source().begin.line > 0 ? key.source() : value.source();
+}
+
+bool before(const toml::source_region& a, const toml::source_region& b) {
+  return std::pair(a.begin.line, a.begin.column) < std::pair(b.begin.line, b.begin.column);
+}
+
+/// "a string", "an integer", ... for "expected X, found Y" messages.
+std::string_view type_name(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "nothing";
+  }
+}
+
+/// "'a', 'b', 'c'"
+template <class Range>
+std::string quoted_list(const Range& names) {
+  std::string out;
+  for (const auto& name : names) {
+    if (!out.empty()) out += ", ";
+    out += fmt::format("'{}'", name);
+  }
+  return out;
+}
+
+bool contains(std::span<const std::string_view> names, std::string_view name) {
+  for (std::string_view n : names) {
+    if (n == name) return true;
+  }
+  return false;
+}
+
+/// A key of a table and its value.
+struct Entry {
+  const toml::key* key = nullptr;
+  const toml::node* node = nullptr;
+
+  [[nodiscard]] const toml::source_region& where() const { return key_source(*key, *node); }
+};
+
+/// The entry of `table` written first in the file among those satisfying `pred(key, node)`;
+/// an empty Entry when there is none.
+template <class Pred>
+Entry first_in_file(const toml::table& table, Pred pred) {
+  Entry found;
+  for (const auto& [key, node] : table) {
+    if (!pred(key.str(), node)) continue;
+    if (found.key == nullptr || before(key_source(key, node), found.where())) found = {&key, &node};
+  }
+  return found;
+}
+
+/// An interval a number must lie in.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;
+  bool hi_open = false;
+
+  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, true}; }
+  static Range non_negative() {
+    return {0.0, std::numeric_limits<double>::infinity(), false, true};
+  }
+
+  [[nodiscard]] bool holds(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  /// "> 0", ">= 0" or "in [0, 0.5)"
+  [[nodiscard]] std::string describe() const {
+    if (std::isinf(hi)) return fmt::format("{} {}", lo_open ? ">" : ">=", lo);
+    return fmt::format("in {}{}, {}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
+  }
+};
+
+/// A number read from the file (in the file's units), with the node it came from for
+/// follow-up checks. `node` is null when the key was absent and `value` is its default.
+struct Number {
+  double value = 0.0;
+  const toml::node* node = nullptr;
+};
+
+/// One accepted spelling of an enumerated value.
+template <class T>
+struct Choice {
+  std::string name;
+  T value;
+};
+
+/// Reads the keys of one table, naming the file, position and "table.key" in every error.
+/// A reader of an absent optional table finds no keys, so every value takes its default.
+class TableReader {
+ public:
+  TableReader(const std::string& source, std::string name, const toml::table* table)
+      : source_(source), name_(std::move(name)), table_(table) {}
+
+  [[nodiscard]] const toml::table* table() const { return table_; }
+
+  [[noreturn]] void fail(const toml::source_region& where, std::string_view key,
+                         const std::string& message) const {
+    throw ScenarioError(source_, line_of(where), column_of(where), name_ + "." + std::string(key),
+                        message);
+  }
+  [[noreturn]] void fail(const toml::node& node, std::string_view key,
+                         const std::string& message) const {
+    fail(node.source(), key, message);
+  }
+  /// An error about a key that is not there: positioned at the table's header.
+  [[noreturn]] void fail_absent(std::string_view key, const std::string& message) const {
+    if (table_ != nullptr) fail(table_->source(), key, message);
+    throw ScenarioError(source_, 1, 1, name_ + "." + std::string(key), message);
+  }
+
+  /// Rejects the first key (in file order) not among `accepted`, listing the accepted keys.
+  void reject_unknown(std::span<const std::string_view> accepted) const {
+    if (table_ == nullptr) return;
+    const Entry bad = first_in_file(
+        *table_, [&](std::string_view key, const toml::node&) { return !contains(accepted, key); });
+    if (bad.key == nullptr) return;
+    fail(bad.where(), bad.key->str(),
+         fmt::format("unknown key in [{}]; accepted keys: {}", name_, quoted_list(accepted)));
+  }
+
+  [[nodiscard]] const toml::node* find(std::string_view key) const {
+    return table_ != nullptr ? table_->get(key) : nullptr;
+  }
+
+  /// The number at `key` (an integer or a float), finite and within `range`. Absent: the
+  /// fallback, or an error when there is none.
+  [[nodiscard]] Number number(std::string_view key, const Range& range,
+                              std::optional<double> fallback = std::nullopt) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) {
+      if (!fallback) fail_absent(key, "missing required key");
+      return {*fallback, nullptr};
+    }
+    return {checked_number(*node, key, range, ""), node};
+  }
+
+  /// A number element or value: type, finiteness and range, `what` prefixing the message.
+  [[nodiscard]] double checked_number(const toml::node& node, std::string_view key,
+                                      const Range& range, const std::string& what) const {
+    double value = 0.0;
+    if (const auto* i = node.as_integer()) {
+      value = static_cast<double>(i->get());
+    } else if (const auto* f = node.as_floating_point()) {
+      value = f->get();
+    } else {
+      fail(node, key,
+           fmt::format("{}expected a number (integer or float), found {}", what, type_name(node)));
+    }
+    if (!std::isfinite(value)) {
+      fail(node, key, fmt::format("{}expected a finite number, found {}", what, value));
+    }
+    if (!range.holds(value)) {
+      fail(node, key, fmt::format("{}must be {}, found {}", what, range.describe(), value));
+    }
+    return value;
+  }
+
+  /// An array of exactly `count` numbers, each within `range`.
+  [[nodiscard]] std::vector<double> numbers(std::string_view key, std::size_t count,
+                                            const Range& range) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) fail_absent(key, "missing required key");
+    const auto* array = node->as_array();
+    if (array == nullptr) {
+      fail(*node, key,
+           fmt::format("expected an array of {} numbers, found {}", count, type_name(*node)));
+    }
+    if (array->size() != count) {
+      fail(*node, key,
+           fmt::format("expected an array of {} numbers, found {} elements", count, array->size()));
+    }
+    std::vector<double> values;
+    for (std::size_t i = 0; i < count; ++i) {
+      values.push_back(
+          checked_number(*array->get(i), key, range, fmt::format("element {}: ", i + 1)));
+    }
+    return values;
+  }
+
+  /// The integer at `key`, at least `min`; absent: `fallback`.
+  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t min,
+                                     std::int64_t fallback) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return fallback;
+    const auto* i = node->as_integer();
+    if (i == nullptr) {
+      fail(*node, key, fmt::format("expected an integer, found {}", type_name(*node)));
+    }
+    if (i->get() < min) {
+      fail(*node, key, fmt::format("must be >= {}, found {}", min, i->get()));
+    }
+    return i->get();
+  }
+
+  /// The string at `key`; absent: `fallback`, or an error when there is none.
+  [[nodiscard]] std::string string(std::string_view key,
+                                   std::optional<std::string> fallback = std::nullopt) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) {
+      if (!fallback) fail_absent(key, "missing required key");
+      return *fallback;
+    }
+    const auto* s = node->as_string();
+    if (s == nullptr) {
+      fail(*node, key, fmt::format("expected a string, found {}", type_name(*node)));
+    }
+    return s->get();
+  }
+
+  /// The string at `key` looked up among `choices`; absent: `fallback`, or an error when
+  /// there is none. Unknown spellings are errors listing the accepted ones.
+  template <class T>
+  [[nodiscard]] T choose(std::string_view key, const std::vector<Choice<T>>& choices,
+                         std::optional<T> fallback = std::nullopt) const {
+    const toml::node* node = find(key);
+    if (node == nullptr && fallback) return *fallback;
+    const std::string text = string(key);
+    for (const auto& choice : choices) {
+      if (choice.name == text) return choice.value;
+    }
+    std::vector<std::string> names;
+    for (const auto& choice : choices) names.push_back(choice.name);
+    fail(*node, key, fmt::format("unknown value '{}'; accepted: {}", text, quoted_list(names)));
+  }
+
+ private:
+  const std::string& source_;
+  std::string name_;
+  const toml::table* table_;
+};
+
+// ---- [scenario] ---------------------------------------------------------------------------
+
+constexpr std::string_view kScenarioKeys[] = {"name", "description", "length_unit"};
+
+/// A length unit of the file and its size in metres.
+struct Unit {
+  std::string_view name;
+  double metres;
+};
+constexpr Unit kUnits[] = {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}};
+constexpr const Unit* kDefaultUnit = &kUnits[1];
+
+void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
+  t.reject_unknown(kScenarioKeys);
+  std::string default_name = std::filesystem::path(s.source).stem().string();
+  if (default_name.empty()) default_name = s.source;
+  s.name = t.string("name", default_name);
+  if (s.name.empty()) t.fail(*t.find("name"), "name", "must not be empty");
+  s.description = t.string("description", "");
+  std::vector<Choice<const Unit*>> units;
+  for (const Unit& u : kUnits) units.push_back({std::string(u.name), &u});
+  const Unit& chosen = *t.choose("length_unit", units, std::optional(kDefaultUnit));
+  s.length_unit = chosen.name;
+  unit = chosen.metres;
+}
+
+// ---- [specimen] ---------------------------------------------------------------------------
+
+constexpr std::string_view kSpecimenKeys[] = {"shape",       "size",        "diameter",
+                                              "thickness",   "length",      "height",
+                                              "notch_width", "notch_depth", "keep"};
+constexpr std::string_view kCommonSpecimenKeys[] = {"shape", "keep"};
+constexpr std::string_view kBoxKeys[] = {"size"};
+constexpr std::string_view kDiscKeys[] = {"diameter", "thickness"};
+constexpr std::string_view kBeamKeys[] = {"length", "height", "thickness", "notch_width",
+                                          "notch_depth"};
+
+/// A specimen shape: its name, the keys only it takes, and how it reads its outline from them.
+struct ShapeSpec {
+  std::string_view name;
+  std::span<const std::string_view> keys;
+  Outline (*read)(const TableReader& t, double unit);
+};
+
+Outline read_box(const TableReader& t, double unit) {
+  const std::vector<double> size = t.numbers("size", 3, Range::positive());
+  return Outline::box(size[0] * unit, size[1] * unit, size[2] * unit);
+}
+
+Outline read_disc(const TableReader& t, double unit) {
+  const Number diameter = t.number("diameter", Range::positive());
+  const Number thickness = t.number("thickness", Range::positive());
+  return Outline::disc(diameter.value * unit, thickness.value * unit);
+}
+
+Outline read_beam(const TableReader& t, double unit) {
+  const Number length = t.number("length", Range::positive());
+  const Number height = t.number("height", Range::positive());
+  const Number thickness = t.number("thickness", Range::positive());
+  const Number width = t.number("notch_width", Range::non_negative(), 0.0);
+  const Number depth = t.number("notch_depth", Range::non_negative(), 0.0);
+  if (width.node != nullptr && width.value >= length.value) {
+    t.fail(*width.node, "notch_width",
+           fmt::format("must be < specimen.length = {}, found {}", length.value, width.value));
+  }
+  if (depth.node != nullptr && depth.value >= height.value) {
+    t.fail(*depth.node, "notch_depth",
+           fmt::format("must be < specimen.height = {}, found {}", height.value, depth.value));
+  }
+  // A notch needs both a width and a depth: blame the one that is zero (or absent).
+  const std::pair<const Number*, std::string_view> sides[] = {{&width, "notch_width"},
+                                                              {&depth, "notch_depth"}};
+  for (int i = 0; i < 2; ++i) {
+    const auto& [self, key] = sides[i];
+    const auto& [other, other_key] = sides[1 - i];
+    if (self->value > 0.0 || other->value == 0.0) continue;
+    const std::string message = fmt::format(
+        "must be > 0 when specimen.{} > 0 (a notch needs both a width and a depth)", other_key);
+    if (self->node != nullptr) t.fail(*self->node, key, message);
+    t.fail_absent(key, message);
+  }
+  return Outline::beam(length.value * unit, height.value * unit, thickness.value * unit,
+                       width.value * unit, depth.value * unit);
+}
+
+constexpr ShapeSpec kShapes[] = {
+    {"box", kBoxKeys, &read_box},
+    {"disc", kDiscKeys, &read_disc},
+    {"beam", kBeamKeys, &read_beam},
+};
+
+void read_specimen_table(const TableReader& t, double unit, geometry::SpecimenDef& def) {
+  t.reject_unknown(kSpecimenKeys);
+  std::vector<Choice<const ShapeSpec*>> shapes;
+  for (const ShapeSpec& spec : kShapes) shapes.push_back({std::string(spec.name), &spec});
+  const ShapeSpec& shape = *t.choose("shape", shapes);
+
+  const Entry foreign = first_in_file(*t.table(), [&](std::string_view key, const toml::node&) {
+    return !contains(kCommonSpecimenKeys, key) && !contains(shape.keys, key);
+  });
+  if (foreign.key != nullptr) {
+    const std::string key(foreign.key->str());
+    std::vector<std::string_view> owners;
+    for (const ShapeSpec& spec : kShapes) {
+      if (contains(spec.keys, key)) owners.push_back(spec.name);
+    }
+    std::vector<std::string_view> takes(std::begin(kCommonSpecimenKeys),
+                                        std::end(kCommonSpecimenKeys));
+    takes.insert(takes.end(), shape.keys.begin(), shape.keys.end());
+    t.fail(foreign.where(), key,
+           fmt::format("does not apply to shape '{}' (only to {}); a {} takes {}", shape.name,
+                       quoted_list(owners), shape.name, quoted_list(takes)));
+  }
+
+  def.outline = shape.read(t, unit);
+  const std::vector<Choice<KeepRule>> rules = {{"cell_inside", KeepRule::cell_inside},
+                                               {"centre_inside", KeepRule::centre_inside}};
+  def.keep = t.choose("keep", rules, std::optional(KeepRule::cell_inside));
+}
+
+// ---- [grain] ------------------------------------------------------------------------------
+
+constexpr std::string_view kGrainKeys[] = {"r", "r_bar", "t", "t_bar"};
+
+/// A lattice length and the grain length within it (`bar`, default: the lattice length).
+std::pair<double, double> read_pitch(const TableReader& t, std::string_view key,
+                                     std::string_view bar_key, double unit) {
+  const Number full = t.number(key, Range::positive());
+  const Number bar = t.number(bar_key, Range::positive(), full.value);
+  if (bar.value > full.value) {
+    t.fail(*bar.node, bar_key,
+           fmt::format("must not exceed grain.{} = {}, found {}", key, full.value, bar.value));
+  }
+  return {full.value * unit, bar.value * unit};
+}
+
+void read_grain_table(const TableReader& t, double unit, geometry::SpecimenDef& def) {
+  t.reject_unknown(kGrainKeys);
+  std::tie(def.r, def.r_bar) = read_pitch(t, "r", "r_bar", unit);
+  std::tie(def.t, def.t_bar) = read_pitch(t, "t", "t_bar", unit);
+}
+
+// ---- [orientation] ------------------------------------------------------------------------
+
+constexpr std::string_view kOrientationKeys[] = {"seed", "family_mix", "angles"};
+constexpr int kAngles[] = {0, 60, 120};
+
+std::vector<int> read_angles(const TableReader& t) {
+  const toml::node* node = t.find("angles");
+  if (node == nullptr) return {std::begin(kAngles), std::end(kAngles)};
+  const auto* array = node->as_array();
+  if (array == nullptr) {
+    t.fail(*node, "angles",
+           fmt::format("expected an array of angles (0, 60, 120), found {}", type_name(*node)));
+  }
+  if (array->empty()) t.fail(*node, "angles", "must not be empty; give some of 0, 60, 120");
+  std::vector<int> angles;
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& element = *array->get(i);
+    const auto* value = element.as_integer();
+    if (value == nullptr) {
+      t.fail(element, "angles",
+             fmt::format("element {}: expected an integer angle, found {}", i + 1,
+                         type_name(element)));
+    }
+    const std::int64_t angle = value->get();
+    if (angle != 0 && angle != 60 && angle != 120) {
+      t.fail(element, "angles",
+             fmt::format("element {}: angle {} is not one of 0, 60, 120", i + 1, angle));
+    }
+    for (int seen : angles) {
+      if (seen == angle) {
+        t.fail(element, "angles", fmt::format("element {}: angle {} is repeated", i + 1, angle));
+      }
+    }
+    angles.push_back(static_cast<int>(angle));
+  }
+  return angles;
+}
+
+void read_orientation_table(const TableReader& t, geometry::SpecimenDef& def) {
+  t.reject_unknown(kOrientationKeys);
+  def.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
+  def.family_mix = t.number("family_mix", {.lo = 0.0, .hi = 1.0}, 0.5).value;
+  def.angles = read_angles(t);
+}
+
+// ---- [split], [output] --------------------------------------------------------------------
+
+constexpr std::string_view kSplitKeys[] = {"min_fragment_fraction"};
+
+void read_split_table(const TableReader& t, SplitDef& split) {
+  t.reject_unknown(kSplitKeys);
+  split.min_fragment_fraction =
+      t.number("min_fragment_fraction", {.lo = 0.0, .hi = 0.5, .hi_open = true},
+               SplitDef{}.min_fragment_fraction)
+          .value;
+}
+
+constexpr std::string_view kOutputKeys[] = {"mesh_format", "mesh_layout"};
+
+void read_output_table(const TableReader& t, OutputDef& output) {
+  t.reject_unknown(kOutputKeys);
+  std::vector<Choice<MeshFormat>> formats;
+  for (MeshFormat f : {MeshFormat::stl_binary, MeshFormat::stl_ascii, MeshFormat::obj}) {
+    formats.push_back({to_string(f), f});
+  }
+  std::vector<Choice<MeshLayout>> layouts;
+  for (MeshLayout l : {MeshLayout::scene, MeshLayout::per_fragment}) {
+    layouts.push_back({to_string(l), l});
+  }
+  output.mesh_format = t.choose("mesh_format", formats, std::optional(OutputDef{}.mesh_format));
+  output.mesh_layout = t.choose("mesh_layout", layouts, std::optional(OutputDef{}.mesh_layout));
+}
+
+// ---- the file -----------------------------------------------------------------------------
+
+constexpr std::string_view kTables[] = {"scenario",    "specimen", "grain",
+                                        "orientation", "split",    "output"};
+constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
+
+}  // namespace
+
+ScenarioError::ScenarioError(std::string file, int line, int column, std::string key,
+                             std::string message)
+    : std::runtime_error(format_error(file, line, column, key, message)),
+      file_(std::move(file)),
+      line_(line),
+      column_(column),
+      key_(std::move(key)) {}
+
+Scenario parse_scenario(std::string_view text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    throw ScenarioError(source, line_of(e.source()), column_of(e.source()), "",
+                        fmt::format("TOML syntax error: {}", e.description()));
+  }
+
+  const Entry unknown = first_in_file(
+      root, [](std::string_view key, const toml::node&) { return !contains(kTables, key); });
+  if (unknown.key != nullptr) {
+    throw ScenarioError(
+        source, line_of(unknown.where()), column_of(unknown.where()),
+        std::string(unknown.key->str()),
+        fmt::format("unknown table; a scenario holds the tables {}", quoted_list(kTables)));
+  }
+  for (std::string_view name : kTables) {
+    const toml::node* node = root.get(name);
+    if (node != nullptr && !node->is_table()) {
+      throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
+                          std::string(name),
+                          fmt::format("expected a table, found {}", type_name(*node)));
+    }
+    if (node == nullptr && contains(kRequiredTables, name)) {
+      throw ScenarioError(source, 1, 1, std::string(name),
+                          fmt::format("missing required table [{}]", name));
+    }
+  }
+  const auto reader = [&](std::string_view name) {
+    return TableReader(source, std::string(name), root.get_as<toml::table>(name));
+  };
+
+  Scenario s;
+  s.source = source;
+  double unit = kDefaultUnit->metres;
+  read_scenario_table(reader("scenario"), s, unit);
+  read_specimen_table(reader("specimen"), unit, s.specimen);
+  read_grain_table(reader("grain"), unit, s.specimen);
+  read_orientation_table(reader("orientation"), s.specimen);
+  read_split_table(reader("split"), s.split);
+  read_output_table(reader("output"), s.output);
+  return s;
+}
+
+Scenario load_scenario(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) {
+    throw ScenarioError(name, 0, 0, "", "file does not exist");
+  }
+  if (std::filesystem::is_directory(status)) {
+    throw ScenarioError(name, 0, 0, "", "cannot be read: it is a directory");
+  }
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in) throw ScenarioError(name, 0, 0, "", "file cannot be read");
+  return parse_scenario(text.str(), name);
+}
+
+}  // namespace cleave::io

@@ -1,0 +1,488 @@
+// Scenario files: valid files of each shape, and one test per class of bad input, each checking
+// the exception type, the line and the key the error names.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/scenario.hpp"
+
+namespace cleave::io {
+namespace {
+
+namespace fs = std::filesystem;
+using geometry::KeepRule;
+using geometry::Outline;
+
+constexpr double kTol = 1e-15;
+/// A valid [grain] table, appended to texts whose error lies before it.
+const std::string kGrain = "[grain]\nr = 1\nt = 1\n";
+/// A valid file of 6 lines; errors in tables appended to it are on line 7 or later.
+const std::string kBase = "[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n" + kGrain;
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+/// Parses `text` (named "mem.toml") and checks that it throws a ScenarioError at `line`
+/// naming `key`, whose message holds `part`.
+void check_error(std::string_view text, int line, const std::string& key, const std::string& part) {
+  try {
+    (void)parse_scenario(text, "mem.toml");
+    ADD_FAILURE() << "no ScenarioError for:\n" << text;
+  } catch (const ScenarioError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.file(), "mem.toml") << what;
+    EXPECT_EQ(e.line(), line) << what;
+    EXPECT_EQ(e.key(), key) << what;
+    EXPECT_TRUE(has(what, "mem.toml:" + std::to_string(line) + ":")) << what;
+    if (!key.empty()) {
+      EXPECT_TRUE(has(what, "key '" + key + "': ")) << what;
+    }
+    EXPECT_TRUE(has(what, part)) << what << "\n  lacks: " << part;
+  }
+}
+
+#define EXPECT_SCENARIO_ERROR(text, line, key, part) \
+  do {                                               \
+    SCOPED_TRACE(key);                               \
+    check_error(text, line, key, part);              \
+  } while (false)
+
+/// A scratch folder under the system temp directory, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("cleave_test_scenario_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// ---- valid files ------------------------------------------------------------------------
+
+TEST(Scenario, BoxWithDefaults) {
+  const Scenario s = parse_scenario(R"([specimen]
+shape = "box"
+size = [12, 10.5, 4]
+
+[grain]
+r = 1
+t = 1.3
+)",
+                                    "scenarios/mem.toml");
+  EXPECT_EQ(s.source, "scenarios/mem.toml");
+  EXPECT_EQ(s.name, "mem");
+  EXPECT_EQ(s.description, "");
+  EXPECT_EQ(s.length_unit, "mm");
+  const auto& d = s.specimen;
+  EXPECT_EQ(d.outline.kind, Outline::Kind::box);
+  EXPECT_NEAR(d.outline.size.x(), 12e-3, kTol);
+  EXPECT_NEAR(d.outline.size.y(), 10.5e-3, kTol);
+  EXPECT_NEAR(d.outline.size.z(), 4e-3, kTol);
+  EXPECT_EQ(d.outline.notch_width, 0.0);
+  EXPECT_EQ(d.outline.notch_depth, 0.0);
+  EXPECT_EQ(d.keep, KeepRule::cell_inside);
+  EXPECT_NEAR(d.r, 1e-3, kTol);
+  EXPECT_EQ(d.r_bar, d.r);
+  EXPECT_NEAR(d.t, 1.3e-3, kTol);
+  EXPECT_EQ(d.t_bar, d.t);
+  EXPECT_EQ(d.seed, 1u);
+  EXPECT_EQ(d.family_mix, 0.5);
+  EXPECT_EQ(d.angles, (std::vector<int>{0, 60, 120}));
+  EXPECT_EQ(s.split.min_fragment_fraction, 0.01);
+  EXPECT_EQ(s.output.mesh_format, MeshFormat::stl_binary);
+  EXPECT_EQ(s.output.mesh_layout, MeshLayout::scene);
+}
+
+TEST(Scenario, DiscInMicrometresWithEveryOption) {
+  const Scenario s = parse_scenario(R"([scenario]
+name = "disc run"
+description = "a disc"
+length_unit = "um"
+
+[specimen]
+shape = "disc"
+diameter = 15000
+thickness = 5000.0
+keep = "centre_inside"
+
+[grain]
+r = 1000
+r_bar = 900
+t = 1300
+t_bar = 1000
+
+[orientation]
+seed = 42
+family_mix = 0.25
+angles = [120, 0]
+
+[split]
+min_fragment_fraction = 0.1
+
+[output]
+mesh_format = "obj"
+mesh_layout = "per_fragment"
+)",
+                                    "inline");
+  EXPECT_EQ(s.name, "disc run");
+  EXPECT_EQ(s.description, "a disc");
+  EXPECT_EQ(s.length_unit, "um");
+  const auto& d = s.specimen;
+  EXPECT_EQ(d.outline.kind, Outline::Kind::disc);
+  EXPECT_NEAR(d.outline.size.x(), 15e-3, kTol);
+  EXPECT_NEAR(d.outline.size.y(), 15e-3, kTol);
+  EXPECT_NEAR(d.outline.size.z(), 5e-3, kTol);
+  EXPECT_EQ(d.keep, KeepRule::centre_inside);
+  EXPECT_NEAR(d.r, 1e-3, kTol);
+  EXPECT_NEAR(d.r_bar, 0.9e-3, kTol);
+  EXPECT_NEAR(d.t, 1.3e-3, kTol);
+  EXPECT_NEAR(d.t_bar, 1e-3, kTol);
+  EXPECT_EQ(d.seed, 42u);
+  EXPECT_EQ(d.family_mix, 0.25);
+  EXPECT_EQ(d.angles, (std::vector<int>{120, 0}));
+  EXPECT_EQ(s.split.min_fragment_fraction, 0.1);
+  EXPECT_EQ(s.output.mesh_format, MeshFormat::obj);
+  EXPECT_EQ(s.output.mesh_layout, MeshLayout::per_fragment);
+}
+
+TEST(Scenario, NotchedBeamInMetres) {
+  const Scenario s = parse_scenario(R"([scenario]
+length_unit = "m"
+[specimen]
+shape = "beam"
+length = 0.02
+height = 0.005
+thickness = 4e-3
+notch_width = 0.001
+notch_depth = 0.002
+[grain]
+r = 0.001
+t = 0.001
+[output]
+mesh_format = "stl_ascii"
+)",
+                                    "beam.toml");
+  EXPECT_EQ(s.name, "beam");
+  EXPECT_EQ(s.length_unit, "m");
+  const auto& o = s.specimen.outline;
+  EXPECT_EQ(o.kind, Outline::Kind::beam);
+  EXPECT_EQ(o.size.x(), 0.02);
+  EXPECT_EQ(o.size.y(), 0.005);
+  EXPECT_EQ(o.size.z(), 4e-3);
+  EXPECT_EQ(o.notch_width, 0.001);
+  EXPECT_EQ(o.notch_depth, 0.002);
+  EXPECT_EQ(s.specimen.r, 0.001);
+  EXPECT_EQ(s.output.mesh_format, MeshFormat::stl_ascii);
+  EXPECT_EQ(s.output.mesh_layout, MeshLayout::scene);
+}
+
+TEST(Scenario, UnnotchedBeamAndInlineTables) {
+  const Scenario s = parse_scenario(
+      "specimen = { shape = \"beam\", length = 20, height = 5, thickness = 4 }\n"
+      "grain = { r = 1, t = 1 }\n",
+      "inline");
+  EXPECT_EQ(s.specimen.outline.kind, Outline::Kind::beam);
+  EXPECT_NEAR(s.specimen.outline.size.x(), 20e-3, kTol);
+  EXPECT_EQ(s.specimen.outline.notch_width, 0.0);
+  EXPECT_EQ(s.specimen.outline.notch_depth, 0.0);
+}
+
+TEST(Scenario, LoadsAFileAndNamesItAfterItsStem) {
+  TempDir dir;
+  const fs::path file = dir.path() / "drop_test.toml";
+  std::ofstream(file) << "[specimen]\nshape = \"box\"\nsize = [6, 6, 2]\n[grain]\nr = 1\nt = 1\n";
+  const Scenario s = load_scenario(file);
+  EXPECT_EQ(s.source, file.string());
+  EXPECT_EQ(s.name, "drop_test");
+  EXPECT_NEAR(s.specimen.outline.size.x(), 6e-3, kTol);
+  EXPECT_NEAR(s.specimen.outline.size.z(), 2e-3, kTol);
+}
+
+TEST(Scenario, ErrorsFromALoadedFileNameIt) {
+  TempDir dir;
+  const fs::path file = dir.path() / "bad.toml";
+  std::ofstream(file) << "[specimen]\nshape = \"box\"\nsize = [6, 6, 2]\n[grain]\nr = -1\nt = 1\n";
+  try {
+    (void)load_scenario(file);
+    ADD_FAILURE() << "no ScenarioError";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.file(), file.string());
+    EXPECT_EQ(e.line(), 5);
+    EXPECT_EQ(std::string(e.what()), file.string() + ":5:5: key 'grain.r': must be > 0, found -1");
+  }
+}
+
+TEST(Scenario, ReferenceFileLoads) {
+  const Scenario s = load_scenario(CLEAVE_SOURCE_DIR "/scenarios/reference.toml");
+  EXPECT_EQ(s.name, "reference");
+  EXPECT_EQ(s.specimen.outline.kind, Outline::Kind::box);
+  EXPECT_NEAR(s.specimen.outline.size.x(), 12e-3, kTol);
+  EXPECT_NEAR(s.specimen.outline.size.z(), 4e-3, kTol);
+  EXPECT_NEAR(s.specimen.r, 1e-3, kTol);
+  EXPECT_NEAR(s.specimen.t, 1e-3, kTol);
+}
+
+// ---- errors -------------------------------------------------------------------------------
+
+TEST(ScenarioErrors, MissingFile) {
+  const fs::path missing = fs::temp_directory_path() / "cleave_no_such_dir" / "none.toml";
+  try {
+    (void)load_scenario(missing);
+    ADD_FAILURE() << "no ScenarioError";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.file(), missing.string());
+    EXPECT_EQ(e.line(), 0);
+    EXPECT_EQ(e.key(), "");
+    EXPECT_EQ(std::string(e.what()), missing.string() + ": file does not exist");
+  }
+}
+
+TEST(ScenarioErrors, DirectoryCannotBeRead) {
+  TempDir dir;
+  try {
+    (void)load_scenario(dir.path());
+    ADD_FAILURE() << "no ScenarioError";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.line(), 0);
+    EXPECT_EQ(e.key(), "");
+    EXPECT_TRUE(has(e.what(), "cannot be read")) << e.what();
+  }
+}
+
+TEST(ScenarioErrors, TomlSyntax) {
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [1, 2,, 3]\n", 3, "",
+                        "TOML syntax error");
+  EXPECT_SCENARIO_ERROR("[grain]\nr = 1\nr = 2\n", 3, "", "TOML syntax error");
+  EXPECT_SCENARIO_ERROR("[grain]\nr = 1\nt = \"unterminated\n", 3, "", "TOML syntax error");
+}
+
+TEST(ScenarioErrors, UnknownTable) {
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+[grain]
+r = 1
+t = 1
+[material]
+density = 3.9
+)",
+                        7, "material", "'scenario', 'specimen', 'grain', 'orientation'");
+  EXPECT_SCENARIO_ERROR("seed = 3\n[specimen]\nshape = \"box\"\n", 1, "seed", "unknown table");
+}
+
+TEST(ScenarioErrors, UnknownKeyListsTheAcceptedKeys) {
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+[grain]
+r = 1
+radius = 1
+t = 1
+)",
+                        6, "grain.radius", "accepted keys: 'r', 'r_bar', 't', 't_bar'");
+  // The first unknown key in the file is named, whatever the alphabet says.
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "box"
+zeta = 1
+size = [12, 12, 4]
+alpha = 2
+)" + kGrain,
+                        3, "specimen.zeta", "'notch_depth', 'keep'");
+  EXPECT_SCENARIO_ERROR(kBase + "[output]\nformat = \"stl\"\n", 8, "output.format",
+                        "'mesh_format', 'mesh_layout'");
+  // An unknown key is pointed at by its name, not its value.
+  try {
+    (void)parse_scenario(kBase + "[split]\n  fraction = 0.1\n", "mem.toml");
+    ADD_FAILURE() << "no ScenarioError";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "mem.toml:8:3: key 'split.fraction': unknown key in [split]; accepted keys: "
+              "'min_fragment_fraction'");
+  }
+}
+
+TEST(ScenarioErrors, KeyOfAnotherShape) {
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+diameter = 15
+)" + kGrain,
+                        4, "specimen.diameter", "does not apply to shape 'box' (only to 'disc')");
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "disc"
+diameter = 15
+thickness = 5
+notch_depth = 1
+)" + kGrain,
+                        5, "specimen.notch_depth", "only to 'beam'");
+}
+
+TEST(ScenarioErrors, WrongType) {
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [12, 12, 4]\n[grain]\nr = \"1\"\n", 5,
+                        "grain.r", "expected a number (integer or float), found a string");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = 3\n" + kGrain, 2, "specimen.shape",
+                        "expected a string, found an integer");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = 12\n" + kGrain, 3, "specimen.size",
+                        "expected an array of 3 numbers, found an integer");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [12,\n  true,\n  4]\n" + kGrain, 4,
+                        "specimen.size", "element 2: expected a number");
+  EXPECT_SCENARIO_ERROR(kBase + "[orientation]\nseed = 1.5\n", 8, "orientation.seed",
+                        "expected an integer, found a float");
+  EXPECT_SCENARIO_ERROR(kBase + "[scenario]\nname = 7\n", 8, "scenario.name",
+                        "expected a string, found an integer");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [12, 12, 4]\ngrain = 3\n" + kGrain, 4,
+                        "specimen.grain", "unknown key");
+  EXPECT_SCENARIO_ERROR("grain = 3\n[specimen]\nshape = \"box\"\n", 1, "grain",
+                        "expected a table, found an integer");
+}
+
+TEST(ScenarioErrors, NonPositiveSizes) {
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [12, 0, 4]\n" + kGrain, 3,
+                        "specimen.size", "element 2: must be > 0, found 0");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [12, 12]\n" + kGrain, 3,
+                        "specimen.size", "found 2 elements");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"disc\"\ndiameter = -15\nthickness = 5\n" + kGrain, 3,
+                        "specimen.diameter", "must be > 0, found -15");
+  EXPECT_SCENARIO_ERROR(
+      "[specimen]\nshape = \"beam\"\nlength = 20\nheight = 5\nthickness = 0.0\n" + kGrain, 5,
+      "specimen.thickness", "must be > 0");
+  EXPECT_SCENARIO_ERROR(
+      "[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n[grain]\nr = 1\nt = 1\nt_bar = -0.5\n", 7,
+      "grain.t_bar", "must be > 0, found -0.5");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n[grain]\nr = 0\nt = 1\n", 5,
+                        "grain.r", "must be > 0, found 0");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n[grain]\nr = inf\nt = 1\n",
+                        5, "grain.r", "expected a finite number");
+}
+
+TEST(ScenarioErrors, RBarExceedsR) {
+  const std::string text = R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+[grain]
+r = 1
+t = 1
+r_bar = 1.5
+)";
+  EXPECT_SCENARIO_ERROR(text, 7, "grain.r_bar", "must not exceed grain.r = 1, found 1.5");
+  try {
+    (void)parse_scenario(text, "mem.toml");
+    ADD_FAILURE() << "no ScenarioError";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.column(), 9);
+    EXPECT_EQ(std::string(e.what()),
+              "mem.toml:7:9: key 'grain.r_bar': must not exceed grain.r = 1, found 1.5");
+  }
+}
+
+TEST(ScenarioErrors, TBarExceedsT) {
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+[grain]
+r = 1
+t = 1
+t_bar = 1.3
+)",
+                        7, "grain.t_bar", "must not exceed grain.t = 1, found 1.3");
+}
+
+TEST(ScenarioErrors, ValuesOutOfRange) {
+  EXPECT_SCENARIO_ERROR(kBase + "[orientation]\nfamily_mix = 1.5\n", 8, "orientation.family_mix",
+                        "must be in [0, 1], found 1.5");
+  EXPECT_SCENARIO_ERROR(kBase + "[orientation]\nseed = -1\n", 8, "orientation.seed",
+                        "must be >= 0, found -1");
+  EXPECT_SCENARIO_ERROR(kBase + "[split]\nmin_fragment_fraction = 0.5\n", 8,
+                        "split.min_fragment_fraction", "must be in [0, 0.5), found 0.5");
+  EXPECT_SCENARIO_ERROR(kBase + "[split]\nmin_fragment_fraction = -0.1\n", 8,
+                        "split.min_fragment_fraction", "must be in [0, 0.5)");
+  EXPECT_SCENARIO_ERROR(kBase + "[scenario]\nname = \"\"\n", 8, "scenario.name",
+                        "must not be empty");
+}
+
+TEST(ScenarioErrors, BeamNotch) {
+  const std::string beam = "[specimen]\nshape = \"beam\"\nlength = 20\nheight = 5\nthickness = 4\n";
+  // Each case appends its notch keys (lines 6 and 7), then the grain table.
+  EXPECT_SCENARIO_ERROR(beam + "notch_width = 1\nnotch_depth = 5\n" + kGrain, 7,
+                        "specimen.notch_depth", "must be < specimen.height = 5, found 5");
+  EXPECT_SCENARIO_ERROR(beam + "notch_width = 20\nnotch_depth = 1\n" + kGrain, 6,
+                        "specimen.notch_width", "must be < specimen.length = 20");
+  EXPECT_SCENARIO_ERROR(beam + "notch_width = -1\n" + kGrain, 6, "specimen.notch_width",
+                        "must be >= 0");
+  EXPECT_SCENARIO_ERROR(beam + "notch_width = 1\nnotch_depth = 0\n" + kGrain, 7,
+                        "specimen.notch_depth", "must be > 0 when specimen.notch_width > 0");
+  // An absent partner is blamed at the table's header.
+  EXPECT_SCENARIO_ERROR(beam + "notch_depth = 2\n" + kGrain, 1, "specimen.notch_width",
+                        "must be > 0 when specimen.notch_depth > 0");
+}
+
+TEST(ScenarioErrors, BadEnumListsTheAcceptedValues) {
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"sphere\"\n" + kGrain, 2, "specimen.shape",
+                        "unknown value 'sphere'; accepted: 'box', 'disc', 'beam'");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\nkeep = \"all\"\n" + kGrain,
+                        4, "specimen.keep", "accepted: 'cell_inside', 'centre_inside'");
+  EXPECT_SCENARIO_ERROR("[scenario]\nlength_unit = \"cm\"\n" + kBase, 2, "scenario.length_unit",
+                        "unknown value 'cm'; accepted: 'm', 'mm', 'um'");
+  EXPECT_SCENARIO_ERROR(kBase + "[output]\nmesh_format = \"ply\"\n", 8, "output.mesh_format",
+                        "accepted: 'stl', 'stl_ascii', 'obj'");
+  EXPECT_SCENARIO_ERROR(kBase + "[output]\nmesh_layout = \"split\"\n", 8, "output.mesh_layout",
+                        "accepted: 'scene', 'per_fragment'");
+}
+
+TEST(ScenarioErrors, EmptyOrBadAngles) {
+  const std::string head = kBase + "[orientation]\n";
+  EXPECT_SCENARIO_ERROR(head + "angles = []\n", 8, "orientation.angles", "must not be empty");
+  EXPECT_SCENARIO_ERROR(head + "angles = [0,\n  45]\n", 9, "orientation.angles",
+                        "element 2: angle 45 is not one of 0, 60, 120");
+  EXPECT_SCENARIO_ERROR(head + "angles = [60, 0, 60]\n", 8, "orientation.angles",
+                        "element 3: angle 60 is repeated");
+  EXPECT_SCENARIO_ERROR(head + "angles = [60.0]\n", 8, "orientation.angles",
+                        "element 1: expected an integer angle, found a float");
+  EXPECT_SCENARIO_ERROR(head + "angles = 60\n", 8, "orientation.angles",
+                        "expected an array of angles");
+}
+
+TEST(ScenarioErrors, MissingRequiredKeyPointsAtItsTable) {
+  EXPECT_SCENARIO_ERROR(R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+
+[grain]
+r = 1
+)",
+                        5, "grain.t", "missing required key");
+  EXPECT_SCENARIO_ERROR("[scenario]\nname = \"x\"\n[specimen]\nsize = [1, 1, 1]\n" + kGrain, 3,
+                        "specimen.shape", "missing required key");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\n" + kGrain, 1, "specimen.size",
+                        "missing required key");
+  EXPECT_SCENARIO_ERROR("\n[specimen]\nshape = \"disc\"\ndiameter = 3\n" + kGrain, 2,
+                        "specimen.thickness", "missing required key");
+}
+
+TEST(ScenarioErrors, MissingRequiredTable) {
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n", 1, "grain",
+                        "missing required table [grain]");
+  EXPECT_SCENARIO_ERROR("", 1, "specimen", "missing required table [specimen]");
+}
+
+}  // namespace
+}  // namespace cleave::io
