@@ -1,17 +1,19 @@
 #include "io/mesh_io.hpp"
 
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/mesh.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <array>
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
 #include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <exception>
+#include <map>
 #include <memory>
 #include <random>
 #include <set>
@@ -19,17 +21,20 @@
 #include <system_error>
 #include <utility>
 
-// What assimp 5.2 does with the three formats (checked against its exporter/importer sources
-// and by tests/test_mesh_io.cpp):
+// What assimp 5.2.5 does with the three formats (checked against its exporter and importer
+// sources and by tests/test_mesh_io.cpp):
 //  * STL ("stl", "stlb"): the exporters run aiProcess_PreTransformVertices and then write
 //    every mesh of the scene into one stream: binary STL has a single facet count, ASCII STL
 //    a single "solid AssimpScene" block. Mesh names are lost, and a scene file reads back
-//    as one mesh holding all bodies (disjoint bodies stay disjoint, bodies that touch get
-//    their coincident corners welded). Per-fragment STL files keep the name in the file name.
+//    as one mesh holding all bodies (disjoint bodies stay disjoint; bodies that touch share
+//    their coincident corners after the join in read_meshes). Per-fragment STL files keep
+//    the name in the file name.
 //  * OBJ: each mesh is written as a "g <mesh name>" group, polygons are kept as polygons,
 //    and the importer turns each group back into one named mesh with the same polygons.
 //  * assimp is built with single-precision ai_real, so coordinates go through float in
 //    every format (binary STL stores float32 anyway).
+//  * aiProcess_JoinIdenticalVertices is not used on import: it also merges some distinct
+//    vertices closer than about 1e-6 (absolute), see read_meshes.
 
 namespace cleave::io {
 
@@ -74,8 +79,8 @@ void check_mesh(const PolygonMesh& mesh, const fs::path& file) {
     }
     for (int v : f) {
       if (v < 0 || v >= n) {
-        fail(file, who + " face " + std::to_string(i) + " refers to vertex " +
-                       std::to_string(v) + " of " + std::to_string(n));
+        fail(file, who + " face " + std::to_string(i) + " refers to vertex " + std::to_string(v) +
+                       " of " + std::to_string(n));
       }
     }
   }
@@ -137,7 +142,7 @@ std::unique_ptr<aiScene> build_scene(const std::vector<const PolygonMesh*>& mesh
   auto scene = std::make_unique<aiScene>();
 
   scene->mNumMaterials = 1;
-  scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  scene->mMaterials = new aiMaterial* [1] { new aiMaterial() };
   const aiString material_name("cleave_fragment");
   scene->mMaterials[0]->AddProperty(&material_name, AI_MATKEY_NAME);
   const aiColor3D grey(0.7f, 0.7f, 0.7f);
@@ -174,8 +179,9 @@ class StagingDir {
         path_ = p;
         return;
       }
-      if (ec) fail(target, "cannot create a temporary directory in '" + dir.string() + "': " +
-                               ec.message());
+      if (ec)
+        fail(target,
+             "cannot create a temporary directory in '" + dir.string() + "': " + ec.message());
     }
     fail(target, "cannot find a free temporary directory name in '" + dir.string() + "'");
   }
@@ -194,8 +200,9 @@ class StagingDir {
 /// Exports `meshes` as one file `dir/file_name`: assimp writes it (and for OBJ its .mtl)
 /// into a staging directory next to the target, then each file is renamed into `dir`,
 /// companions first and the main file last. Returns the final paths, main file first.
-std::vector<fs::path> export_file(const std::vector<const PolygonMesh*>& meshes, const fs::path& dir,
-                                  const std::string& file_name, MeshFormat format) {
+std::vector<fs::path> export_file(const std::vector<const PolygonMesh*>& meshes,
+                                  const fs::path& dir, const std::string& file_name,
+                                  MeshFormat format) {
   const fs::path target = dir / file_name;
   const bool stl = format != MeshFormat::obj;
   std::vector<PolygonMesh> triangulated;
@@ -220,8 +227,8 @@ std::vector<fs::path> export_file(const std::vector<const PolygonMesh*>& meshes,
   } catch (const std::exception& e) {
     fail(target, std::string("assimp export threw: ") + e.what());
   }
-  if (rc != aiReturn_SUCCESS) fail(target, std::string("assimp export failed: ") +
-                                               exporter.GetErrorString());
+  if (rc != aiReturn_SUCCESS)
+    fail(target, std::string("assimp export failed: ") + exporter.GetErrorString());
 
   std::error_code ec;
   if (!fs::is_regular_file(staged, ec)) fail(target, "assimp reported success but wrote nothing");
@@ -255,6 +262,24 @@ std::string node_name_for_mesh(const aiNode* node, unsigned index) {
     if (!s.empty()) return s;
   }
   return {};
+}
+
+/// The solid name assimp's STL exporter writes whatever the meshes are called.
+constexpr std::string_view kAssimpStlSolidName = "AssimpScene";
+
+/// Name for mesh `index` read from `file`: the mesh's own name, else the name of the node
+/// holding it, else the file stem (with "_<index>" when the file holds several meshes).
+/// Empty names and assimp's placeholder STL solid name do not count.
+std::string mesh_name(const aiScene& scene, unsigned index, const fs::path& file) {
+  const auto usable = [](const std::string& s) { return !s.empty() && s != kAssimpStlSolidName; };
+  const aiString& own = scene.mMeshes[index]->mName;
+  std::string name(own.C_Str(), own.length);
+  if (usable(name)) return name;
+  name = node_name_for_mesh(scene.mRootNode, index);
+  if (usable(name)) return name;
+  name = file.stem().string();
+  if (scene.mNumMeshes > 1) name += "_" + std::to_string(index);
+  return name;
 }
 
 }  // namespace
@@ -308,8 +333,7 @@ std::string extension(MeshFormat f) {
 }
 
 std::vector<fs::path> write_meshes(const std::vector<PolygonMesh>& meshes, const fs::path& dir,
-                                   const std::string& stem, MeshFormat format,
-                                   MeshLayout layout) {
+                                   const std::string& stem, MeshFormat format, MeshLayout layout) {
   const std::string ext = extension(format);
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -344,22 +368,20 @@ std::vector<PolygonMesh> read_meshes(const fs::path& file) {
   if (!fs::exists(file, ec)) fail(file, "no such file");
   if (!fs::is_regular_file(file, ec)) fail(file, "not a regular file");
 
+  // No aiProcess_JoinIdenticalVertices: assimp 5.2.5 also welds distinct vertices that lie
+  // within about 1e-6 of each other (absolute, in file units, and only for some of them),
+  // which at grain scale in metres merges real micrometre features. Corners are joined below
+  // on bit-identical positions instead; every exporter writes a shared corner identically.
   Assimp::Importer importer;
-  // Only positions matter. STL facet normals (and OBJ normals, UVs) would keep corners that
-  // share a position apart in aiProcess_JoinIdenticalVertices, so drop them first.
-  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
-                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
-                                  aiComponent_COLORS | aiComponent_TEXCOORDS);
-  const unsigned flags =
-      aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
   const aiScene* scene = nullptr;
   try {
-    scene = importer.ReadFile(file.string(), flags);
+    scene = importer.ReadFile(file.string(), aiProcess_ValidateDataStructure);
   } catch (const std::exception& e) {
     fail(file, std::string("assimp import threw: ") + e.what());
   }
-  if (scene == nullptr) fail(file, std::string("assimp cannot read it: ") +
-                                       importer.GetErrorString());
+  if (scene == nullptr) {
+    fail(file, std::string("assimp cannot read it: ") + importer.GetErrorString());
+  }
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
     fail(file, "assimp read it only partially (scene flagged incomplete)");
   }
@@ -375,31 +397,38 @@ std::vector<PolygonMesh> read_meshes(const fs::path& file) {
       fail(file, which + " has no faces");
     }
     PolygonMesh pm;
-    pm.name.assign(m->mName.C_Str(), m->mName.length);
-    if (pm.name.empty()) pm.name = node_name_for_mesh(scene->mRootNode, mi);
-    if (pm.name.empty()) {
-      pm.name = file.stem().string();
-      if (scene->mNumMeshes > 1) pm.name += "_" + std::to_string(mi);
-    }
-    pm.vertices.reserve(m->mNumVertices);
-    for (unsigned v = 0; v < m->mNumVertices; ++v) {
-      const aiVector3D& p = m->mVertices[v];
-      pm.vertices.emplace_back(p.x, p.y, p.z);
-    }
+    pm.name = mesh_name(*scene, mi, file);
+
+    // Corner index in the aiMesh -> joined vertex index, lazily for the corners faces use.
+    std::map<std::array<ai_real, 3>, int> joined;
+    std::vector<int> remap(m->mNumVertices, -1);
+    const auto vertex = [&](unsigned idx, unsigned fi) {
+      if (idx >= m->mNumVertices) {
+        fail(file, which + " face " + std::to_string(fi) + " refers to a missing vertex");
+      }
+      if (remap[idx] < 0) {
+        const aiVector3D& p = m->mVertices[idx];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+          fail(file, which + " has a non-finite vertex coordinate");
+        }
+        const auto [it, inserted] =
+            joined.try_emplace({p.x, p.y, p.z}, static_cast<int>(pm.vertices.size()));
+        if (inserted) pm.vertices.emplace_back(p.x, p.y, p.z);
+        remap[idx] = it->second;
+      }
+      return remap[idx];
+    };
+
     pm.faces.reserve(m->mNumFaces);
     for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
       const aiFace& f = m->mFaces[fi];
       if (f.mNumIndices < 3 || f.mIndices == nullptr) {
-        fail(file, which + " face " + std::to_string(fi) + " has " +
-                       std::to_string(f.mNumIndices) + " vertices (points and lines are not "
-                       "surfaces)");
+        fail(file, which + " face " + std::to_string(fi) + " has " + std::to_string(f.mNumIndices) +
+                       " vertices (points and lines do not bound a volume)");
       }
-      std::vector<int> face(f.mIndices, f.mIndices + f.mNumIndices);
-      for (int v : face) {
-        if (v < 0 || static_cast<unsigned>(v) >= m->mNumVertices) {
-          fail(file, which + " face " + std::to_string(fi) + " refers to a missing vertex");
-        }
-      }
+      std::vector<int> face;
+      face.reserve(f.mNumIndices);
+      for (unsigned k = 0; k < f.mNumIndices; ++k) face.push_back(vertex(f.mIndices[k], fi));
       pm.faces.push_back(std::move(face));
     }
     out.push_back(std::move(pm));

@@ -19,7 +19,7 @@ class MeshIoError : public std::runtime_error {
 
 enum class MeshFormat { stl_binary, stl_ascii, obj };
 enum class MeshLayout {
-  scene,         ///< one file holding one named mesh per body
+  scene,         ///< one file holding one named mesh per body (STL: one unnamed solid, below)
   per_fragment,  ///< one file per body, named after it
 };
 
@@ -33,17 +33,28 @@ MeshLayout parse_mesh_layout(const std::string& s);
 std::string extension(MeshFormat f);
 
 /// Writes `meshes` (closed, outward polygon meshes; STL gets them fan-triangulated) into
-/// `dir`. With MeshLayout::scene one file `<stem><ext>` holds one named mesh per body;
-/// with per_fragment each body goes to `<mesh.name><ext>`. Each file is written to a
-/// temporary name and renamed when complete. Returns the paths written.
+/// `dir` (created if missing). With MeshLayout::scene one file `<stem><ext>` holds one named
+/// mesh per body; with per_fragment each body goes to `<mesh.name><ext>`. Each file is written
+/// to a temporary name and renamed when complete. Returns the paths written, each OBJ followed
+/// by the `.mtl` assimp writes beside it (same stem).
+/// Format limits (assimp 5.2): coordinates are stored in single precision; assimp's STL
+/// exporters put all meshes of a scene into one solid ("AssimpScene"), so an STL scene file
+/// reads back as one mesh holding every body and the body names survive only in
+/// per_fragment file names; OBJ keeps one named group per body and keeps polygons.
+/// Throws MeshIoError naming the file for an empty scene, a mesh without faces or with an
+/// out-of-range index, a per_fragment name that is not a plain file name or is used twice,
+/// or any export or rename failure.
 std::vector<std::filesystem::path> write_meshes(const std::vector<geometry::PolygonMesh>& meshes,
                                                 const std::filesystem::path& dir,
                                                 const std::string& stem, MeshFormat format,
                                                 MeshLayout layout);
 
-/// Reads every mesh of a file through assimp, with identical vertices joined (normals are
-/// dropped first so STL facets share their corners). Throws MeshIoError naming the file
-/// for a missing, truncated or corrupt file, or one that holds no mesh.
+/// Reads every mesh of a file through assimp, joining face corners whose coordinates are
+/// exactly equal (so STL facets share their corners; no distance tolerance). A mesh is named
+/// after its own name, else its node, else the file stem (assimp's placeholder STL solid name
+/// "AssimpScene" does not count). Faces come back as stored: triangles from STL, polygons
+/// from OBJ. Throws MeshIoError naming the file for a missing, truncated or corrupt file, one
+/// that holds no mesh, or one with point or line primitives or non-finite coordinates.
 std::vector<geometry::PolygonMesh> read_meshes(const std::filesystem::path& file);
 
 }  // namespace cleave::io

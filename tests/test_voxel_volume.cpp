@@ -1,9 +1,8 @@
 // Volume of hand-built meshes measured through OpenVDB level sets, against closed forms.
 
-#include "io/voxel_volume.hpp"
-
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -12,6 +11,7 @@
 #include <vector>
 
 #include "geometry/polygon_mesh.hpp"
+#include "io/voxel_volume.hpp"
 
 namespace {
 
@@ -22,7 +22,8 @@ PolygonMesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d& size) {
   PolygonMesh m;
   m.name = "box";
   for (int z = 0; z < 2; ++z) {
-    for (const auto& [x, y] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}, std::pair{0, 1}}) {
+    for (const auto& [x, y] :
+         {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}, std::pair{0, 1}}) {
       m.vertices.push_back(lo + Eigen::Vector3d(x * size.x(), y * size.y(), z * size.z()));
     }
   }
@@ -48,7 +49,9 @@ PolygonMesh hex_prism(double r, double t, double phase, const Eigen::Vector3d& c
   return m;
 }
 
-double relative_error(double got, double exact) { return std::abs(got - exact) / exact; }
+double relative_error(double got, double exact) {
+  return std::abs(got - exact) / exact;
+}
 
 TEST(VoxelVolume, FixturesAreClosedWithTheirAnalyticVolume) {
   const PolygonMesh cube = box({0, 0, 0}, {1, 1, 1});
@@ -108,12 +111,50 @@ TEST(VoxelVolume, MeshWithAFaceRemovedIsFarFromTheExactVolume) {
   EXPECT_GT(relative_error(v, 1.0), 0.05) << "open box measured " << v;
 }
 
+/// Unit cube whose top is an n x n grid of quads that shares no vertex index with the sides
+/// (geometrically closed, topologically open), with the central quad left out when `hole`.
+PolygonMesh cube_with_tiled_top(int n, bool hole) {
+  PolygonMesh m = box({0, 0, 0}, {1, 1, 1});
+  m.faces.erase(m.faces.begin() + 1);
+  const int base = static_cast<int>(m.vertices.size());
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) m.vertices.emplace_back(double(i) / n, double(j) / n, 1.0);
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if (hole && i == n / 2 && j == n / 2) continue;
+      const int a = base + j * (n + 1) + i;
+      m.faces.push_back({a, a + 1, a + n + 2, a + n + 1});
+    }
+  }
+  return m;
+}
+
+TEST(VoxelVolume, IgnoresConnectivityOfAGeometricallyClosedSurface) {
+  const PolygonMesh tiled = cube_with_tiled_top(10, false);
+  ASSERT_FALSE(tiled.is_closed_and_consistently_oriented());
+  EXPECT_LT(relative_error(voxel_volume(tiled, 1.0 / 50.0), 1.0), 1e-2);
+}
+
+TEST(VoxelVolume, HoleSeveralVoxelsWideIsFarFromTheExactVolume) {
+  // A 0.1 x 0.1 hole is 5 voxels wide at voxel 1/50: the outside leaks in.
+  const double v = voxel_volume(cube_with_tiled_top(10, true), 1.0 / 50.0);
+  EXPECT_GT(relative_error(v, 1.0), 0.05) << "cube with a hole measured " << v;
+}
+
+TEST(VoxelVolume, IndependentOfFaceOrientation) {
+  // Inverted faces do not change the measured volume: orientation is signed_volume's job.
+  PolygonMesh inside_out = box({0, 0, 0}, {1, 1, 1});
+  for (auto& f : inside_out.faces) std::reverse(f.begin(), f.end());
+  ASSERT_LT(inside_out.signed_volume(), 0.0);
+  EXPECT_LT(relative_error(voxel_volume(inside_out, 1.0 / 50.0), 1.0), 1e-2);
+}
+
 TEST(VoxelVolume, NonPositiveVoxelSizeThrows) {
   const PolygonMesh cube = box({0, 0, 0}, {1, 1, 1});
   EXPECT_THROW(voxel_volume(cube, 0.0), std::invalid_argument);
   EXPECT_THROW(voxel_volume(cube, -0.1), std::invalid_argument);
-  EXPECT_THROW(voxel_volume(cube, std::numeric_limits<double>::quiet_NaN()),
-               std::invalid_argument);
+  EXPECT_THROW(voxel_volume(cube, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
 
 TEST(VoxelVolume, EmptyMeshThrows) {

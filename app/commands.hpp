@@ -1,0 +1,35 @@
+#pragma once
+/// \file
+/// The `cleave` sub-commands. Each returns the process exit code.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace cleave::app {
+
+struct RunOptions {
+  std::filesystem::path scenario;
+  std::filesystem::path out;               ///< empty: results/<scenario name>
+  std::optional<std::string> mesh_format;  ///< overrides [output] mesh_format
+  std::optional<std::string> mesh_layout;  ///< overrides [output] mesh_layout
+  bool quiet = false;
+};
+
+/// Builds the specimen, splits every grain into its cleavage slabs and writes the result
+/// folder (meshes, tables, exact geometry, manifest).
+int run_command(const RunOptions& options);
+
+struct CheckVolumeOptions {
+  std::filesystem::path dir;
+  bool voxel = false;
+  double voxels_per_length = 20.0;
+  double voxel_tolerance = 0.05;
+  bool summary_only = false;
+};
+
+/// Exact volume conservation per grain (and, with --voxel, each mesh through OpenVDB).
+/// Exit 0 when every grain's fragments sum exactly to its volume, 1 otherwise.
+int check_volume_command(const CheckVolumeOptions& options);
+
+}  // namespace cleave::app

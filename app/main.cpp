@@ -1,0 +1,46 @@
+// cleave: exact-polyhedron DEM fracture of brittle polycrystals. Command-line entry point.
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "cleave_version.hpp"
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  using namespace cleave::app;
+  CLI::App app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, cleavage, cracks)"};
+  app.set_version_flag("--version", std::string("cleave ") + CLEAVE_VERSION);
+  app.require_subcommand(1);
+
+  RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run a scenario file and write a result folder");
+  run_cmd->add_option("scenario", run.scenario, "Scenario file (TOML)")->required();
+  run_cmd->add_option("--out,-o", run.out, "Result folder (default: results/<scenario name>)");
+  run_cmd->add_option("--mesh-format", run.mesh_format, "stl | stl_ascii | obj (overrides the scenario)");
+  run_cmd->add_option("--mesh-layout", run.mesh_layout, "scene | per_fragment (overrides the scenario)");
+  run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors");
+
+  CLI::App* check_cmd = app.add_subcommand("check", "Check a result folder");
+  check_cmd->require_subcommand(1);
+  CheckVolumeOptions check;
+  CLI::App* volume_cmd = check_cmd->add_subcommand(
+      "volume", "Exact volume conservation per grain: fragments must sum to the grain");
+  volume_cmd->add_option("dir", check.dir, "Result folder written by `cleave run`")->required();
+  volume_cmd->add_flag("--voxel", check.voxel,
+                       "Also measure every exported mesh through OpenVDB (flags leaky meshes)");
+  volume_cmd->add_option("--voxels-per-length", check.voxels_per_length,
+                         "Voxels across each fragment's thickness 6V/A")
+      ->check(CLI::Range(4.0, 400.0))
+      ->capture_default_str();
+  volume_cmd->add_option("--voxel-tolerance", check.voxel_tolerance,
+                         "Largest accepted relative volume difference of a mesh")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  volume_cmd->add_flag("--summary", check.summary_only, "Print the summary only, not every grain");
+
+  CLI11_PARSE(app, argc, argv);
+
+  if (run_cmd->parsed()) return run_command(run);
+  if (volume_cmd->parsed()) return check_volume_command(check);
+  return 2;
+}

@@ -1,0 +1,173 @@
+// `cleave run`: scenario -> specimen -> cleavage slabs -> result folder.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "cleave_version.hpp"
+#include "commands.hpp"
+#include "io/exact_store.hpp"
+#include "io/mesh_io.hpp"
+#include "io/result_dir.hpp"
+#include "io/scenario.hpp"
+#include "specimen_picture.hpp"
+
+namespace cleave::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using geometry::Piece;
+using geometry::Specimen;
+
+class Stopwatch {
+ public:
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+std::string specimen_csv(const Specimen& s) {
+  std::string out = "grain_id,plane,row,i,j,k,x_m,y_m,z_m,family,angle_deg,slabs\n";
+  for (const auto& g : s.grains) {
+    const auto& c = g.site.centre;
+    out += fmt::format("{},{},{},{},{},{},{:.17g},{:.17g},{:.17g},{},{},{}\n", g.id, g.site.plane,
+                       g.site.row, g.site.i, g.site.j, g.site.k, c.x(), c.y(), c.z(),
+                       to_string(g.orientation.family), g.orientation.angle_deg,
+                       slab_count(g.orientation.family));
+  }
+  return out;
+}
+
+std::string fragments_csv(const std::vector<Piece>& pieces) {
+  // Mass properties per distinct shape (grains share their slab shapes).
+  std::map<const geometry::ExactPolyhedron*, geometry::MassProperties> props;
+  std::string out =
+      "name,grain_id,path,family,angle_deg,volume_m3,centroid_x_m,centroid_y_m,centroid_z_m\n";
+  for (const auto& p : pieces) {
+    auto it = props.find(p.shape.get());
+    if (it == props.end()) it = props.emplace(p.shape.get(), p.shape->mass_properties()).first;
+    const Eigen::Vector3d c = p.position + it->second.centroid;
+    out += fmt::format("{},{},{},{},{},{:.17g},{:.17g},{:.17g},{:.17g}\n", p.lineage.name(),
+                       p.lineage.grain_id, p.lineage.path_string(), to_string(p.orientation.family),
+                       p.orientation.angle_deg, it->second.volume, c.x(), c.y(), c.z());
+  }
+  return out;
+}
+
+std::string describe_outline(const geometry::Outline& o) {
+  const Eigen::Vector3d mm = o.size * 1e3;
+  switch (o.kind) {
+    case geometry::Outline::Kind::disc:
+      return fmt::format("disc, diameter {:g} mm, thickness {:g} mm", mm.x(), mm.z());
+    case geometry::Outline::Kind::beam:
+      return fmt::format("beam {:g} x {:g} x {:g} mm", mm.x(), mm.y(), mm.z());
+    default:
+      return fmt::format("box {:g} x {:g} x {:g} mm", mm.x(), mm.y(), mm.z());
+  }
+}
+
+}  // namespace
+
+int run_command(const RunOptions& options) {
+  const Stopwatch total;
+  auto say = [&](const std::string& line) {
+    if (!options.quiet) fmt::print("{}\n", line);
+  };
+
+  io::Scenario scenario;
+  try {
+    scenario = io::load_scenario(options.scenario);
+    if (options.mesh_format) scenario.output.mesh_format = io::parse_mesh_format(*options.mesh_format);
+    if (options.mesh_layout) scenario.output.mesh_layout = io::parse_mesh_layout(*options.mesh_layout);
+  } catch (const io::ScenarioError& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
+    return 2;
+  }
+  const fs::path out = options.out.empty() ? fs::path("results") / scenario.name : options.out;
+
+  // Whatever was in the folder is no longer a result until this run finishes.
+  try {
+    fs::create_directories(out);
+    fs::remove(out / io::kManifestName);
+    fs::remove_all(out / "meshes");
+  } catch (const fs::filesystem_error& e) {
+    fmt::print(stderr, "cleave: error: {}: {}\n", out.string(), e.what());
+    return 1;
+  }
+
+  io::Manifest manifest;
+  manifest.facts["cleave_version"] = CLEAVE_VERSION;
+  manifest.facts["scenario"] = scenario.source;
+  manifest.facts["scenario_name"] = scenario.name;
+  try {
+    say(fmt::format("cleave {} | scenario {} ({})", CLEAVE_VERSION, scenario.name, scenario.source));
+    Stopwatch step;
+    const Specimen specimen = geometry::build_specimen(scenario.specimen);
+    const auto& def = specimen.def;
+    int three_slab = 0;
+    for (const auto& g : specimen.grains) three_slab += g.orientation.family == geometry::CleavageFamily::a_11_20;
+    say(fmt::format("  specimen   {} grains in a {}; r = {:g} mm, r_bar = {:g} mm, t = {:g} mm, "
+                    "t_bar = {:g} mm ({:.2f} s)",
+                    specimen.grains.size(), describe_outline(def.outline), def.r * 1e3,
+                    def.r_bar * 1e3, def.t * 1e3, def.t_bar * 1e3, step.seconds()));
+    say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
+                    three_slab, specimen.grains.size() - three_slab, def.seed));
+    if (specimen.grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
+
+    step = Stopwatch();
+    const std::vector<Piece> pieces = geometry::split_into_slabs(specimen);
+    say(fmt::format("  cleavage   {} exact slabs from {} grains ({:.2f} s)", pieces.size(),
+                    specimen.grains.size(), step.seconds()));
+
+    step = Stopwatch();
+    std::vector<geometry::PolygonMesh> meshes;
+    meshes.reserve(pieces.size());
+    for (const auto& p : pieces) meshes.push_back(p.shape->to_mesh(p.lineage.name(), p.position));
+    const auto mesh_files = io::write_meshes(meshes, out / "meshes", "fragments",
+                                             scenario.output.mesh_format, scenario.output.mesh_layout);
+    say(fmt::format("  meshes     {} fragment meshes -> {}/meshes ({}, {}, {} file(s), {:.2f} s)",
+                    meshes.size(), out.string(), io::to_string(scenario.output.mesh_format),
+                    io::to_string(scenario.output.mesh_layout), mesh_files.size(), step.seconds()));
+
+    step = Stopwatch();
+    io::write_exact_store(out / "geometry.exact", io::make_exact_store(specimen, pieces));
+    io::write_file_atomically(out / "specimen.csv", specimen_csv(specimen));
+    io::write_file_atomically(out / "fragments.csv", fragments_csv(pieces));
+    io::write_file_atomically(out / "specimen.svg", specimen_picture_svg(specimen, pieces));
+    io::write_file_atomically(out / "scenario.toml", io::read_file(options.scenario));
+    say(fmt::format("  tables     specimen.csv, fragments.csv, geometry.exact, specimen.svg ({:.2f} s)",
+                    step.seconds()));
+
+    manifest.status = "finished";
+    manifest.facts["grains"] = std::to_string(specimen.grains.size());
+    manifest.facts["fragments"] = std::to_string(pieces.size());
+    manifest.facts["mesh_format"] = io::to_string(scenario.output.mesh_format);
+    manifest.facts["mesh_layout"] = io::to_string(scenario.output.mesh_layout);
+    manifest.facts["length_unit_of_outputs"] = "m";
+    manifest.facts["wall_seconds"] = fmt::format("{:.3f}", total.seconds());
+    io::write_manifest(out, manifest);
+    say(fmt::format("done in {:.2f} s -> {}  (check it: cleave check volume {})", total.seconds(),
+                    out.string(), out.string()));
+    return 0;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    manifest.status = "failed";
+    manifest.reason = e.what();
+    try {
+      io::write_manifest(out, manifest);
+    } catch (const std::exception&) {
+    }
+    return 1;
+  }
+}
+
+}  // namespace cleave::app

@@ -1,0 +1,190 @@
+// Whole-scenario tests of the `cleave` executable: what a user runs and looks at.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/exact_store.hpp"
+#include "io/mesh_io.hpp"
+#include "io/result_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Outcome run_cleave(const std::string& args) {
+  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
+  Outcome o;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return o;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) o.output.append(buf, n);
+  const int status = pclose(pipe);
+  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return o;
+}
+
+class CleaveCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / (std::string("cleave_cli_") + info->name() + "_" +
+                                        std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+  fs::path dir_;
+};
+
+const char* kSmallBox = R"(
+[scenario]
+name = "small"
+[specimen]
+shape = "box"
+size = [6.0, 6.0, 2.0]
+[grain]
+r = 1.0
+r_bar = 0.9
+t = 1.0
+[orientation]
+seed = 3
+)";
+
+}  // namespace
+
+TEST_F(CleaveCli, RunThenExactVolumeCheckPasses) {
+  const fs::path scenario = write("small.toml", kSmallBox);
+  const fs::path out = dir_ / "out";
+  const Outcome run = run_cleave("run " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(run.code, 0) << run.output;
+  for (const char* f : {"run.toml", "geometry.exact", "specimen.csv", "fragments.csv",
+                        "specimen.svg", "scenario.toml"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  EXPECT_EQ(cleave::io::read_manifest(out).status, "finished");
+  // Grains in the CSV match the exact store, and every grain has 2 or 3 slabs.
+  const auto store = cleave::io::read_exact_store(out / "geometry.exact");
+  ASSERT_GT(store.grains.size(), 5u);
+  EXPECT_GE(store.fragments.size(), 2 * store.grains.size());
+  EXPECT_LE(store.fragments.size(), 3 * store.grains.size());
+
+  const Outcome check = run_cleave("check volume " + out.string());
+  EXPECT_EQ(check.code, 0) << check.output;
+  EXPECT_NE(check.output.find("every grain's fragments sum exactly to its volume"), std::string::npos);
+  EXPECT_EQ(check.output.find("NOT EQUAL"), std::string::npos);
+}
+
+TEST_F(CleaveCli, CheckFailsWhenAFragmentIsSwappedForAnother) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run_cleave("run " + write("s.toml", kSmallBox).string() + " -q --out " + out.string()).code, 0);
+  // Point the first fragment at the prism's shape (shape 0): its grain now has too much.
+  std::string text = cleave::io::read_file(out / "geometry.exact");
+  const auto at = text.find("\nfragment 0.0 shape ");
+  ASSERT_NE(at, std::string::npos);
+  const auto num = at + std::string("\nfragment 0.0 shape ").size();
+  text.replace(num, text.find(' ', num) - num, "0");
+  std::ofstream(out / "geometry.exact") << text;
+  const Outcome check = run_cleave("check volume " + out.string());
+  EXPECT_EQ(check.code, 1) << check.output;
+  EXPECT_NE(check.output.find("NOT EQUAL"), std::string::npos);
+  EXPECT_NE(check.output.find("1 grain(s) do NOT conserve volume"), std::string::npos);
+}
+
+TEST_F(CleaveCli, VoxelCheckMeasuresMeshesAndFlagsALeakyOne) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run_cleave("run " + write("s.toml", kSmallBox).string() +
+                   " -q --mesh-format obj --mesh-layout per_fragment --out " + out.string())
+                .code,
+            0);
+  Outcome check = run_cleave("check volume --voxel --summary " + out.string());
+  ASSERT_EQ(check.code, 0) << check.output;
+  EXPECT_NE(check.output.find("0 missing, 0 beyond tolerance"), std::string::npos) << check.output;
+
+  // Knock one face out of one fragment's mesh: it no longer encloses its volume.
+  const fs::path victim = out / "meshes" / "grain_0000.0.obj";
+  ASSERT_TRUE(fs::exists(victim));
+  std::istringstream in(cleave::io::read_file(victim));
+  std::string line, kept;
+  bool dropped = false;
+  while (std::getline(in, line)) {
+    if (!dropped && line.rfind("f ", 0) == 0) {
+      dropped = true;
+      continue;
+    }
+    kept += line + "\n";
+  }
+  ASSERT_TRUE(dropped);
+  std::ofstream(victim) << kept;
+  check = run_cleave("check volume --voxel --summary " + out.string());
+  EXPECT_EQ(check.code, 1) << check.output;
+  EXPECT_NE(check.output.find("grain_0000.0"), std::string::npos) << check.output;
+}
+
+TEST_F(CleaveCli, BadScenariosAreClearErrorsWithFileLineAndKey) {
+  const fs::path missing = dir_ / "nope.toml";
+  Outcome o = run_cleave("run " + missing.string() + " --out " + (dir_ / "o1").string());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.output.find(missing.string()), std::string::npos) << o.output;
+
+  std::string bad = kSmallBox;
+  bad.replace(bad.find("r_bar = 0.9"), 11, "r_bar = 1.5");
+  o = run_cleave("run " + write("rbar.toml", bad).string() + " --out " + (dir_ / "o2").string());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.output.find("rbar.toml:9:"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("grain.r_bar"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o2" / "run.toml"));
+
+  bad = kSmallBox;
+  bad.replace(bad.find("seed = 3"), 8, "sead = 3");
+  o = run_cleave("run " + write("typo.toml", bad).string() + " --out " + (dir_ / "o3").string());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.output.find("typo.toml:12:"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("orientation.sead"), std::string::npos) << o.output;
+
+  o = run_cleave("run " + write("ok.toml", kSmallBox).string() + " --mesh-format ply");
+  EXPECT_NE(o.code, 0);
+  EXPECT_NE(o.output.find("ply"), std::string::npos) << o.output;
+}
+
+TEST_F(CleaveCli, AFailedRunIsNotPassedOffAsAResult) {
+  // A box smaller than one grain cell holds no grain: the run fails and says so.
+  std::string tiny = kSmallBox;
+  tiny.replace(tiny.find("size = [6.0, 6.0, 2.0]"), 22, "size = [1.0, 1.0, 2.0]");
+  const fs::path out = dir_ / "out";
+  const Outcome run = run_cleave("run " + write("tiny.toml", tiny).string() + " --out " + out.string());
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_EQ(cleave::io::read_manifest(out).status, "failed");
+  const Outcome check = run_cleave("check volume " + out.string());
+  EXPECT_EQ(check.code, 2);
+  EXPECT_NE(check.output.find("unfinished"), std::string::npos) << check.output;
+  // A folder that is no result at all.
+  EXPECT_EQ(run_cleave("check volume " + dir_.string()).code, 2);
+}
+
+TEST_F(CleaveCli, EveryShippedScenarioParsesAndTheDemoRuns) {
+  for (const auto& entry : fs::directory_iterator(fs::path(CLEAVE_SOURCE_DIR) / "scenarios")) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const fs::path out = dir_ / entry.path().stem();
+    const Outcome run = run_cleave("run -q " + entry.path().string() + " --out " + out.string());
+    EXPECT_EQ(run.code, 0) << run.output;
+    EXPECT_EQ(run_cleave("check volume --summary " + out.string()).code, 0);
+  }
+}
