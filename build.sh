@@ -49,7 +49,7 @@ case "$mode" in
   demo)
     install_missing; build
     "$build_dir/app/cleave" run scenarios/demo.toml --out results/demo
-    "$build_dir/app/cleave" check volume results/demo
+    "$build_dir/app/cleave" check volume --voxel --summary results/demo
     ;;
   test)
     install_missing; build

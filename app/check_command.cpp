@@ -22,6 +22,17 @@ int check_volume_command(const CheckVolumeOptions& options) {
       return 2;
     }
     store = io::read_exact_store(options.dir / "geometry.exact");
+    const auto format = manifest.facts.find("mesh_format");
+    const auto layout = manifest.facts.find("mesh_layout");
+    if (options.voxel && format != manifest.facts.end() && layout != manifest.facts.end() &&
+        format->second.rfind("stl", 0) == 0 && layout->second == "scene") {
+      fmt::print(stderr,
+                 "cleave: error: --voxel measures each fragment's own mesh, but {} holds one STL "
+                 "scene (STL keeps no mesh names); run with --mesh-format obj or "
+                 "--mesh-layout per_fragment\n",
+                 options.dir.string());
+      return 2;
+    }
   } catch (const std::exception& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
     return 2;

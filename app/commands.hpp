@@ -23,7 +23,7 @@ int run_command(const RunOptions& options);
 struct CheckVolumeOptions {
   std::filesystem::path dir;
   bool voxel = false;
-  double voxels_per_length = 20.0;
+  double voxels_per_length = 15.0;
   double voxel_tolerance = 0.05;
   bool summary_only = false;
 };

@@ -38,7 +38,7 @@
 ///   min_fragment_fraction = 0.01   # optional: in [0, 0.5), default 0.01
 ///
 ///   [output]                   # optional table
-///   mesh_format = "stl"        # optional: "stl" (binary) | "stl_ascii" | "obj", default "stl"
+///   mesh_format = "obj"        # optional: "stl" (binary) | "stl_ascii" | "obj", default "obj"
 ///   mesh_layout = "scene"      # optional: "scene" | "per_fragment", default "scene"
 ///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.

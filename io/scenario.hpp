@@ -38,7 +38,7 @@ struct SplitDef {
 };
 
 struct OutputDef {
-  MeshFormat mesh_format = MeshFormat::stl_binary;
+  MeshFormat mesh_format = MeshFormat::obj;
   MeshLayout mesh_layout = MeshLayout::scene;
 };
 

@@ -52,10 +52,14 @@ double voxel_volume(const geometry::PolygonMesh& mesh, double voxel_size) {
     throw std::invalid_argument("voxel_volume: mesh '" + mesh.name + "' has no faces");
   }
 
+  // Work in index space with unit voxels: OpenVDB's transforms refuse scales as small as
+  // SI grain sizes (a 1e-5 m voxel reads as "zero scale"), so the mesh is moved next to
+  // the origin and divided by the voxel size, and the volume scaled back at the end.
   IndexSpaceTriangles data;
   data.points.reserve(tri.vertices.size());
+  const Eigen::Vector3d origin = tri.vertices.front();
   for (const Eigen::Vector3d& p : tri.vertices) {
-    const Eigen::Vector3d q = p / voxel_size;
+    const Eigen::Vector3d q = (p - origin) / voxel_size;
     data.points.emplace_back(q.x(), q.y(), q.z());
   }
   data.triangles.reserve(tri.faces.size());
@@ -72,11 +76,11 @@ double voxel_volume(const geometry::PolygonMesh& mesh, double voxel_size) {
 
   initialize_openvdb_once();
   try {
-    const openvdb::math::Transform::Ptr xform =
-        openvdb::math::Transform::createLinearTransform(voxel_size);
+    const openvdb::math::Transform::Ptr unit = openvdb::math::Transform::createLinearTransform(1.0);
     const openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        data, *xform, kHalfBandVoxels, kHalfBandVoxels);
-    return openvdb::tools::levelSetVolume(*grid, /*useWorldSpace=*/true);
+        data, *unit, kHalfBandVoxels, kHalfBandVoxels);
+    return openvdb::tools::levelSetVolume(*grid, /*useWorldSpace=*/false) * voxel_size *
+           voxel_size * voxel_size;
   } catch (const openvdb::Exception& e) {
     throw std::runtime_error("voxel_volume: OpenVDB failed on mesh '" + mesh.name +
                              "': " + e.what());

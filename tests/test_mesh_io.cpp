@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
-#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -157,7 +157,8 @@ class TempDir : public ::testing::Test {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     std::string tag = std::string(info->test_suite_name()) + "_" + info->name();
     std::replace_if(
-        tag.begin(), tag.end(), [](char c) { return !std::isalnum(c); }, '_');
+        tag.begin(), tag.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); },
+        '_');
     dir_ = fs::temp_directory_path() /
            ("cleave_test_mesh_io_" + tag + "_" + std::to_string(rd()) + std::to_string(rd()));
     ASSERT_TRUE(fs::create_directories(dir_)) << dir_;

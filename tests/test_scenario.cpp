@@ -108,7 +108,7 @@ t = 1.3
   EXPECT_EQ(d.family_mix, 0.5);
   EXPECT_EQ(d.angles, (std::vector<int>{0, 60, 120}));
   EXPECT_EQ(s.split.min_fragment_fraction, 0.01);
-  EXPECT_EQ(s.output.mesh_format, MeshFormat::stl_binary);
+  EXPECT_EQ(s.output.mesh_format, MeshFormat::obj);
   EXPECT_EQ(s.output.mesh_layout, MeshLayout::scene);
 }
 
