@@ -39,24 +39,27 @@ int check_volume_command(const CheckVolumeOptions& options) {
   }
 
   const auto checks = io::check_exact_volumes(store);
-  int mismatches = 0, split = 0;
+  int mismatches = 0, outside = 0, split = 0;
   if (!options.summary_only) {
-    fmt::print("{:>8} {:>9} {:>22} {:>22}  {}\n", "grain", "fragments", "grain volume [m^3]",
-               "sum of fragments [m^3]", "exact");
+    fmt::print("{:>8} {:>9} {:>22} {:>22}  {:<9}  {}\n", "grain", "fragments", "grain volume [m^3]",
+               "sum of fragments [m^3]", "exact", "fragments inside grain");
   }
   for (const auto& c : checks) {
     mismatches += !c.exact_equal;
+    outside += !c.inside;
     split += c.fragments > 0;
-    if (!options.summary_only || !c.exact_equal) {
-      fmt::print("{:>8} {:>9} {:>22.15e} {:>22.15e}  {}\n", c.grain_id, c.fragments,
-                 c.parent_volume, c.fragment_sum, c.exact_equal ? "equal" : "NOT EQUAL");
+    if (!options.summary_only || !c.exact_equal || !c.inside) {
+      fmt::print("{:>8} {:>9} {:>22.15e} {:>22.15e}  {:<9}  {}\n", c.grain_id, c.fragments,
+                 c.parent_volume, c.fragment_sum, c.exact_equal ? "equal" : "NOT EQUAL",
+                 c.inside ? "yes" : "NO");
     }
   }
   fmt::print("exact volume check: {} grains ({} split into {} fragments): {}\n", checks.size(),
              split, store.fragments.size(),
              mismatches == 0 ? "every grain's fragments sum exactly to its volume"
                              : fmt::format("{} grain(s) do NOT conserve volume", mismatches));
-  int status = mismatches == 0 ? 0 : 1;
+  if (outside > 0) fmt::print("  {} grain(s) have a fragment reaching outside the grain\n", outside);
+  int status = mismatches == 0 && outside == 0 ? 0 : 1;
 
   if (options.voxel) {
     std::vector<io::MeshVolumeCheck> meshes;

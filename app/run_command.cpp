@@ -124,9 +124,17 @@ int run_command(const RunOptions& options) {
     if (specimen.grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
 
     step = Stopwatch();
-    const std::vector<Piece> pieces = geometry::split_into_slabs(specimen);
-    say(fmt::format("  cleavage   {} exact slabs from {} grains ({:.2f} s)", pieces.size(),
-                    specimen.grains.size(), step.seconds()));
+    const std::vector<Piece> pieces =
+        geometry::split_into_slabs(specimen, scenario.split.min_fragment_fraction);
+    std::size_t planned = 0;
+    for (const auto& g : specimen.grains) planned += slab_count(g.orientation.family);
+    say(fmt::format("  cleavage   {} exact slabs from {} grains ({:.2f} s){}", pieces.size(),
+                    specimen.grains.size(), step.seconds(),
+                    planned == pieces.size()
+                        ? ""
+                        : fmt::format("; {} cuts skipped: a part would be below the minimum "
+                                      "fragment fraction {:g}",
+                                      planned - pieces.size(), scenario.split.min_fragment_fraction)));
 
     step = Stopwatch();
     std::vector<geometry::PolygonMesh> meshes;

@@ -641,11 +641,13 @@ std::vector<ExactPlane> ExactPolyhedron::cleavage_planes(const CrystalOrientatio
   return planes;
 }
 
-std::vector<ExactPolyhedron> ExactPolyhedron::cleavage_slabs(const CrystalOrientation& o) const {
+std::vector<ExactPolyhedron> ExactPolyhedron::cleavage_slabs(const CrystalOrientation& o,
+                                                             double min_volume_fraction) const {
   std::vector<ExactPolyhedron> slabs;
   ExactPolyhedron rest = *this;
   for (const ExactPlane& plane : cleavage_planes(o)) {
-    SplitResult r = rest.split(plane, 0.0);
+    SplitResult r = rest.split(plane, min_volume_fraction);
+    if (r.status == SplitStatus::sliver) continue;
     if (!r.ok()) throw GeometryError("cleavage split refused: " + r.reason);
     slabs.push_back(std::move(*r.below));
     rest = std::move(*r.above);

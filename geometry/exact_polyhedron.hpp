@@ -164,9 +164,10 @@ class ExactPolyhedron {
 
   /// Splits a prism made by `hexagonal_prism` into its cleavage slabs (figs 2.8/2.9),
   /// ordered along the cleavage normal. Every plane passes through existing vertices, so
-  /// no new coordinates are made. Throws GeometryError if a cut is refused.
-  [[nodiscard]] std::vector<ExactPolyhedron> cleavage_slabs(
-      const CrystalOrientation& orientation) const;
+  /// no new coordinates are made. A cut whose smaller part would be below
+  /// `min_volume_fraction` of the piece it cuts is skipped (that piece stays whole).
+  [[nodiscard]] std::vector<ExactPolyhedron> cleavage_slabs(const CrystalOrientation& orientation,
+                                                            double min_volume_fraction = 0.0) const;
   /// The exact cleavage planes of this prism for `orientation` (normals along
   /// cleavage_normal), in the order cleavage_slabs cuts them.
   [[nodiscard]] std::vector<ExactPlane> cleavage_planes(

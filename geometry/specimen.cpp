@@ -49,7 +49,7 @@ std::string Lineage::name() const {
   return out;
 }
 
-std::vector<Piece> split_into_slabs(const Specimen& specimen) {
+std::vector<Piece> split_into_slabs(const Specimen& specimen, double min_fragment_fraction) {
   // Grains share one prism, so each distinct orientation is cut once.
   std::map<std::pair<int, int>, std::vector<std::shared_ptr<const ExactPolyhedron>>> cache;
   std::vector<Piece> pieces;
@@ -58,7 +58,7 @@ std::vector<Piece> split_into_slabs(const Specimen& specimen) {
     auto it = cache.find(key);
     if (it == cache.end()) {
       std::vector<std::shared_ptr<const ExactPolyhedron>> shapes;
-      for (auto& slab : specimen.prism.cleavage_slabs(g.orientation)) {
+      for (auto& slab : specimen.prism.cleavage_slabs(g.orientation, min_fragment_fraction)) {
         shapes.push_back(std::make_shared<const ExactPolyhedron>(std::move(slab)));
       }
       it = cache.emplace(key, std::move(shapes)).first;

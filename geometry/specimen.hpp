@@ -68,8 +68,9 @@ struct Piece {
   CrystalOrientation orientation;                       ///< the grain's
 };
 
-/// Splits every grain into its cleavage slabs. Grains sharing a shape and an orientation
-/// share their slab shapes (each distinct orientation is cut once).
-std::vector<Piece> split_into_slabs(const Specimen& specimen);
+/// Splits every grain into its cleavage slabs; cuts leaving a part below
+/// `min_fragment_fraction` of the piece they cut are skipped. Grains sharing a shape and an
+/// orientation share their slab shapes (each distinct orientation is cut once).
+std::vector<Piece> split_into_slabs(const Specimen& specimen, double min_fragment_fraction = 0.0);
 
 }  // namespace cleave::geometry

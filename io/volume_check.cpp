@@ -1,5 +1,6 @@
 #include "io/volume_check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -35,12 +36,14 @@ std::vector<GrainVolumeCheck> check_exact_volumes(const ExactStore& store) {
   struct Sum {
     geometry::ExactScalar total;
     int count = 0;
+    std::vector<const ExactStore::Placement*> parts;
   };
   std::map<int, Sum> sums;
   for (const auto& f : store.fragments) {
     Sum& s = sums[f.lineage.grain_id];
     s.total = s.total + volume[f.shape];
     ++s.count;
+    s.parts.push_back(&f);
   }
   std::vector<GrainVolumeCheck> out;
   for (const auto& g : store.grains) {
@@ -52,16 +55,21 @@ std::vector<GrainVolumeCheck> check_exact_volumes(const ExactStore& store) {
     if (it == sums.end()) {  // intact: the grain itself is what is alive
       c.fragment_sum = c.parent_volume;
       c.exact_equal = true;
+      c.inside = true;
     } else {
       c.fragments = it->second.count;
       c.fragment_sum = it->second.total.to_double();
       c.exact_equal = it->second.total == parent;
+      const geometry::ExactPolyhedron grain = store.shapes[g.shape].translated(g.position);
+      c.inside = std::all_of(it->second.parts.begin(), it->second.parts.end(), [&](const auto* f) {
+        return store.shapes[f->shape].translated(f->position).is_inside(grain);
+      });
       sums.erase(it);
     }
     out.push_back(c);
   }
   for (const auto& [grain, s] : sums) {  // fragments of a grain the store does not have
-    out.push_back(GrainVolumeCheck{grain, s.count, 0.0, s.total.to_double(), false});
+    out.push_back(GrainVolumeCheck{grain, s.count, 0.0, s.total.to_double(), false, false});
   }
   return out;
 }

@@ -17,11 +17,13 @@ struct GrainVolumeCheck {
   double parent_volume = 0;  ///< rounded, for the report
   double fragment_sum = 0;   ///< rounded, for the report
   bool exact_equal = false;  ///< the exact comparison
+  bool inside = false;       ///< every fragment lies inside the grain (exact, world frame)
 };
 
 /// For every grain: its exact volume against the exact sum of its fragments' volumes (an
-/// intact grain, with no fragments, is compared with itself). Fragments naming a grain that
-/// does not exist are reported as a grain with parent volume 0.
+/// intact grain, with no fragments, is compared with itself), and whether every fragment,
+/// placed in the world, lies inside the placed grain (exact predicates). Fragments naming a
+/// grain that does not exist are reported as a grain with parent volume 0.
 std::vector<GrainVolumeCheck> check_exact_volumes(const ExactStore& store);
 
 struct MeshVolumeCheck {

@@ -89,6 +89,19 @@ TEST_F(CleaveCli, RunThenExactVolumeCheckPasses) {
   EXPECT_EQ(check.code, 0) << check.output;
   EXPECT_NE(check.output.find("every grain's fragments sum exactly to its volume"), std::string::npos);
   EXPECT_EQ(check.output.find("NOT EQUAL"), std::string::npos);
+
+  // The exported scene: one named, closed, outward mesh per fragment, holding its volume.
+  const auto meshes = cleave::io::read_meshes(out / "meshes" / "fragments.obj");
+  ASSERT_EQ(meshes.size(), store.fragments.size());
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const auto& f = store.fragments[i];
+    EXPECT_EQ(meshes[i].name, f.lineage.name());
+    EXPECT_TRUE(meshes[i].is_closed_and_consistently_oriented()) << meshes[i].name;
+    EXPECT_EQ(meshes[i].vertices.size(), static_cast<std::size_t>(store.shapes[f.shape].num_vertices()));
+    EXPECT_EQ(meshes[i].faces.size(), static_cast<std::size_t>(store.shapes[f.shape].num_faces()));
+    const double exact = store.shapes[f.shape].volume().to_double();
+    EXPECT_NEAR(meshes[i].signed_volume(), exact, 1e-4 * exact) << meshes[i].name;  // float32 files
+  }
 }
 
 TEST_F(CleaveCli, CheckFailsWhenAFragmentIsSwappedForAnother) {
@@ -105,6 +118,23 @@ TEST_F(CleaveCli, CheckFailsWhenAFragmentIsSwappedForAnother) {
   EXPECT_EQ(check.code, 1) << check.output;
   EXPECT_NE(check.output.find("NOT EQUAL"), std::string::npos);
   EXPECT_NE(check.output.find("1 grain(s) do NOT conserve volume"), std::string::npos);
+}
+
+TEST_F(CleaveCli, CheckFailsWhenAFragmentIsMovedOutOfItsGrain) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run_cleave("run " + write("s.toml", kSmallBox).string() + " -q --out " + out.string()).code, 0);
+  // Shift fragment 0.0 by 1 mm in z: volumes still sum exactly, but it leaves its grain.
+  auto store = cleave::io::read_exact_store(out / "geometry.exact");
+  ASSERT_FALSE(store.fragments.empty());
+  ASSERT_EQ(store.fragments[0].lineage.path_string(), "0.0");
+  store.fragments[0].position.z() += 1e-3;
+  cleave::io::write_exact_store(out / "geometry.exact", store);
+  const Outcome check = run_cleave("check volume --summary " + out.string());
+  EXPECT_EQ(check.code, 1) << check.output;
+  EXPECT_NE(check.output.find("every grain's fragments sum exactly"), std::string::npos);
+  EXPECT_NE(check.output.find("1 grain(s) have a fragment reaching outside the grain"),
+            std::string::npos)
+      << check.output;
 }
 
 TEST_F(CleaveCli, VoxelCheckMeasuresMeshesAndFlagsALeakyOne) {
@@ -187,4 +217,27 @@ TEST_F(CleaveCli, EveryShippedScenarioParsesAndTheDemoRuns) {
     EXPECT_EQ(run.code, 0) << run.output;
     EXPECT_EQ(run_cleave("check volume --summary " + out.string()).code, 0);
   }
+}
+
+TEST_F(CleaveCli, StlExportsPerFragmentAndRefusesVoxelCheckOfAnUnnamedScene) {
+  const fs::path per = dir_ / "per";
+  ASSERT_EQ(run_cleave("run " + write("s.toml", kSmallBox).string() +
+                       " -q --mesh-format stl --mesh-layout per_fragment --out " + per.string())
+                .code,
+            0);
+  const auto store = cleave::io::read_exact_store(per / "geometry.exact");
+  std::size_t stl_files = 0;
+  for (const auto& e : fs::directory_iterator(per / "meshes")) stl_files += e.path().extension() == ".stl";
+  EXPECT_EQ(stl_files, store.fragments.size());
+  const Outcome ok = run_cleave("check volume --voxel --summary " + per.string());
+  EXPECT_EQ(ok.code, 0) << ok.output;
+
+  const fs::path scene = dir_ / "scene";
+  ASSERT_EQ(run_cleave("run " + write("s2.toml", kSmallBox).string() +
+                       " -q --mesh-format stl --mesh-layout scene --out " + scene.string())
+                .code,
+            0);
+  const Outcome refused = run_cleave("check volume --voxel " + scene.string());
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.output.find("STL keeps no mesh names"), std::string::npos) << refused.output;
 }

@@ -245,3 +245,16 @@ TEST(DegeneratePlanes, ThroughVerticesAndAlongEdgesSplitExactly) {
   EXPECT_TRUE(validate_with_cgal(*r.below).ok());
   EXPECT_TRUE(validate_with_cgal(*r.above).ok());
 }
+
+TEST(CleavageSlabs, CutsBelowTheMinimumFragmentFractionAreSkipped) {
+  const ExactPolyhedron prism = ExactPolyhedron::hexagonal_prism(1.0, 1.0);
+  const CrystalOrientation three{CleavageFamily::a_11_20, 60};
+  // Each <11-20> cut alone takes 1/6 of the prism: a threshold above 1/6 skips both cuts
+  // and the grain stays whole; below it, all three slabs are made.
+  const auto whole = prism.cleavage_slabs(three, 0.18);
+  ASSERT_EQ(whole.size(), 1u);
+  EXPECT_TRUE(whole[0].volume() == prism.volume());
+  EXPECT_EQ(prism.cleavage_slabs(three, 0.16).size(), 3u);
+  // <10-10> halves survive any threshold the scenario accepts (below 0.5).
+  EXPECT_EQ(prism.cleavage_slabs({CleavageFamily::m_10_10, 0}, 0.49).size(), 2u);
+}
