@@ -1,0 +1,43 @@
+#pragma once
+/// \file
+/// Bodies: stable ids, hot per-step state kept apart from cold properties.
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <cstdint>
+
+namespace cleave::physics {
+
+/// A stable handle: array slot + generation. A slot reused after its body was removed gets
+/// a new generation, so a stale handle is detected instead of reaching the wrong body.
+struct BodyId {
+  std::uint32_t index = ~0u;
+  std::uint32_t generation = 0;
+  [[nodiscard]] bool valid() const { return index != ~0u; }
+  friend bool operator==(const BodyId&, const BodyId&) = default;
+};
+
+/// What changes every step (kept small and contiguous).
+struct BodyState {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();  ///< centroid position, world
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  ///< principal frame -> world
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();    ///< velocity of the centroid
+  Eigen::Vector3d L = Eigen::Vector3d::Zero();    ///< angular momentum about the centroid, world
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();    ///< angular velocity, world (derived from L)
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();    ///< force accumulated this step
+  Eigen::Vector3d tau = Eigen::Vector3d::Zero();  ///< torque about the centroid this step
+};
+
+/// What a body is (changes only when bodies are created, split or removed).
+struct BodyInfo {
+  std::uint32_t shape = 0;       ///< index into the world's shapes
+  double mass = 0.0;
+  double inv_mass = 0.0;
+  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();      ///< principal moments (kg m^2)
+  Eigen::Vector3d inv_inertia = Eigen::Vector3d::Zero();  ///< their inverses
+  int grain_id = -1;             ///< the grain it is (or came from); -1 for none
+  std::uint32_t generation = 0;
+  bool alive = false;
+};
+
+}  // namespace cleave::physics

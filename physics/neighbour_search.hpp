@@ -1,0 +1,50 @@
+#pragma once
+/// \file
+/// Coarse contact detection on a cell grid (App. B of the dissertation, seed 000).
+///
+/// - basic: cells at least as large as the largest bounding sphere's diameter; each body
+///   is placed in the one cell holding its centre, and searched against the 27 cells
+///   around it. O(N) for bodies of similar size.
+/// - bounding_box: cells sized by the smallest bodies; each body is listed in every cell
+///   its bounding box overlaps and searched over the same cells, so one big body does not
+///   make every cell big (fragments are much smaller than grains).
+/// Both return the same set: every pair whose bounding spheres overlap within `margin`.
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace cleave::physics {
+
+struct BoundingSphere {
+  Eigen::Vector3d centre;
+  double radius = 0.0;
+};
+
+enum class SearchMethod { basic, bounding_box };
+
+using BodyPair = std::pair<std::uint32_t, std::uint32_t>;
+
+class NeighbourSearch {
+ public:
+  explicit NeighbourSearch(SearchMethod method = SearchMethod::bounding_box) : method_(method) {}
+
+  /// Every pair (i, j), i < j, with |c_i - c_j| <= r_i + r_j + margin, sorted ascending,
+  /// without duplicates. Deterministic: the result does not depend on threads or on the
+  /// grid's internal order. Reuses internal buffers between calls.
+  void find_pairs(std::span<const BoundingSphere> spheres, double margin,
+                  std::vector<BodyPair>& pairs);
+
+  [[nodiscard]] SearchMethod method() const { return method_; }
+
+ private:
+  SearchMethod method_;
+  // Buffers kept between calls (cell lists etc.); defined by the implementation.
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> items_;
+  std::vector<std::uint32_t> starts_;
+};
+
+}  // namespace cleave::physics
