@@ -12,6 +12,7 @@
 #include "io/mesh_io.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
+#include "dynamics_run.hpp"
 #include "specimen_picture.hpp"
 
 namespace cleave::app {
@@ -122,6 +123,17 @@ int run_command(const RunOptions& options) {
     say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
                     three_slab, specimen.grains.size() - three_slab, def.seed));
     if (specimen.grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
+    if (scenario.dynamics.enabled) {
+      try {
+        check_time_step(scenario, specimen);
+      } catch (const io::ScenarioError& e) {
+        fmt::print(stderr, "cleave: error: {}\n", e.what());
+        manifest.status = "failed";
+        manifest.reason = e.what();
+        io::write_manifest(out, manifest);
+        return 2;
+      }
+    }
 
     step = Stopwatch();
     const std::vector<Piece> pieces =
@@ -155,6 +167,27 @@ int run_command(const RunOptions& options) {
     say(fmt::format("  tables     specimen.csv, fragments.csv, geometry.exact, specimen.svg ({:.2f} s)",
                     step.seconds()));
 
+    if (scenario.dynamics.enabled) {
+      const DynamicsSummary d = run_dynamics(scenario, specimen, out, options.quiet);
+      say(fmt::format("  dynamics   {} steps, t = {:.4g} s, {} frames -> {}/bodies.pvd, "
+                      "contacts.pvd, energy.csv ({:.1f} s, {:.1f} us/step)",
+                      d.steps, d.time, d.frames, out.string(), d.wall_seconds,
+                      1e6 * d.wall_seconds / std::max<double>(1, d.steps)));
+      say(fmt::format("             {}: kinetic energy {:.3g} J = {:.2e} of the {:.3g} J released; "
+                      "largest overlap {:.3g} um ({:.1f}% of the dilation radius); lowest point "
+                      "z = {:.4g} mm",
+                      d.settled ? "settled" : "not settled", d.kinetic_energy,
+                      d.kinetic_energy / std::max(d.released_energy, 1e-300), d.released_energy,
+                      d.max_overlap * 1e6, 100 * d.max_overlap / scenario.contact.dilation_radius,
+                      d.lowest_point * 1e3));
+      manifest.facts["dynamics_steps"] = std::to_string(d.steps);
+      manifest.facts["dynamics_time_s"] = fmt::format("{:.9g}", d.time);
+      manifest.facts["dynamics_settled"] = d.settled ? "true" : "false";
+      manifest.facts["kinetic_energy_J"] = fmt::format("{:.9g}", d.kinetic_energy);
+      manifest.facts["released_energy_J"] = fmt::format("{:.9g}", d.released_energy);
+      manifest.facts["max_overlap_m"] = fmt::format("{:.9g}", d.max_overlap);
+      manifest.facts["lowest_point_m"] = fmt::format("{:.9g}", d.lowest_point);
+    }
     manifest.status = "finished";
     manifest.facts["grains"] = std::to_string(specimen.grains.size());
     manifest.facts["fragments"] = std::to_string(pieces.size());

@@ -54,6 +54,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -558,10 +559,138 @@ void read_output_table(const TableReader& t, OutputDef& output) {
   output.mesh_layout = t.choose("mesh_layout", layouts, std::optional(OutputDef{}.mesh_layout));
 }
 
+// ---- [material], [contact], [dynamics], [[wall]] ------------------------------------------
+
+constexpr std::string_view kMaterialKeys[] = {"density"};
+
+void read_material_table(const TableReader& t, MaterialDef& m) {
+  t.reject_unknown(kMaterialKeys);
+  m.density = t.number("density", Range::positive(), MaterialDef{}.density).value;
+}
+
+constexpr std::string_view kContactKeys[] = {"dilation_radius", "particle_particle",
+                                             "particle_wall"};
+constexpr std::string_view kContactParamKeys[] = {"kn",   "ks",   "kr",   "kt",
+                                                  "c_res", "mu_s", "mu_r", "damping"};
+
+/// One parameter set of table 2.3 (stiffnesses in N/m and N m/rad).
+physics::ContactParams read_contact_params(const TableReader& t) {
+  t.reject_unknown(kContactParamKeys);
+  physics::ContactParams p;
+  p.kn = t.number("kn", Range::positive()).value;
+  p.ks = t.number("ks", Range::non_negative(), 0.0).value;
+  p.kr = t.number("kr", Range::non_negative(), 0.0).value;
+  p.kt = t.number("kt", Range::non_negative(), 0.0).value;
+  p.c_res = t.number("c_res", {.lo = 1.0}, 1.0).value;
+  p.mu_s = t.number("mu_s", Range::non_negative(), 0.0).value;
+  p.mu_r = t.number("mu_r", Range::non_negative(), 0.0).value;
+  p.damping_ratio = t.number("damping", Range::non_negative(), 0.1).value;
+  return p;
+}
+
+void read_contact_table(const TableReader& t, const std::string& source, double unit,
+                        ContactDef& c, bool required) {
+  t.reject_unknown(kContactKeys);
+  if (t.table() == nullptr) {
+    if (required) t.fail_absent("dilation_radius", "a [dynamics] run needs a [contact] table");
+    return;
+  }
+  c.dilation_radius = t.number("dilation_radius", Range::positive()).value * unit;
+  for (std::string_view set : {"particle_particle", "particle_wall"}) {
+    const toml::node* node = t.find(set);
+    if (node == nullptr) t.fail_absent(set, "missing required table");
+    if (!node->is_table()) {
+      t.fail(*node, set, fmt::format("expected a table, found {}", type_name(*node)));
+    }
+    const TableReader sub(source, "contact." + std::string(set), node->as_table());
+    (set == "particle_particle" ? c.particle_particle : c.particle_wall) = read_contact_params(sub);
+  }
+}
+
+constexpr std::string_view kDynamicsKeys[] = {"dt",           "duration", "gravity",
+                                              "lift",         "frames",   "settle_ratio",
+                                              "dt_safety",    "search"};
+
+void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d) {
+  t.reject_unknown(kDynamicsKeys);
+  if (t.table() == nullptr) return;
+  d.enabled = true;
+  const Number dt = t.number("dt", Range::positive());
+  d.dt = dt.value;
+  d.dt_position = {line_of(dt.node->source()), column_of(dt.node->source())};
+  d.duration = t.number("duration", Range::positive()).value;
+  if (t.find("gravity") != nullptr) {
+    const auto g = t.numbers("gravity", 3, Range{});
+    d.gravity = {g[0], g[1], g[2]};
+  }
+  d.lift = t.number("lift", Range::non_negative(), 0.0).value * unit;
+  d.frames = static_cast<int>(t.integer("frames", 0, 20));
+  d.settle_ratio = t.number("settle_ratio", {.lo = 0.0, .hi = 1.0}, 0.0).value;
+  d.dt_safety = t.number("dt_safety", {.lo = 0.0, .hi = 1.0, .lo_open = true}, 0.2).value;
+  d.search = t.choose<physics::SearchMethod>(
+      "search", {{"bounding_box", physics::SearchMethod::bounding_box},
+                 {"basic", physics::SearchMethod::basic}},
+      physics::SearchMethod::bounding_box);
+}
+
+constexpr std::string_view kWallKeys[] = {"name", "kind",   "point",  "normal",  "u",
+                                          "size", "length", "radius", "velocity"};
+
+physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
+  t.reject_unknown(kWallKeys);
+  enum class Kind { plane, platen, cylinder };
+  const Kind kind = t.choose<Kind>(
+      "kind", {{"plane", Kind::plane}, {"platen", Kind::platen}, {"cylinder", Kind::cylinder}});
+  const std::string name = t.string("name", fmt::format("wall_{}", index + 1));
+  auto vec = [&](std::string_view key, double scale) -> Eigen::Vector3d {
+    const auto v = t.numbers(key, 3, Range{});
+    return Eigen::Vector3d(v[0], v[1], v[2]) * scale;
+  };
+  auto direction = [&](std::string_view key) -> Eigen::Vector3d {
+    const Eigen::Vector3d v = vec(key, 1.0);
+    if (v.norm() == 0.0) t.fail(*t.find(key), key, "must not be the zero vector");
+    return v;
+  };
+  const Eigen::Vector3d point = vec("point", unit);
+  const Eigen::Vector3d normal = direction("normal");
+  // Keys that belong to another kind of wall are errors, as for specimen shapes.
+  const std::vector<std::string_view> own = kind == Kind::platen     ? std::vector<std::string_view>{"u", "size"}
+                                            : kind == Kind::cylinder ? std::vector<std::string_view>{"length", "radius"}
+                                                                     : std::vector<std::string_view>{};
+  for (std::string_view key : {"u", "size", "length", "radius"}) {
+    if (t.find(key) != nullptr && std::find(own.begin(), own.end(), key) == own.end()) {
+      t.fail(*t.find(key), key, "this key belongs to another kind of wall");
+    }
+  }
+  physics::Wall w;
+  switch (kind) {
+    case Kind::plane:
+      w = physics::Wall::plane(name, point, normal);
+      break;
+    case Kind::platen: {
+      const Eigen::Vector3d u = direction("u");
+      if (std::abs(u.normalized().dot(normal.normalized())) > 1.0 - 1e-9) {
+        t.fail(*t.find("u"), "u", "must not be parallel to the normal");
+      }
+      const auto size = t.numbers("size", 2, Range::positive());
+      w = physics::Wall::platen(name, point, normal, u, 0.5 * size[0] * unit, 0.5 * size[1] * unit);
+      break;
+    }
+    case Kind::cylinder:
+      w = physics::Wall::cylinder(name, point, normal,
+                                  t.number("length", Range::positive()).value * unit,
+                                  t.number("radius", Range::positive()).value * unit);
+      break;
+  }
+  if (t.find("velocity") != nullptr) w.velocity = vec("velocity", 1.0);
+  return w;
+}
+
 // ---- the file -----------------------------------------------------------------------------
 
-constexpr std::string_view kTables[] = {"scenario",    "specimen", "grain",
-                                        "orientation", "split",    "output"};
+constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
+                                        "split",    "output",   "material", "contact",
+                                        "dynamics", "wall"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -593,6 +722,13 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   }
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
+    if (name == "wall") {  // an array of tables, [[wall]]
+      if (node != nullptr && !node->is_array_of_tables()) {
+        throw ScenarioError(source, line_of(node->source()), column_of(node->source()), "wall",
+                            fmt::format("expected [[wall]] tables, found {}", type_name(*node)));
+      }
+      continue;
+    }
     if (node != nullptr && !node->is_table()) {
       throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
                           std::string(name),
@@ -616,6 +752,15 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   read_orientation_table(reader("orientation"), s.specimen);
   read_split_table(reader("split"), s.split);
   read_output_table(reader("output"), s.output);
+  read_material_table(reader("material"), s.material);
+  read_dynamics_table(reader("dynamics"), unit, s.dynamics);
+  read_contact_table(reader("contact"), source, unit, s.contact, s.dynamics.enabled);
+  if (const auto* walls = root.get_as<toml::array>("wall")) {
+    for (std::size_t i = 0; i < walls->size(); ++i) {
+      const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table());
+      s.walls.push_back(read_wall(t, unit, i));
+    }
+  }
   return s;
 }
 

@@ -9,8 +9,13 @@
 #include <string>
 #include <string_view>
 
+#include <vector>
+
 #include "geometry/specimen.hpp"
 #include "io/mesh_io.hpp"
+#include "physics/contact_law.hpp"
+#include "physics/neighbour_search.hpp"
+#include "physics/wall.hpp"
 
 namespace cleave::io {
 
@@ -42,6 +47,38 @@ struct OutputDef {
   MeshLayout mesh_layout = MeshLayout::scene;
 };
 
+/// [material]
+struct MaterialDef {
+  double density = 3100.0;  ///< kg/m^3
+};
+
+/// [contact] with its two parameter sets (table 2.3).
+struct ContactDef {
+  double dilation_radius = 0.0;  ///< metres
+  physics::ContactParams particle_particle;
+  physics::ContactParams particle_wall;
+};
+
+/// Where a value sits in the scenario file (for errors found after parsing).
+struct SourcePosition {
+  int line = 0;
+  int column = 0;
+};
+
+/// [dynamics]: a dynamic run of the specimen (present when the table is).
+struct DynamicsDef {
+  bool enabled = false;
+  double dt = 0.0;             ///< s
+  SourcePosition dt_position;  ///< of the dt key, for the time-step refusal
+  double duration = 0.0;       ///< s
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.80665);  ///< m/s^2
+  double lift = 0.0;           ///< metres between z = 0 and the specimen's lowest point
+  int frames = 0;              ///< ParaView frames over the run
+  double settle_ratio = 0.0;   ///< stop once KE < ratio x released potential energy
+  double dt_safety = 0.2;      ///< dt <= dt_safety x 2 sqrt(m_min / k_max)
+  physics::SearchMethod search = physics::SearchMethod::bounding_box;
+};
+
 struct Scenario {
   std::string source;            ///< file path (or a name for in-memory text)
   std::string name;              ///< [scenario] name, default: the file stem
@@ -50,6 +87,10 @@ struct Scenario {
   geometry::SpecimenDef specimen;  ///< lengths converted to metres
   SplitDef split;
   OutputDef output;
+  MaterialDef material;
+  ContactDef contact;
+  DynamicsDef dynamics;
+  std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
 };
 
 /// Reads and validates a scenario file. Throws ScenarioError (file, line, key) for a

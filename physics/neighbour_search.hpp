@@ -27,6 +27,14 @@ enum class SearchMethod { basic, bounding_box };
 
 using BodyPair = std::pair<std::uint32_t, std::uint32_t>;
 
+namespace detail {
+/// A cell of the hash table of occupied cells outside the dense window (neighbour_search.cpp).
+struct CellSlot {
+  std::int32_t x, y, z;
+  std::uint32_t id;  ///< the cell's id; UINT32_MAX marks an empty slot
+};
+}  // namespace detail
+
 class NeighbourSearch {
  public:
   explicit NeighbourSearch(SearchMethod method = SearchMethod::bounding_box) : method_(method) {}
@@ -41,10 +49,18 @@ class NeighbourSearch {
 
  private:
   SearchMethod method_;
-  // Buffers kept between calls (cell lists etc.); defined by the implementation.
-  std::vector<std::uint64_t> keys_;
-  std::vector<std::uint32_t> items_;
-  std::vector<std::uint32_t> starts_;
+  // Buffers kept between calls, so steady-state calls do not allocate; layout in
+  // neighbour_search.cpp.
+  std::vector<std::int32_t> homes_;         ///< per body: the cell of its box's low corner
+  std::vector<std::int32_t> ranked_boxes_;  ///< per rank: cell box, low x y z then high x y z
+  std::vector<std::uint32_t> order_;        ///< rank -> body
+  std::vector<BoundingSphere> ranked_;      ///< the spheres in rank order
+  std::vector<std::uint32_t> entry_cells_;  ///< per (body, cell) entry: the cell's id
+  std::vector<std::uint32_t> items_;        ///< entries grouped by cell: rank | low-face bits
+  std::vector<std::uint32_t> starts_;       ///< per cell id: first rank or entry; then end
+  std::vector<detail::CellSlot> table_;     ///< open-addressing table of cells off the window
+  std::vector<detail::CellSlot> hashed_;    ///< those cells by id
+  std::vector<BodyPair> found_;             ///< pairs as found, before the final sort
 };
 
 }  // namespace cleave::physics

@@ -1,5 +1,6 @@
 #include "physics/world.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -7,7 +8,8 @@
 
 namespace cleave::physics {
 
-World::World(WorldSettings settings) : settings_(std::move(settings)) {
+World::World(WorldSettings settings)
+    : settings_(std::move(settings)), search_(settings_.search) {
   if (!(settings_.dt > 0.0)) throw std::invalid_argument("time step must be positive");
 }
 
@@ -85,13 +87,130 @@ void World::set_angular_velocity(BodyId id, const Eigen::Vector3d& w) {
   s.w = w;
 }
 
+std::size_t World::add_wall(Wall wall) {
+  walls_.push_back(std::move(wall));
+  forces_current_ = false;
+  return walls_.size() - 1;
+}
+
+std::vector<BodyId> World::body_ids() const {
+  std::vector<BodyId> ids;
+  for (std::uint32_t i = 0; i < infos_.size(); ++i) {
+    if (infos_[i].alive) ids.push_back({i, infos_[i].generation});
+  }
+  return ids;
+}
+
 void World::compute_forces() {
-  for (std::size_t i = 0; i < states_.size(); ++i) {
+  live_slots_.clear();
+  posed_.resize(states_.size());
+  for (std::uint32_t i = 0; i < states_.size(); ++i) {
     if (!infos_[i].alive) continue;
+    live_slots_.push_back(i);
     states_[i].f = infos_[i].mass * settings_.gravity;
     states_[i].tau.setZero();
+    posed_[i].update(shapes_[infos_[i].shape], states_[i]);
   }
+  for (auto& w : walls_) w.reaction.setZero();
+  records_.clear();
+  next_history_.clear();
+  body_contacts();
+  wall_contacts();
+  std::swap(history_, next_history_);
   forces_current_ = true;
+}
+
+void World::body_contacts() {
+  spheres_.clear();
+  for (std::uint32_t slot : live_slots_) {
+    spheres_.push_back({states_[slot].x, shapes_[infos_[slot].shape].bounding_radius()});
+  }
+  search_.find_pairs(spheres_, 0.0, pairs_);
+  for (const auto& [i, j] : pairs_) {
+    const std::uint32_t a = live_slots_[i], b = live_slots_[j];
+    feature_buffer_.clear();
+    polyhedron_contacts(posed_[a], posed_[b], 0.0, feature_buffer_);
+    for (const auto& fc : feature_buffer_) apply(a, b, false, fc.contact, fc.feature_a, fc.feature_b);
+  }
+}
+
+void World::wall_contacts() {
+  for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+    const Wall& wall = walls_[w];
+    for (std::uint32_t slot : live_slots_) {
+      const PosedShape& p = posed_[slot];
+      const double reach = shapes_[infos_[slot].shape].bounding_radius();
+      // Broad test against the wall's surface (planes) or axis (cylinders).
+      if (wall.kind != Wall::Kind::cylinder) {
+        if (wall.normal.dot(p.centre - wall.origin) > reach) continue;
+      } else {
+        const Eigen::Vector3d rel = p.centre - wall.origin;
+        const double t = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
+        if ((rel - t * wall.normal).norm() > reach + wall.radius) continue;
+      }
+      for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
+        if (auto c = wall.sphere_contact(p.vertices[v], p.radius)) {
+          apply(w, slot, true, *c, 0, feature_code(FeatureKind::vertex, v));
+        }
+      }
+      if (wall.kind == Wall::Kind::cylinder) {
+        const auto& edges = p.primitives->edges;
+        for (std::uint32_t e = 0; e < edges.size(); ++e) {
+          if (auto c = wall.edge_contact(p.vertices[edges[e].a], p.vertices[edges[e].b], p.radius)) {
+            apply(w, slot, true, *c, 0, feature_code(FeatureKind::edge, e));
+          }
+        }
+      }
+    }
+  }
+}
+
+void World::apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveContact& c,
+                  std::uint32_t feature_a, std::uint32_t feature_b) {
+  if (c.penetration <= 0.0) return;
+  BodyState& sb = states_[b];
+  const BodyInfo& ib = infos_[b];
+  ContactKinematics k;
+  k.normal = c.normal;
+  k.overlap = c.penetration;
+  const Eigen::Vector3d rb = c.point - sb.x;
+  Eigen::Vector3d va_point, wa;
+  double m_crit, i_crit;
+  if (wall) {
+    va_point = walls_[a].velocity;
+    wa.setZero();
+    m_crit = ib.mass;
+    i_crit = ib.inertia.minCoeff();
+  } else {
+    const BodyState& sa = states_[a];
+    const BodyInfo& ia = infos_[a];
+    va_point = sa.v + sa.w.cross(c.point - sa.x);
+    wa = sa.w;
+    m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
+    const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
+    i_crit = i1 * i2 / (i1 + i2);
+  }
+  k.velocity = sb.v + sb.w.cross(rb) - va_point;
+  k.spin = sb.w - wa;
+  k.m_crit = m_crit;
+  k.i_crit = i_crit;
+  k.lever = posed_[b].radius;
+  const ContactKey key{wall ? (a | kWallFlag) : a, b, feature_a, feature_b};
+  ContactHistory h;
+  if (auto it = history_.find(key); it != history_.end()) h = it->second;
+  const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
+  const ContactForce f = contact_force(params, k, h, settings_.dt);
+  next_history_[key] = h;
+  sb.f += f.force;
+  sb.tau += rb.cross(f.force) + f.moment;
+  if (wall) {
+    walls_[a].reaction -= f.force;
+  } else {
+    BodyState& sa = states_[a];
+    sa.f -= f.force;
+    sa.tau -= (c.point - sa.x).cross(f.force) + f.moment;
+  }
+  records_.push_back({a, b, wall, c.point, c.normal, c.penetration, f.force});
 }
 
 void World::step() {
@@ -102,6 +221,7 @@ void World::step() {
     kick(states_[i], infos_[i], 0.5 * h);
     drift(states_[i], infos_[i], h);
   }
+  for (auto& w : walls_) w.origin += h * w.velocity;
   compute_forces();
   for (std::size_t i = 0; i < states_.size(); ++i) {
     if (!infos_[i].alive) continue;

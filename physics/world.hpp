@@ -8,14 +8,34 @@
 #include <cstdint>
 #include <vector>
 
+#include <unordered_map>
+
 #include "physics/body.hpp"
+#include "physics/contact_law.hpp"
+#include "physics/narrow_phase.hpp"
+#include "physics/neighbour_search.hpp"
 #include "physics/rigid_shape.hpp"
+#include "physics/wall.hpp"
 
 namespace cleave::physics {
 
 struct WorldSettings {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.80665);  ///< m/s^2
   double dt = 1e-6;                                               ///< time step, s
+  ContactParams particle_particle;  ///< table 2.3, particle-particle set
+  ContactParams particle_wall;      ///< table 2.3, particle-wall set
+  SearchMethod search = SearchMethod::bounding_box;
+};
+
+/// One contact of the last step, for output and tests.
+struct ContactRecord {
+  std::uint32_t a = 0;          ///< body slot of A, or wall index when `wall` is set
+  std::uint32_t b = 0;          ///< body slot of B
+  bool wall = false;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< from A towards B
+  double overlap = 0.0;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B
 };
 
 class World {
@@ -43,8 +63,17 @@ class World {
   /// Sets a body's angular velocity (world), i.e. its angular momentum L = R I R^T w.
   void set_angular_velocity(BodyId id, const Eigen::Vector3d& w);
 
+  /// Adds a wall; returns its index.
+  std::size_t add_wall(Wall wall);
+  [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
+  [[nodiscard]] Wall& wall(std::size_t i) { return walls_.at(i); }
+
   /// Advances the world by one time step.
   void step();
+  /// Contacts of the last force evaluation.
+  [[nodiscard]] const std::vector<ContactRecord>& contacts() const { return records_; }
+  /// Slots of live bodies in ascending order, with their ids.
+  [[nodiscard]] std::vector<BodyId> body_ids() const;
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::uint64_t steps() const { return steps_; }
   [[nodiscard]] const WorldSettings& settings() const { return settings_; }
@@ -57,6 +86,23 @@ class World {
 
  private:
   void compute_forces();
+  void body_contacts();
+  void wall_contacts();
+  void apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveContact& c,
+             std::uint32_t feature_a, std::uint32_t feature_b);
+
+  struct ContactKey {
+    std::uint32_t a, b, fa, fb;
+    bool operator==(const ContactKey&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const ContactKey& k) const {
+      std::uint64_t h = (std::uint64_t(k.a) << 32 | k.b) * 0x9E3779B97F4A7C15ull;
+      h ^= (std::uint64_t(k.fa) << 32 | k.fb) + 0xBF58476D1CE4E5B9ull + (h << 6) + (h >> 2);
+      return static_cast<std::size_t>(h);
+    }
+  };
+  static constexpr std::uint32_t kWallFlag = 0x80000000u;
 
   WorldSettings settings_;
   std::vector<RigidShape> shapes_;
@@ -64,6 +110,15 @@ class World {
   std::vector<BodyInfo> infos_;    // cold, indexed by slot
   std::vector<std::uint32_t> free_slots_;
   std::size_t live_ = 0;
+  std::vector<Wall> walls_;
+  std::vector<PosedShape> posed_;         // by slot, refreshed each force evaluation
+  std::vector<std::uint32_t> live_slots_;
+  std::vector<BoundingSphere> spheres_;
+  std::vector<BodyPair> pairs_;
+  std::vector<FeatureContact> feature_buffer_;
+  NeighbourSearch search_;
+  std::unordered_map<ContactKey, ContactHistory, KeyHash> history_, next_history_;
+  std::vector<ContactRecord> records_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
   bool forces_current_ = false;

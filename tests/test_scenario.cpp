@@ -282,10 +282,10 @@ size = [12, 12, 4]
 [grain]
 r = 1
 t = 1
-[material]
+[materials]
 density = 3.9
 )",
-                        7, "material", "'scenario', 'specimen', 'grain', 'orientation'");
+                        7, "materials", "'scenario', 'specimen', 'grain', 'orientation'");
   EXPECT_SCENARIO_ERROR("seed = 3\n[specimen]\nshape = \"box\"\n", 1, "seed", "unknown table");
 }
 
@@ -485,4 +485,99 @@ TEST(ScenarioErrors, MissingRequiredTable) {
 }
 
 }  // namespace
+// ---- dynamics tables ----------------------------------------------------------------------
+
+namespace {
+const char* kDropTest = R"([specimen]
+shape = "box"
+size = [12, 12, 4]
+[grain]
+r = 1
+r_bar = 0.9
+t = 1
+[material]
+density = 3100
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5.0
+ks = 2.0
+c_res = 2.0
+mu_r = 0.5
+[contact.particle_wall]
+kn = 10.0
+c_res = 10.0
+[dynamics]
+dt = 1e-4
+duration = 0.5
+lift = 50
+frames = 10
+[[wall]]
+kind = "plane"
+point = [0, 0, 0]
+normal = [0, 0, 1]
+[[wall]]
+name = "top"
+kind = "platen"
+point = [6, 6, 60]
+normal = [0, 0, -1]
+u = [1, 0, 0]
+size = [20, 20]
+velocity = [0, 0, -0.001]
+[[wall]]
+kind = "cylinder"
+point = [0, 0, 0]
+normal = [0, 1, 0]
+length = 10
+radius = 2
+)";
+}  // namespace
+
+TEST(Scenario, DynamicsContactAndWalls) {
+  const Scenario s = parse_scenario(kDropTest, "drop.toml");
+  EXPECT_TRUE(s.dynamics.enabled);
+  EXPECT_EQ(s.dynamics.dt, 1e-4);
+  EXPECT_EQ(s.dynamics.dt_position.line, 21);
+  EXPECT_NEAR(s.dynamics.lift, 0.05, 1e-15);
+  EXPECT_EQ(s.dynamics.frames, 10);
+  EXPECT_NEAR(s.contact.dilation_radius, 0.05e-3, 1e-18);
+  EXPECT_EQ(s.contact.particle_particle.kn, 5.0);
+  EXPECT_EQ(s.contact.particle_particle.mu_r, 0.5);
+  EXPECT_EQ(s.contact.particle_particle.damping_ratio, 0.1);  // default of eq 2.6
+  EXPECT_EQ(s.contact.particle_wall.c_res, 10.0);
+  EXPECT_EQ(s.material.density, 3100.0);
+  ASSERT_EQ(s.walls.size(), 3u);
+  EXPECT_EQ(s.walls[0].kind, cleave::physics::Wall::Kind::plane);
+  EXPECT_EQ(s.walls[0].name, "wall_1");
+  EXPECT_EQ(s.walls[1].kind, cleave::physics::Wall::Kind::platen);
+  EXPECT_NEAR(s.walls[1].half_u, 0.01, 1e-15);  // 20 mm wide
+  EXPECT_NEAR(s.walls[1].origin.z(), 0.06, 1e-15);
+  EXPECT_EQ(s.walls[1].velocity.z(), -0.001);
+  EXPECT_EQ(s.walls[2].kind, cleave::physics::Wall::Kind::cylinder);
+  EXPECT_NEAR(s.walls[2].radius, 2e-3, 1e-15);
+}
+
+TEST(ScenarioErrors, DynamicsNeedsContactAndValidWalls) {
+  std::string no_contact = kDropTest;
+  const auto from = no_contact.find("[contact]"), to = no_contact.find("[dynamics]");
+  no_contact.erase(from, to - from);
+  EXPECT_SCENARIO_ERROR(no_contact, 1, "contact.dilation_radius", "needs a [contact] table");
+
+  std::string bad_kind = kDropTest;
+  bad_kind.replace(bad_kind.find("kind = \"cylinder\""), 17, "kind = \"sphere\"");
+  EXPECT_SCENARIO_ERROR(bad_kind, 38, "wall[3].kind", "'plane', 'platen', 'cylinder'");
+
+  std::string foreign = kDropTest;
+  foreign.replace(foreign.find("normal = [0, 0, 1]"), 18, "normal = [0, 0, 1]\nradius = 3");
+  EXPECT_SCENARIO_ERROR(foreign, 29, "wall[1].radius", "another kind of wall");
+
+  std::string zero = kDropTest;
+  zero.replace(zero.find("normal = [0, 0, 1]"), 18, "normal = [0, 0, 0]");
+  EXPECT_SCENARIO_ERROR(zero, 28, "wall[1].normal", "zero vector");
+
+  std::string cres = kDropTest;
+  cres.replace(cres.find("c_res = 10.0"), 12, "c_res = 0.5");
+  EXPECT_SCENARIO_ERROR(cres, 19, "contact.particle_wall.c_res", ">= 1");
+}
+
 }  // namespace cleave::io

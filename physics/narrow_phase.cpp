@@ -1,0 +1,352 @@
+#include "physics/narrow_phase.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace cleave::physics {
+
+void PosedShape::update(const RigidShape& shape, const BodyState& state) {
+  primitives = &shape.primitives;
+  centre = state.x;
+  radius = shape.primitives.dilation_radius;
+  const Eigen::Matrix3d R = state.q.toRotationMatrix();
+  const auto& p = shape.primitives;
+  vertices.resize(p.vertices.size());
+  for (std::size_t i = 0; i < p.vertices.size(); ++i) vertices[i] = state.x + R * p.vertices[i];
+  face_normals.resize(p.faces.size());
+  face_offsets.resize(p.faces.size());
+  for (std::size_t f = 0; f < p.faces.size(); ++f) {
+    face_normals[f] = R * p.faces[f].normal;
+    face_offsets[f] = face_normals[f].dot(vertices[p.faces[f].vertices[0]]);
+  }
+}
+
+namespace {
+
+constexpr std::size_t kMaxVertices = 64;
+constexpr std::size_t kMaxFaces = 64;
+
+/// Signed distances of every vertex of `from` to every face plane of `to`.
+struct PlaneDistances {
+  std::size_t faces = 0;
+  std::array<double, kMaxVertices * kMaxFaces> d{};
+  double at(std::size_t v, std::size_t f) const { return d[v * faces + f]; }
+};
+
+void plane_distances(const PosedShape& from, const PosedShape& to, PlaneDistances& out) {
+  out.faces = to.face_normals.size();
+  for (std::size_t v = 0; v < from.vertices.size(); ++v) {
+    for (std::size_t f = 0; f < out.faces; ++f) {
+      out.d[v * out.faces + f] = to.face_normals[f].dot(from.vertices[v]) - to.face_offsets[f];
+    }
+  }
+}
+
+/// Polygon of face f of `s` as a small array of world points.
+struct FacePolygon {
+  std::array<Eigen::Vector3d, kMaxVertices> pts;
+  std::size_t n = 0;
+};
+void face_polygon(const PosedShape& s, std::size_t f, FacePolygon& out) {
+  const auto& idx = s.primitives->faces[f].vertices;
+  out.n = idx.size();
+  for (std::size_t i = 0; i < out.n; ++i) out.pts[i] = s.vertices[idx[i]];
+}
+
+/// Contact of vertex v of `p` (the sphere side) against `q`. Returns the contact with the
+/// normal from p's vertex towards q, and q's feature code.
+bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
+                    const PlaneDistances& dist, double margin, bool corner_pairs,
+                    std::uint32_t& q_feature, PrimitiveContact& c) {
+  const double reach = p.radius + q.radius + margin;
+  const Eigen::Vector3d& x = p.vertices[v];
+  double dmax = -std::numeric_limits<double>::infinity();
+  std::size_t fmax = 0;
+  for (std::size_t f = 0; f < dist.faces; ++f) {
+    const double d = dist.at(v, f);
+    if (d > dmax) {
+      dmax = d;
+      fmax = f;
+    }
+  }
+  if (dmax >= reach) return false;  // separated by that face's plane
+  FacePolygon poly;
+  if (dmax < 0.0) {  // inside q: push out through the face it is least deep under
+    c.normal = -q.face_normals[fmax];
+    c.penetration = p.radius + q.radius - dmax;
+    c.point = x - (p.radius - 0.5 * c.penetration) * c.normal;
+    q_feature = feature_code(FeatureKind::face, static_cast<std::uint32_t>(fmax));
+    return true;
+  }
+  // A face whose plane the point is above and whose polygon it projects into holds the
+  // closest point of q.
+  for (std::size_t f = 0; f < dist.faces; ++f) {
+    const double d = dist.at(v, f);
+    if (d < 0.0 || d >= reach) continue;
+    face_polygon(q, f, poly);
+    if (auto hit = sphere_facet(x, p.radius, {poly.pts.data(), poly.n}, q.face_normals[f],
+                                q.radius, margin)) {
+      c = *hit;
+      q_feature = feature_code(FeatureKind::face, static_cast<std::uint32_t>(f));
+      return true;
+    }
+  }
+  // Otherwise the closest point is on an edge or a corner of a face the point is above.
+  const auto& edges = q.primitives->edges;
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_edge = 0;
+  double best_t = 0.0;
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto& E = edges[e];
+    if (dist.at(v, E.left_face) < 0.0 && dist.at(v, E.right_face) < 0.0) continue;
+    const Eigen::Vector3d& a = q.vertices[E.a];
+    const Eigen::Vector3d ab = q.vertices[E.b] - a;
+    const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    const double d2 = (a + t * ab - x).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      best_edge = e;
+      best_t = t;
+    }
+  }
+  if (!(best < reach * reach)) return false;
+  const auto& E = edges[best_edge];
+  if (best_t > 0.0 && best_t < 1.0) {
+    if (auto hit = sphere_cylinder(x, p.radius, q.vertices[E.a], q.vertices[E.b], q.radius, margin)) {
+      c = *hit;
+      q_feature = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(best_edge));
+      return true;
+    }
+    return false;
+  }
+  if (!corner_pairs) return false;
+  const int corner = best_t <= 0.0 ? E.a : E.b;
+  if (auto hit = sphere_sphere(x, p.radius, q.vertices[corner], q.radius, margin)) {
+    c = *hit;
+    q_feature = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(corner));
+    return true;
+  }
+  return false;
+}
+
+/// True when direction u lies in the normal cone of edge E of s (between the outward normals
+/// of its two faces, in the plane across the edge), its boundary included: a face-to-face
+/// touch shows up as the crossings of the two faces' rims, with the face normal as u.
+bool in_normal_cone(const PosedShape& s, const geometry::ContactEdge& E, const Eigen::Vector3d& u) {
+  const Eigen::Vector3d e = (s.vertices[E.b] - s.vertices[E.a]).normalized();
+  const Eigen::Vector3d& n1 = s.face_normals[E.left_face];
+  const Eigen::Vector3d& n2 = s.face_normals[E.right_face];
+  Eigen::Vector3d m1 = e.cross(n1);
+  if (m1.dot(n2) < 0.0) m1 = -m1;
+  Eigen::Vector3d m2 = e.cross(n2);
+  if (m2.dot(n1) < 0.0) m2 = -m2;
+  constexpr double eps = 1e-9;
+  return u.dot(m1) > -eps && u.dot(m2) > -eps;
+}
+
+/// Whether an edge of `s` can reach `other` at all: no face plane of `other` has both
+/// endpoints beyond reach.
+bool edge_near(const PlaneDistances& dist, const geometry::ContactEdge& E, double reach) {
+  for (std::size_t f = 0; f < dist.faces; ++f) {
+    if (dist.at(E.a, f) >= reach && dist.at(E.b, f) >= reach) return false;
+  }
+  return true;
+}
+
+/// Whether the projection of x along `normal` lies inside the convex polygon `poly` (CCW
+/// seen from the side `normal` points to); `closed` admits points on the boundary (within
+/// a tolerance relative to the polygon's size).
+bool projects_inside(const FacePolygon& poly, const Eigen::Vector3d& normal, const Eigen::Vector3d& x,
+                     bool closed) {
+  for (std::size_t i = 0; i < poly.n; ++i) {
+    const Eigen::Vector3d& a = poly.pts[i];
+    const Eigen::Vector3d edge = poly.pts[(i + 1) % poly.n] - a;
+    const double side = edge.cross(x - a).dot(normal);
+    const double tol = 1e-9 * edge.squaredNorm();
+    if (closed ? side < -tol : side <= tol) return false;
+  }
+  return true;
+}
+
+/// The face pair of a face-to-face touch: nearly opposite outward normals (within about 6
+/// degrees) and planes within reach of each other's corners.
+constexpr double kFaceToFaceCos = 0.9945;  // cos 6 degrees
+
+struct Patch {
+  std::size_t fa, fb;
+};
+
+/// Contacts of a face-to-face touch between face fa of A and face fb of B: the corners of
+/// the overlap of the two polygons seen along the common normal. They are A's corners over
+/// B's face, B's corners over A's face, and the crossings of the two rims. Unlike single
+/// vertex or edge contacts, these points move continuously when the faces tilt a little,
+/// so the patch does not flicker as bodies rock on each other.
+void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
+                const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double margin,
+                std::vector<FeatureContact>& out) {
+  const double radii = a.radius + b.radius;
+  const Eigen::Vector3d& na = a.face_normals[fa];
+  const Eigen::Vector3d& nb = b.face_normals[fb];
+  const Eigen::Vector3d n = (na - nb).normalized();  // from A towards B
+  FacePolygon pa, pb;
+  face_polygon(a, fa, pa);
+  face_polygon(b, fb, pb);
+  const auto& ia = a.primitives->faces[fa].vertices;
+  const auto& ib = b.primitives->faces[fb].vertices;
+  // A's corners over B's face (boundary included), along B's normal.
+  for (std::size_t i = 0; i < pa.n; ++i) {
+    const double d = a_to_b.at(ia[i], fb);
+    const double pen = radii - d;
+    if (pen <= -margin || !projects_inside(pb, nb, pa.pts[i], true)) continue;
+    PrimitiveContact c{pa.pts[i] - (a.radius - 0.5 * pen) * nb, -nb, pen};
+    out.push_back({feature_code(FeatureKind::vertex, ia[i]), feature_code(FeatureKind::face, fb), c});
+  }
+  // B's corners over A's face (boundary excluded: a shared corner is counted once, above).
+  for (std::size_t i = 0; i < pb.n; ++i) {
+    const double d = b_to_a.at(ib[i], fa);
+    const double pen = radii - d;
+    if (pen <= -margin || !projects_inside(pa, na, pb.pts[i], false)) continue;
+    PrimitiveContact c{pb.pts[i] - (b.radius - 0.5 * pen) * na, na, pen};
+    out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[i]), c});
+  }
+  // Rim crossings, seen along n: strictly inside both edges.
+  const auto& ea = a.primitives->edges;
+  const auto& eb = b.primitives->edges;
+  for (std::size_t i = 0; i < pa.n; ++i) {
+    const Eigen::Vector3d& p1 = pa.pts[i];
+    const Eigen::Vector3d d1 = pa.pts[(i + 1) % pa.n] - p1;
+    for (std::size_t j = 0; j < pb.n; ++j) {
+      const Eigen::Vector3d& p2 = pb.pts[j];
+      const Eigen::Vector3d d2 = pb.pts[(j + 1) % pb.n] - p2;
+      // Solve p1 + s d1 = p2 + t d2 in the plane across n.
+      const double den = d1.cross(d2).dot(n);
+      if (std::abs(den) <= 1e-12 * d1.norm() * d2.norm()) continue;  // parallel rims
+      const Eigen::Vector3d w = p2 - p1;
+      const double s = w.cross(d2).dot(n) / den;
+      const double t = w.cross(d1).dot(n) / den;
+      if (!(s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)) continue;
+      const Eigen::Vector3d qa = p1 + s * d1, qb = p2 + t * d2;
+      const double pen = radii - (qb - qa).dot(n);
+      if (pen <= -margin) continue;
+      // The edges' indices in the primitives' edge list.
+      auto edge_index = [](const std::vector<geometry::ContactEdge>& edges, int u, int v) {
+        const int lo = std::min(u, v), hi = std::max(u, v);
+        for (std::size_t e = 0; e < edges.size(); ++e) {
+          if (edges[e].a == lo && edges[e].b == hi) return static_cast<std::uint32_t>(e);
+        }
+        return static_cast<std::uint32_t>(edges.size());
+      };
+      const std::uint32_t ka = edge_index(ea, ia[i], ia[(i + 1) % pa.n]);
+      const std::uint32_t kb = edge_index(eb, ib[j], ib[(j + 1) % pb.n]);
+      PrimitiveContact c{qa + (a.radius - 0.5 * pen) * n, n, pen};
+      out.push_back({feature_code(FeatureKind::edge, ka), feature_code(FeatureKind::edge, kb), c});
+    }
+  }
+}
+
+bool face_has_vertex(const geometry::ContactPrimitives& p, std::size_t f, std::uint32_t v) {
+  const auto& vs = p.faces[f].vertices;
+  return std::find(vs.begin(), vs.end(), static_cast<int>(v)) != vs.end();
+}
+
+/// Whether feature `code` of shape p lies on face f (the face, one of its edges or corners).
+bool feature_on_face(const geometry::ContactPrimitives& p, std::uint32_t code, std::size_t f) {
+  const auto kind = static_cast<FeatureKind>(code >> 16);
+  const std::uint32_t index = code & 0xFFFFu;
+  switch (kind) {
+    case FeatureKind::face: return index == f;
+    case FeatureKind::edge:
+      return static_cast<std::size_t>(p.edges[index].left_face) == f ||
+             static_cast<std::size_t>(p.edges[index].right_face) == f;
+    case FeatureKind::vertex: return face_has_vertex(p, f, index);
+  }
+  return false;
+}
+
+}  // namespace
+
+void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
+                         std::vector<FeatureContact>& out) {
+  if (a.vertices.size() > kMaxVertices || b.vertices.size() > kMaxVertices ||
+      a.face_normals.size() > kMaxFaces || b.face_normals.size() > kMaxFaces) {
+    return;  // shapes beyond the fixed buffers are not produced by cleave
+  }
+  const double reach = a.radius + b.radius + margin;
+  PlaneDistances a_to_b, b_to_a;
+  plane_distances(a, b, a_to_b);  // A's vertices against B's faces
+  plane_distances(b, a, b_to_a);  // B's vertices against A's faces
+
+  // Face-to-face touches first: their patches replace the vertex and edge contacts of the
+  // two faces.
+  std::array<Patch, 8> patches;
+  std::size_t n_patches = 0;
+  for (std::size_t fa = 0; fa < a.face_normals.size() && n_patches < patches.size(); ++fa) {
+    for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
+      if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos) continue;
+      const auto& ia = a.primitives->faces[fa].vertices;
+      const auto& ib = b.primitives->faces[fb].vertices;
+      double da = std::numeric_limits<double>::infinity(), db = da;
+      for (int v : ia) da = std::min(da, a_to_b.at(v, fb));
+      for (int v : ib) db = std::min(db, b_to_a.at(v, fa));
+      if (da >= reach || db >= reach || da < -reach || db < -reach) continue;
+      const std::size_t before = out.size();
+      face_patch(a, fa, b, fb, a_to_b, b_to_a, margin, out);
+      if (out.size() > before) patches[n_patches++] = {fa, fb};
+      break;
+    }
+  }
+  auto in_patch_a = [&](std::uint32_t code_a, std::uint32_t code_b) {
+    for (std::size_t k = 0; k < n_patches; ++k) {
+      if (feature_on_face(*a.primitives, code_a, patches[k].fa) &&
+          feature_on_face(*b.primitives, code_b, patches[k].fb)) {
+        return true;
+      }
+    }
+    return false;
+  };
+
+  PrimitiveContact c;
+  std::uint32_t feature = 0;
+  for (std::size_t v = 0; v < a.vertices.size(); ++v) {
+    if (vertex_against(a, v, b, a_to_b, margin, true, feature, c)) {
+      const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
+      if (!in_patch_a(code, feature)) out.push_back({code, feature, c});
+    }
+  }
+  for (std::size_t v = 0; v < b.vertices.size(); ++v) {
+    if (vertex_against(b, v, a, b_to_a, margin, false, feature, c)) {
+      c.normal = -c.normal;  // from A towards B
+      const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
+      if (!in_patch_a(feature, code)) out.push_back({feature, code, c});
+    }
+  }
+  const auto& ea = a.primitives->edges;
+  const auto& eb = b.primitives->edges;
+  for (std::size_t i = 0; i < ea.size(); ++i) {
+    if (!edge_near(a_to_b, ea[i], reach)) continue;
+    const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
+    const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
+    const Eigen::Vector3d d1 = (q1 - p1).normalized();
+    for (std::size_t j = 0; j < eb.size(); ++j) {
+      if (!edge_near(b_to_a, eb[j], reach)) continue;
+      const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
+      const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
+      if (d1.cross((q2 - p2).normalized()).squaredNorm() < 1e-12) continue;  // parallel
+      if (in_patch_a(feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i)),
+                     feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j)))) {
+        continue;
+      }
+      auto hit = cylinder_cylinder(p1, q1, a.radius, p2, q2, b.radius, margin);
+      if (!hit) continue;
+      if (!in_normal_cone(a, ea[i], hit->normal) || !in_normal_cone(b, eb[j], -hit->normal)) {
+        continue;
+      }
+      out.push_back({feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i)),
+                     feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j)), *hit});
+    }
+  }
+}
+
+}  // namespace cleave::physics

@@ -1,0 +1,64 @@
+#pragma once
+/// \file
+/// Fine contact detection between two dilated convex polyhedra (sec. 2.3.1, App. B.2 of
+/// the dissertation, seed 000) from the primitive kernels of contact_kernels.hpp.
+///
+/// Which primitive pairs count, so that one touching region is never counted twice and
+/// the result does not depend on how faces are triangulated (faces are whole polygons):
+/// - a face of A and a face of B that face each other (outward normals opposite within
+///   about 6 degrees) and are within reach form a patch: contacts at the corners of the
+///   overlap of the two polygons seen along their common normal (A's corners over B's
+///   face, B's corners over A's face, and the crossings of the two rims). These points move
+///   continuously as the faces rock, where single-feature contacts would flicker. The
+///   patch replaces every vertex and edge contact between those two faces;
+/// - every vertex of A against B, and every vertex of B against A: the vertex's sphere is
+///   tested against the one feature of the other body that holds its closest point (a
+///   face interior -> sphere-facet, an edge interior -> sphere-cylinder, a corner ->
+///   sphere-sphere); corner-corner pairs are taken from A's side only;
+/// - edge against edge (cylinder-cylinder) only where the segments cross (not parallel)
+///   and the contact normal lies in both edges' normal cones (boundary included): the
+///   crossings of two faces' rims are the corners of a face-to-face contact patch that are
+///   not corners of either body. Parallel edges are left to the vertex contacts at the
+///   ends of their overlap.
+/// A vertex found inside the other body (deeper than its dilation) is reported against the
+/// face it is least deep under, so fast bodies are pushed back out rather than lost.
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+#include "physics/body.hpp"
+#include "physics/contact_kernels.hpp"
+#include "physics/rigid_shape.hpp"
+
+namespace cleave::physics {
+
+/// A body's primitives placed in the world for one step (computed once per body per step).
+struct PosedShape {
+  const geometry::ContactPrimitives* primitives = nullptr;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> vertices;      ///< world
+  std::vector<Eigen::Vector3d> face_normals;  ///< world, outward
+  std::vector<double> face_offsets;           ///< normal . x = offset on each face
+  double radius = 0.0;                        ///< dilation radius
+
+  void update(const RigidShape& shape, const BodyState& state);
+};
+
+/// Feature codes: kind in the top bits, index below.
+enum class FeatureKind : std::uint32_t { vertex = 0, edge = 1, face = 2 };
+constexpr std::uint32_t feature_code(FeatureKind kind, std::uint32_t index) {
+  return (static_cast<std::uint32_t>(kind) << 16) | index;
+}
+
+struct FeatureContact {
+  std::uint32_t feature_a = 0;  ///< feature of A
+  std::uint32_t feature_b = 0;  ///< feature of B
+  PrimitiveContact contact;     ///< normal from A towards B
+};
+
+/// Appends every contact between A and B with penetration > -margin, in a fixed order.
+void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
+                         std::vector<FeatureContact>& out);
+
+}  // namespace cleave::physics

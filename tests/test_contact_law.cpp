@@ -1,0 +1,165 @@
+// The contact law of sec. 2.3.2 (eqs 2.3-2.8) as a pure function, and head-on collisions of
+// two prisms in a world: momentum, restitution from C_res, energy without damping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "geometry/exact_polyhedron.hpp"
+#include "physics/contact_law.hpp"
+#include "physics/world.hpp"
+
+using namespace cleave;
+using namespace cleave::physics;
+
+namespace {
+ContactKinematics pressing(double overlap, double vn) {
+  ContactKinematics k;
+  k.normal = Eigen::Vector3d::UnitZ();
+  k.overlap = overlap;
+  k.velocity = Eigen::Vector3d(0, 0, vn);
+  k.spin = Eigen::Vector3d::Zero();
+  k.m_crit = 1e-6;
+  k.i_crit = 1e-12;
+  k.lever = 1e-4;
+  return k;
+}
+}  // namespace
+
+TEST(ContactLaw, HookeOnLoadingStifferByCresOnUnloading) {
+  ContactParams p;
+  p.kn = 5e6;
+  p.c_res = 2.0;
+  p.damping_ratio = 0.0;
+  ContactHistory h;
+  const double dt = 1e-7;
+  // Loading to 2 um: F = Kn delta.
+  for (double d : {0.5e-6, 1e-6, 2e-6}) {
+    EXPECT_NEAR(contact_force(p, pressing(d, -1.0), h, dt).force.z(), p.kn * d, 1e-9);
+  }
+  // Unloading: slope C_res Kn from (2 um, 10 N); zero at delta_0 = 2 um (1 - 1/2) = 1 um.
+  EXPECT_NEAR(contact_force(p, pressing(1.5e-6, 1.0), h, dt).force.z(), 2 * p.kn * 0.5e-6, 1e-9);
+  EXPECT_NEAR(contact_force(p, pressing(1.0e-6, 1.0), h, dt).force.z(), 0.0, 1e-9);
+  EXPECT_EQ(contact_force(p, pressing(0.5e-6, 1.0), h, dt).force.z(), 0.0);  // never pulls
+  // Reloading follows the unloading line back up to the loading curve.
+  EXPECT_NEAR(contact_force(p, pressing(1.8e-6, -1.0), h, dt).force.z(), 2 * p.kn * 0.8e-6, 1e-9);
+  EXPECT_NEAR(contact_force(p, pressing(2.5e-6, -1.0), h, dt).force.z(), p.kn * 2.5e-6, 1e-9);
+}
+
+TEST(ContactLaw, NormalDampingOpposesTheRelativeNormalVelocity) {
+  ContactParams p;
+  p.kn = 5e6;
+  p.c_res = 2.0;
+  ContactHistory h1, h2;
+  const auto k_in = pressing(1e-6, -0.5), k_out = pressing(1e-6, 0.0);
+  const double with = contact_force(p, k_in, h1, 1e-7).force.z();
+  const double without = contact_force(p, k_out, h2, 1e-7).force.z();
+  // eq 2.6: 0.1 sqrt(C_res Kn m_crit) times the normal speed.
+  EXPECT_NEAR(with - without, 0.1 * std::sqrt(2.0 * 5e6 * 1e-6) * 0.5, 1e-12);
+}
+
+TEST(ContactLaw, ShearSpringIsCappedByCoulomb) {
+  ContactParams p;
+  p.kn = 5e6;
+  p.ks = 2e6;
+  p.mu_s = 0.3;
+  p.damping_ratio = 0.0;
+  ContactHistory h;
+  auto k = pressing(1e-6, 0.0);
+  k.velocity = Eigen::Vector3d(0.1, 0, 0);  // B slides along +x relative to A
+  const double dt = 1e-6;
+  // Elastic while |Fs| < mu Fn: Fs = -Ks * (0.1 dt) per step.
+  ContactForce f = contact_force(p, k, h, dt);
+  EXPECT_NEAR(f.force.x(), -p.ks * 0.1 * dt, 1e-12);
+  EXPECT_FALSE(f.sliding);
+  for (int i = 0; i < 100; ++i) f = contact_force(p, k, h, dt);
+  EXPECT_TRUE(f.sliding);
+  EXPECT_NEAR(f.force.x(), -0.3 * p.kn * 1e-6, 1e-12);  // mu Fn, opposing the slip
+}
+
+TEST(ContactLaw, RollingMomentOpposesRelativeRollingAndIsCapped) {
+  ContactParams p;
+  p.kn = 5e6;
+  p.kr = 1e-3;
+  p.kt = 1e-3;
+  p.mu_r = 0.5;
+  p.damping_ratio = 0.0;
+  ContactHistory h;
+  auto k = pressing(1e-6, 0.0);
+  k.spin = Eigen::Vector3d(2.0, 0, 3.0);  // rolling about x, twisting about z
+  const ContactForce f = contact_force(p, k, h, 1e-6);
+  EXPECT_NEAR(f.moment.x(), -p.kr * 2.0 * 1e-6, 1e-15);
+  EXPECT_NEAR(f.moment.z(), -p.kt * 3.0 * 1e-6, 1e-15);
+  ContactHistory h2;
+  k.spin = Eigen::Vector3d(1e6, 0, 0);
+  const ContactForce capped = contact_force(p, k, h2, 1e-6);
+  EXPECT_NEAR(std::abs(capped.moment.x()), 0.5 * p.kn * 1e-6 * k.lever, 1e-15);
+}
+
+namespace {
+
+struct Collision {
+  Eigen::Vector3d p_before, p_after;
+  double v_rel_before = 0, v_rel_after = 0, ke_before = 0, ke_after = 0;
+};
+
+/// Two equal hexagonal prisms (r = 0.5 mm, t = 1 mm, SiC) fly at each other along z, basal
+/// faces first (B turned 10 degrees about z), with no gravity, damping or friction.
+Collision head_on(double c_res) {
+  WorldSettings ws;
+  ws.gravity.setZero();
+  ws.particle_particle.kn = 5e6;  // table 2.3's 5000 read as N/mm
+  ws.particle_particle.ks = 2e6;
+  ws.particle_particle.c_res = c_res;
+  ws.particle_particle.damping_ratio = 0.0;
+  const auto prism = geometry::ExactPolyhedron::hexagonal_prism(0.5e-3, 1e-3);
+  const RigidShape shape = make_rigid_shape(prism, 0.05e-3);
+  const double mass = 3100.0 * shape.volume;
+  // Contact lasts about pi sqrt(m_red / (n Kn)); resolve it with ~400 steps.
+  ws.dt = 3.14159 * std::sqrt(0.5 * mass / (6 * c_res * ws.particle_particle.kn)) / 400;
+  World world(ws);
+  const auto sh = world.add_shape(shape);
+  const Eigen::Quaterniond qa = shape.orientation_for();
+  const Eigen::Quaterniond qb =
+      shape.orientation_for(Eigen::Quaterniond(Eigen::AngleAxisd(0.1745, Eigen::Vector3d::UnitZ())));
+  const double gap = 1e-3 + 2 * 0.05e-3 + 2e-6;  // thickness + two dilations + 2 um apart
+  const BodyId a = world.add_body(sh, 3100.0, Eigen::Vector3d(0.02e-3, 0.01e-3, 0.0), qa,
+                                  Eigen::Vector3d(0, 0, 0.05));
+  const BodyId b = world.add_body(sh, 3100.0, Eigen::Vector3d(0.0, 0.0, gap), qb,
+                                  Eigen::Vector3d(0, 0, -0.05));
+  Collision c;
+  c.p_before = world.linear_momentum();
+  c.v_rel_before = world.state(b).v.z() - world.state(a).v.z();
+  c.ke_before = world.kinetic_energy();
+  bool touched = false;
+  for (int i = 0; i < 100000; ++i) {
+    world.step();
+    if (!world.contacts().empty()) touched = true;
+    if (touched && world.contacts().empty()) break;
+  }
+  EXPECT_TRUE(touched);
+  c.p_after = world.linear_momentum();
+  c.v_rel_after = world.state(b).v.z() - world.state(a).v.z();
+  c.ke_after = world.kinetic_energy();
+  return c;
+}
+
+class HeadOnCollision : public ::testing::TestWithParam<double> {};
+
+}  // namespace
+
+TEST_P(HeadOnCollision, RestitutionIsOneOverSqrtCres) {
+  const double c_res = GetParam();
+  const Collision c = head_on(c_res);
+  // Linear momentum: internal forces cancel exactly pair by pair.
+  EXPECT_NEAR((c.p_after - c.p_before).norm(), 0.0, 1e-15);
+  const double e = -c.v_rel_after / c.v_rel_before;
+  EXPECT_NEAR(e, 1.0 / std::sqrt(c_res), 0.01);
+  if (c_res == 1.0) EXPECT_NEAR(c.ke_after / c.ke_before, 1.0, 1e-3);  // energy comes back
+}
+
+INSTANTIATE_TEST_SUITE_P(Cres, HeadOnCollision, ::testing::Values(1.0, 2.0, 4.0));
+
+TEST(CriticalTimeStep, IsTwiceSqrtMassOverStiffness) {
+  EXPECT_DOUBLE_EQ(critical_time_step(4.0, 1.0), 4.0);
+  EXPECT_DOUBLE_EQ(critical_time_step(1e-6, 1e8), 2e-7);
+}
