@@ -25,13 +25,14 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
 
 namespace {
 
-constexpr std::size_t kMaxVertices = 64;
-constexpr std::size_t kMaxFaces = 64;
+constexpr std::size_t kMaxVertices = 48;
+constexpr std::size_t kMaxFaces = 32;
 
-/// Signed distances of every vertex of `from` to every face plane of `to`.
+/// Signed distances of every vertex of `from` to every face plane of `to`. Left
+/// uninitialised: only the entries plane_distances writes are read.
 struct PlaneDistances {
   std::size_t faces = 0;
-  std::array<double, kMaxVertices * kMaxFaces> d{};
+  std::array<double, kMaxVertices * kMaxFaces> d;
   double at(std::size_t v, std::size_t f) const { return d[v * faces + f]; }
 };
 
@@ -46,7 +47,7 @@ void plane_distances(const PosedShape& from, const PosedShape& to, PlaneDistance
 
 /// Polygon of face f of `s` as a small array of world points.
 struct FacePolygon {
-  std::array<Eigen::Vector3d, kMaxVertices> pts;
+  std::array<Eigen::Vector3d, kMaxVertices> pts;  // Eigen leaves these uninitialised
   std::size_t n = 0;
 };
 void face_polygon(const PosedShape& s, std::size_t f, FacePolygon& out) {
@@ -265,6 +266,28 @@ bool feature_on_face(const geometry::ContactPrimitives& p, std::uint32_t code, s
   return false;
 }
 
+/// Separating-axis early out: the face of `s` that looks most towards `other`; when every
+/// vertex of `other` is beyond reach of its plane the two cannot touch. Most pairs found by
+/// the bounding-sphere search end here, before the full distance tables are built.
+bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, double reach) {
+  const Eigen::Vector3d towards = other.centre - s.centre;
+  std::size_t best = 0;
+  double best_dot = -std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < s.face_normals.size(); ++f) {
+    const double d = s.face_normals[f].dot(towards);
+    if (d > best_dot) {
+      best_dot = d;
+      best = f;
+    }
+  }
+  const Eigen::Vector3d& n = s.face_normals[best];
+  const double offset = s.face_offsets[best] + reach;
+  for (const auto& v : other.vertices) {
+    if (n.dot(v) < offset) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
@@ -274,6 +297,7 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
     return;  // shapes beyond the fixed buffers are not produced by cleave
   }
   const double reach = a.radius + b.radius + margin;
+  if (separated_by_facing_face(a, b, reach) || separated_by_facing_face(b, a, reach)) return;
   PlaneDistances a_to_b, b_to_a;
   plane_distances(a, b, a_to_b);  // A's vertices against B's faces
   plane_distances(b, a, b_to_a);  // B's vertices against A's faces

@@ -14,31 +14,34 @@
 ///    index; occupied cells outside it (far bodies, sparse systems) take the next ids from
 ///    an open-addressing hash table. The window is the whole occupied range when that has
 ///    at most kDenseCellsPerEntry cells per entry, else the range of the central bodies of
-///    a sample when that is small enough, else empty.
+///    a sample when that is small enough, else empty (all cells hashed).
 /// 3. Ranks. Bodies are counting-sorted by the cell of their box's low corner (ties in
 ///    index order) and copied in that order, so bodies near in space are near in memory.
 ///    Basic: each cell's ranks form one run, so this is the cell list. Bounding box: the
 ///    (rank, cell) entries of every cell of every box (step 3) are counting-sorted by cell
-///    the same way; each cell lists its ranks in ascending order.
-/// 4. Candidates; the exact test runs on the rank-ordered copy.
-///    Basic (step 3), cell by cell: a cell against itself and against the neighbours with a
-///    larger id, i.e. for a window cell the 13 cells after it in row-major order, read as 5
-///    runs of ranks. Bounding box (step 4), body by body: the entries of larger rank in the
-///    cells of its own box. A pair is tested only in the cell holding the low corner of the
-///    intersection of the two boxes, so a pair sharing several cells is tested once and no
-///    dedupe pass is needed: each entry carries three bits, "this cell is on my box's low
-///    face" per axis, and that corner is the shared cell where, on every axis, one of the
-///    two bodies has its low face.
-/// 5. Order. Pairs are counting-sorted by first index, each short run by second index: the
-///    output does not depend on the grid's internal order.
-/// For a parallel version, step 4 is independent per cell / per body (chunks of cells or
-/// ranks, each with its own list of found pairs), and steps 3 and 5 are counting sorts.
+///    the same way.
+/// 4. Candidates, and the exact test on the rank-ordered copy, cell by cell.
+///    Basic (step 3): a cell against itself and against the neighbours with a larger id;
+///    for a window cell these are the 13 cells after it in row-major order, 5 runs of ranks.
+///    Bounding box (step 4): every two entries of a cell. A pair is tested only in the cell
+///    holding the low corner of the intersection of the two boxes, so a pair sharing several
+///    cells is tested once and no dedupe pass is needed: each entry carries three bits,
+///    "this cell is on my box's low face" per axis, and that corner is the shared cell
+///    where, on every axis, one of the two has its low face.
+/// 5. Order. Radix sort by first index, then each short run by second index: the output
+///    does not depend on the grid's internal order.
+/// For a parallel version, step 4 is independent per cell (chunks of cells, each with its
+/// own list of found pairs, concatenated), and steps 3 and 5 are counting / radix sorts.
 ///
-/// Bounding-box cell size. App. B sizes cells by the smallest bodies; here
-///   cell = max(2 h_min, 2 h_max / kMaxCellsPerAxis, smallest cell with expected entries
-///              <= kEntryBudget * N),
-/// so cells follow the small bodies, no body spans more than kMaxCellsPerAxis + 1 cells per
-/// axis, and a few tiny bodies cannot blow up the number of entries.
+/// Bounding-box cell size. App. B sizes cells by the smallest bodies, not the largest. Here
+/// the cell is the smallest one with at most kEntryBudget (body, cell) entries per body in
+/// expectation, but at least 1 / kMaxCellsPerAxis of the widest box. A body of width w
+/// spans (w / cell + 1)^3 cells on average, so a budget of 4 gives cells about 1.7 times
+/// the width of the bodies that dominate the count (the small ones). 4 measured fastest
+/// overall (bench_neighbour_search, 10^5 bodies: with 8 and 16 up to 15 % and 50 % slower
+/// on mixed sizes, with 2 up to 70 % slower; equal sizes barely care).
+/// A few huge bodies enlarge the cell only as far as their share of the entries needs,
+/// and no body spans more than kMaxCellsPerAxis + 1 cells per axis.
 
 #include "physics/neighbour_search.hpp"
 
@@ -64,7 +67,7 @@ constexpr double kCoordLimit = 0x1p30;
 /// basic cell is 2 h_max / (1 - kSlack). Rounding errors stay below 2^-21 cell units.
 constexpr double kSlack = 0x1p-10;
 /// Bounding box: at most this many (body, cell) entries per body, in expectation.
-constexpr double kEntryBudget = 16.0;
+constexpr double kEntryBudget = 4.0;
 /// Bounding box: cells are at least 1 / kMaxCellsPerAxis of the widest box.
 constexpr double kMaxCellsPerAxis = 32.0;
 /// The dense window has at most this many cells per entry, plus a floor.
@@ -173,37 +176,6 @@ struct CellIndex {
   std::uint32_t find(std::int32_t x, std::int32_t y, std::int32_t z) const {
     return in_window(x, y, z) ? window_id(x, y, z) : hashed_id(x, y, z);
   }
-
-  /// Calls f(x, begin, end) for every non-empty cell x0..x1 of row (y, z).
-  template <class F>
-  void for_row(std::int32_t y, std::int32_t z, std::int32_t x0, std::int32_t x1, F&& f) const {
-    std::int32_t d0 = x1 + 1;  // window part d0..d1, empty by default
-    std::int32_t d1 = x1;
-    if (y >= lo[1] && y <= hi[1] && z >= lo[2] && z <= hi[2] && x0 <= hi[0] && x1 >= lo[0]) {
-      d0 = std::max(x0, lo[0]);
-      d1 = std::min(x1, hi[0]);
-    }
-    if (hashed != 0) {
-      for (std::int32_t x = x0; x < d0; ++x) visit_hashed(x, y, z, f);
-    }
-    if (d0 <= d1) {
-      std::uint32_t c = window_id(d0, y, z);
-      for (std::int32_t x = d0; x <= d1; ++x, ++c) {
-        const std::uint32_t b = starts[c];
-        const std::uint32_t e = starts[c + 1];
-        if (b != e) f(x, b, e);
-      }
-    }
-    if (hashed != 0) {
-      for (std::int32_t x = d1 + 1; x <= x1; ++x) visit_hashed(x, y, z, f);
-    }
-  }
-
-  template <class F>
-  void visit_hashed(std::int32_t x, std::int32_t y, std::int32_t z, F& f) const {
-    const std::uint32_t c = hashed_id(x, y, z);
-    if (c != kNoCell) f(x, starts[c], starts[c + 1]);
-  }
 };
 
 /// The dense window: the whole occupied range if small enough; else the range of the
@@ -271,39 +243,71 @@ std::uint32_t hashed_cell_id(std::vector<CellSlot>& table, std::vector<CellSlot>
   return cell.id;
 }
 
-/// Appends a found pair as (smaller index, larger index).
-inline void emit(std::vector<BodyPair>& found, std::uint32_t u, std::uint32_t v) {
-  found.emplace_back(std::min(u, v), std::max(u, v));
-}
+/// Found pairs as (smaller index, larger index), written without branching on the test:
+/// every candidate is stored and the count advances only if it passed. The buffer only
+/// grows; its first `count` pairs are the result.
+struct PairSink {
+  std::vector<BodyPair>& buffer;
+  std::size_t count = 0;
+
+  /// Room for m more candidates; returns where the next one goes.
+  BodyPair* reserve(std::size_t m) {
+    if (count + m > buffer.size()) buffer.resize(std::max(2 * buffer.size(), count + m));
+    return buffer.data() + count;
+  }
+  static BodyPair* put(BodyPair* out, std::uint32_t u, std::uint32_t v, bool hit) {
+    // min / max by masks: the indices are in random order, a branch would mispredict.
+    const std::uint32_t swap = (u ^ v) & (0u - static_cast<std::uint32_t>(v < u));
+    *out = {u ^ swap, v ^ swap};
+    return out + (hit ? 1 : 0);
+  }
+  void commit(const BodyPair* out) { count = static_cast<std::size_t>(out - buffer.data()); }
+};
 
 /// App. B basic search, step 3, cell by cell: bodies of the same or of neighbouring cells,
 /// each pair of cells from the one with the smaller id.
 void emit_basic(const CellIndex& grid, const std::vector<CellSlot>& hashed,
                 const BoundingSphere* ranked, const std::uint32_t* order, double margin,
-                std::vector<BodyPair>& found) {
+                std::vector<std::uint32_t>& partners, PairSink& found) {
   const std::uint32_t* starts = grid.starts;
   std::array<std::pair<std::uint32_t, std::uint32_t>, 26> runs;
   int count = 0;
-  const auto add_run = [&](std::uint32_t b, std::uint32_t e) {
-    if (b != e) runs[count++] = {b, e};
+  std::size_t in_runs = 0;
+  const auto clear_runs = [&] {
+    count = 0;
+    in_runs = 0;
   };
-  // Ranks begin..end of one cell; own_end extends the partners in their own run.
+  const auto add_run = [&](std::uint32_t b, std::uint32_t e) {
+    if (b == e) return;
+    runs[count++] = {b, e};
+    in_runs += e - b;
+  };
+  // Ranks begin..end of one cell against the rest of their own run (up to own_end) and
+  // the runs: the partners are first gathered into one list, so that each body has a
+  // single loop.
   const auto scan = [&](std::uint32_t begin, std::uint32_t end, std::uint32_t own_end) {
+    const std::size_t total = (own_end - begin) + in_runs;
+    if (partners.size() < total) partners.resize(2 * total);
+    std::uint32_t* p = partners.data();
+    for (std::uint32_t b = begin; b < own_end; ++b) *p++ = b;
+    for (int k = 0; k < count; ++k) {
+      for (std::uint32_t b = runs[k].first; b < runs[k].second; ++b) *p++ = b;
+    }
     for (std::uint32_t a = begin; a < end; ++a) {
       const BoundingSphere& sa = ranked[a];
-      for (std::uint32_t b = a + 1; b < own_end; ++b) {
-        if (within_reach(sa, ranked[b], margin)) emit(found, order[a], order[b]);
+      const std::uint32_t ua = order[a];
+      const std::size_t first = a - begin + 1;
+      BodyPair* out = found.reserve(total - first);
+      for (std::size_t k = first; k < total; ++k) {
+        const std::uint32_t b = partners[k];
+        out = PairSink::put(out, ua, order[b], within_reach(sa, ranked[b], margin));
       }
-      for (int k = 0; k < count; ++k) {
-        for (std::uint32_t b = runs[k].first; b < runs[k].second; ++b) {
-          if (within_reach(sa, ranked[b], margin)) emit(found, order[a], order[b]);
-        }
-      }
+      found.commit(out);
     }
   };
   // Any cell: look up the 26 neighbours, keep those with a larger id.
   const auto scan_any = [&](std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t id) {
-    count = 0;
+    clear_runs();
     for (std::int32_t dz = -1; dz <= 1; ++dz) {
       for (std::int32_t dy = -1; dy <= 1; ++dy) {
         for (std::int32_t dx = -1; dx <= 1; ++dx) {
@@ -330,7 +334,7 @@ void emit_basic(const CellIndex& grid, const std::vector<CellSlot>& hashed,
         }
         // The 13 cells after c in row-major order, clipped to the window: x + 1 in the
         // same run as c, then rows (y + 1, z), (y - 1..y + 1, z + 1), x - 1..x + 1 each.
-        count = 0;
+        clear_runs();
         const std::int64_t x0 = std::max<std::int64_t>(x - 1, 0);
         const std::int64_t x1 = std::min<std::int64_t>(x + 1, sx - 1);
         const auto add_row = [&](std::int64_t ry, std::int64_t rz) {
@@ -349,56 +353,56 @@ void emit_basic(const CellIndex& grid, const std::vector<CellSlot>& hashed,
   for (const CellSlot& cell : hashed) scan_any(cell.x, cell.y, cell.z, cell.id);
 }
 
-/// App. B bounding-box search, step 4, body by body: the entries of larger rank in the
-/// cells of its own box, each pair only in the low corner cell of the boxes' intersection.
-void emit_bounding_box(const CellIndex& grid, const std::int32_t* boxes, const std::uint32_t* items,
-                       const BoundingSphere* ranked, const std::uint32_t* order, std::uint32_t n,
-                       double margin, std::vector<BodyPair>& found) {
-  for (std::uint32_t a = 0; a < n; ++a) {
-    const BoundingSphere& sa = ranked[a];
-    const std::int32_t* b = boxes + 6 * std::size_t{a};
-    for (std::int32_t z = b[2]; z <= b[5]; ++z) {
-      for (std::int32_t y = b[1]; y <= b[4]; ++y) {
-        const std::uint32_t low_yz =
-            (std::uint32_t{y == b[1]} << 1) | (std::uint32_t{z == b[2]} << 2);
-        grid.for_row(y, z, b[0], b[3], [&](std::int32_t x, std::uint32_t begin, std::uint32_t end) {
-          // Axes where this cell is not on a's low face must be on the partner's.
-          const std::uint32_t need = (7u & ~(low_yz | std::uint32_t{x == b[0]})) << kRankBits;
-          // Ranks ascend in a cell: walk down from the top, stop at a.
-          for (std::uint32_t p = end; p-- > begin;) {
-            const std::uint32_t item = items[p];
-            const std::uint32_t r = item & kRankMask;
-            if (r <= a) break;
-            if ((item & need) == need && within_reach(sa, ranked[r], margin)) {
-              emit(found, order[a], order[r]);
-            }
-          }
-        });
+/// App. B bounding-box search, step 4, cell by cell: every two entries of a cell, a pair
+/// counted only in the low corner cell of the intersection of the two boxes, i.e. where
+/// on every axis one of the two has its low face: (low bits of p | low bits of q) == 7.
+void emit_bounding_box(const std::uint32_t* starts, std::uint32_t cells, const std::uint32_t* items,
+                       const BoundingSphere* ranked, const std::uint32_t* order, double margin,
+                       PairSink& found) {
+  for (std::uint32_t c = 0; c < cells; ++c) {
+    const std::uint32_t begin = starts[c];
+    const std::uint32_t end = starts[c + 1];
+    for (std::uint32_t p = begin; p + 1 < end; ++p) {
+      const std::uint32_t rp = items[p] & kRankMask;
+      const std::uint32_t low_p = items[p] >> kRankBits;
+      const BoundingSphere& sp = ranked[rp];
+      const std::uint32_t up = order[rp];
+      BodyPair* out = found.reserve(end - p - 1);
+      for (std::uint32_t q = p + 1; q < end; ++q) {
+        const std::uint32_t rq = items[q] & kRankMask;
+        const bool corner = ((low_p | items[q] >> kRankBits) == 7u);
+        out = PairSink::put(out, up, order[rq], corner & within_reach(sp, ranked[rq], margin));
       }
+      found.commit(out);
     }
   }
 }
 
-/// Step 5: LSD radix sort of the pairs by first index (digits of at most 11 bits), then each
-/// run of equal first index sorted by second index (runs are short, except for big bodies).
-void sort_pairs(std::vector<BodyPair>& found, std::size_t n, std::vector<std::uint32_t>& counts,
-                std::vector<BodyPair>& pairs) {
-  const int bits = std::bit_width(n - 1);
+/// Step 5: LSD radix sort of the first `count` found pairs by first index (digits of at most
+/// 11 bits), then each run of equal first index sorted by second index (runs are short,
+/// except for big bodies).
+void sort_pairs(std::vector<BodyPair>& found, std::size_t count, std::size_t n,
+                std::vector<std::uint32_t>& buckets, std::vector<BodyPair>& pairs) {
+  if (count >= kNoCell) throw std::length_error("NeighbourSearch: too many pairs");
+  const auto bits = static_cast<int>(std::bit_width(n - 1));
   const int passes = std::max(1, (bits + 10) / 11);
   const int digit = (bits + passes - 1) / passes;
   const std::uint32_t mask = (std::uint32_t{1} << digit) - 1;
   // Ping-pong between found and pairs, arranged so that the last pass writes into pairs.
-  pairs.resize(found.size());
-  if (passes % 2 == 0) std::copy(found.begin(), found.end(), pairs.begin());
-  std::vector<BodyPair>* src = passes % 2 == 0 ? &pairs : &found;
-  std::vector<BodyPair>* dst = passes % 2 == 0 ? &found : &pairs;
+  pairs.resize(count);
+  BodyPair* src = found.data();
+  BodyPair* dst = pairs.data();
+  if (passes % 2 == 0) {
+    std::copy_n(found.data(), count, pairs.data());
+    std::swap(src, dst);
+  }
   for (int pass = 0; pass < passes; ++pass) {
     const int shift = pass * digit;
-    counts.assign(std::size_t{mask} + 1, 0);
-    for (const BodyPair& p : *src) ++counts[(p.first >> shift) & mask];
+    buckets.assign(std::size_t{mask} + 1, 0);
+    for (std::size_t k = 0; k < count; ++k) ++buckets[(src[k].first >> shift) & mask];
     std::uint32_t run = 0;
-    for (std::uint32_t& c : counts) run += std::exchange(c, run);
-    for (const BodyPair& p : *src) (*dst)[counts[(p.first >> shift) & mask]++] = p;
+    for (std::uint32_t& b : buckets) run += std::exchange(b, run);
+    for (std::size_t k = 0; k < count; ++k) dst[buckets[(src[k].first >> shift) & mask]++] = src[k];
     std::swap(src, dst);
   }
   const auto by_second = [](const BodyPair& p, const BodyPair& q) { return p.second < q.second; };
@@ -430,14 +434,12 @@ void NeighbourSearch::find_pairs(std::span<const BoundingSphere> spheres, double
   const std::size_t n = spheres.size();
   if (n > kRankMask) throw std::length_error("NeighbourSearch: too many bodies");
   const double half_margin = 0.5 * margin;
-  double hmin = std::numeric_limits<double>::infinity();
   double hmax = 0.0;
   for (const BoundingSphere& s : spheres) {
     const double h = s.radius + half_margin;
     if (!(s.radius >= 0.0) || !std::isfinite(h) || !s.centre.allFinite()) {
       throw std::invalid_argument("NeighbourSearch: centres and radii must be finite, r >= 0");
     }
-    hmin = std::min(hmin, h);
     hmax = std::max(hmax, h);
   }
   if (n < 2) return;
@@ -447,8 +449,8 @@ void NeighbourSearch::find_pairs(std::span<const BoundingSphere> spheres, double
   double cell = 1.0;  // points only (hmax == 0): any size works
   if (hmax > 0.0) {
     cell = basic ? 2.0 * hmax / (1.0 - kSlack)
-                 : std::max({2.0 * hmin, 2.0 * hmax / kMaxCellsPerAxis,
-                             budget_cell_size(spheres, half_margin, hmax)});
+                 : std::max(2.0 * hmax / kMaxCellsPerAxis,
+                            budget_cell_size(spheres, half_margin, hmax));
     cell = std::max(cell, 0x1p-1000);  // keeps 1 / cell finite
   }
   const double inv = 1.0 / cell;
@@ -555,16 +557,16 @@ void NeighbourSearch::find_pairs(std::span<const BoundingSphere> spheres, double
     grid.mask = table_.size() - 1;
     grid.shift = 64 - std::countr_zero(table_.size());
   }
-  found_.clear();
+  PairSink sink{found_};
   if (basic) {
-    emit_basic(grid, hashed_, ranked_.data(), order_.data(), margin, found_);
+    emit_basic(grid, hashed_, ranked_.data(), order_.data(), margin, partners_, sink);
   } else {
-    emit_bounding_box(grid, ranked_boxes_.data(), items_.data(), ranked_.data(), order_.data(),
-                      static_cast<std::uint32_t>(n), margin, found_);
+    emit_bounding_box(starts_.data(), static_cast<std::uint32_t>(starts_.size() - 1), items_.data(),
+                      ranked_.data(), order_.data(), margin, sink);
   }
 
   // 5. Sorted output.
-  sort_pairs(found_, n, starts_, pairs);
+  sort_pairs(found_, sink.count, n, starts_, pairs);
 }
 
 }  // namespace cleave::physics

@@ -42,6 +42,10 @@ class NeighbourSearch {
   /// Every pair (i, j), i < j, with |c_i - c_j| <= r_i + r_j + margin, sorted ascending,
   /// without duplicates. Deterministic: the result does not depend on threads or on the
   /// grid's internal order. Reuses internal buffers between calls.
+  /// The test is evaluated in double as dx*dx + dy*dy + dz*dz <= (r_i + r_j + margin)^2,
+  /// with d = c_i - c_j (touching counts). Throws std::invalid_argument for a negative or
+  /// non-finite margin, a negative or non-finite radius or a non-finite centre, and
+  /// std::length_error past 2^28 bodies or (body, cell) entries.
   void find_pairs(std::span<const BoundingSphere> spheres, double margin,
                   std::vector<BodyPair>& pairs);
 
@@ -60,6 +64,7 @@ class NeighbourSearch {
   std::vector<std::uint32_t> starts_;       ///< per cell id: first rank or entry; then end
   std::vector<detail::CellSlot> table_;     ///< open-addressing table of cells off the window
   std::vector<detail::CellSlot> hashed_;    ///< those cells by id
+  std::vector<std::uint32_t> partners_;     ///< basic: the candidate ranks around one cell
   std::vector<BodyPair> found_;             ///< pairs as found, before the final sort
 };
 
