@@ -9,6 +9,7 @@
 
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
+#include "io/world_setup.hpp"
 #include "physics/world.hpp"
 
 namespace cleave::app {
@@ -74,57 +75,11 @@ double lowest_vertex(const physics::World& world) {
 
 }  // namespace
 
-void check_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen) {
-  // The stable time step: the stiffest spring (C_res K_n on unloading) against the lightest
-  // body, for translation and for rotation about its weakest axis.
-  const io::DynamicsDef& dyn = scenario.dynamics;
-  const physics::RigidShape shape =
-      physics::make_rigid_shape(specimen.prism, scenario.contact.dilation_radius);
-  const double mass = scenario.material.density * shape.volume;
-  const double inertia = scenario.material.density * shape.principal_moments.minCoeff();
-  double k_max = 0.0;
-  for (const auto* p : {&scenario.contact.particle_particle, &scenario.contact.particle_wall}) {
-    k_max = std::max(k_max, p->c_res * p->kn);
-  }
-  const double arm = shape.bounding_radius();
-  const double dt_trans = physics::critical_time_step(mass, k_max);
-  const double dt_rot = physics::critical_time_step(inertia, k_max * arm * arm);
-  const double dt_limit = dyn.dt_safety * std::min(dt_trans, dt_rot);
-  if (dyn.dt > dt_limit) {
-    throw io::ScenarioError(
-        scenario.source, dyn.dt_position.line, dyn.dt_position.column, "dynamics.dt",
-        fmt::format("time step {:.3g} s is above the stable limit; use dt <= {:.3g} s "
-                    "(= dt_safety {:g} x 2 sqrt(m/k): lightest body {:.3g} kg, I {:.3g} kg m^2, "
-                    "stiffest spring C_res K_n = {:.3g} N/m)",
-                    dyn.dt, dt_limit, dyn.dt_safety, mass, inertia, k_max));
-  }
-}
-
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const fs::path& out, bool quiet) {
   const auto t0 = std::chrono::steady_clock::now();
   const io::DynamicsDef& dyn = scenario.dynamics;
-  physics::WorldSettings ws;
-  ws.gravity = dyn.gravity;
-  ws.dt = dyn.dt;
-  ws.particle_particle = scenario.contact.particle_particle;
-  ws.particle_wall = scenario.contact.particle_wall;
-  ws.search = dyn.search;
-  physics::World world(ws);
-
-  // One shared prism shape; grains keep their lattice orientation (prism axis along z).
-  const physics::RigidShape shape =
-      physics::make_rigid_shape(specimen.prism, scenario.contact.dilation_radius);
-  const std::uint32_t sh = world.add_shape(shape);
-  double min_z = std::numeric_limits<double>::infinity();
-  for (const auto& g : specimen.grains) min_z = std::min(min_z, g.site.centre.z());
-  const double lift = dyn.lift - (min_z - specimen.def.t_bar / 2.0);
-  for (const auto& g : specimen.grains) {
-    world.add_body(sh, scenario.material.density, g.site.centre + shape.centroid + Eigen::Vector3d(0, 0, lift),
-                   shape.orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
-  }
-  for (const auto& w : scenario.walls) world.add_wall(w);
-  check_time_step(scenario, specimen);
+  physics::World world = io::make_world(scenario, specimen);
 
   const fs::path frames_dir = out / "frames";
   fs::create_directories(frames_dir);

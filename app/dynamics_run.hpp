@@ -23,13 +23,9 @@ struct DynamicsSummary {
   double wall_seconds = 0.0;
 };
 
-/// Refuses a time step above the stable limit: throws io::ScenarioError naming the file,
-/// line and key of dt with the value it needs.
-void check_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen);
-
 /// Runs [dynamics] of `scenario` on `specimen`, writing frames/ (bodies_*.vtp,
 /// contacts_*.vtp), bodies.pvd, contacts.pvd and energy.csv into `out`. Throws
-/// io::ScenarioError when the time step is above the stable limit (naming the dt key).
+/// io::ScenarioError when the time step is above the stable limit (io::check_time_step).
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const std::filesystem::path& out, bool quiet);
 

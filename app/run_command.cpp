@@ -12,6 +12,7 @@
 #include "io/mesh_io.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
+#include "io/world_setup.hpp"
 #include "dynamics_run.hpp"
 #include "specimen_picture.hpp"
 
@@ -125,7 +126,7 @@ int run_command(const RunOptions& options) {
     if (specimen.grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
     if (scenario.dynamics.enabled) {
       try {
-        check_time_step(scenario, specimen);
+        io::check_time_step(scenario, specimen);
       } catch (const io::ScenarioError& e) {
         fmt::print(stderr, "cleave: error: {}\n", e.what());
         manifest.status = "failed";

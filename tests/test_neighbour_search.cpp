@@ -3,7 +3,7 @@
 // i < j with |c_i - c_j| <= r_i + r_j + margin, sorted by (i, j), each once.
 //   - random scenes (fixed seeds): equal, mixed (1x..20x, log-uniform, a few huge, one
 //     1000x giant) radii; dense, sparse and clustered; flat; negative coordinates; far
-//     outliers, including touching clusters 10^6..10^11 m away;
+//     outliers, including touching clusters 10^6..10^11 m away, and a core with tendrils;
 //   - an exact lattice of touching spheres, whose pair count is known in closed form;
 //   - edge cases: no body, one body, exact touching, identical centres, zero radii;
 //   - one searcher reused over moving, growing and shrinking scenes, and no allocation in
@@ -33,8 +33,12 @@ std::atomic<long> g_allocations{0};
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
-[[gnu::noinline]] void operator delete(void* p) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+[[gnu::noinline]] void operator delete(void* p) noexcept {
+  std::free(p);
+}
+[[gnu::noinline]] void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 using cleave::geometry::SplitMix64;
 using namespace cleave::physics;
@@ -154,7 +158,8 @@ void add_ball(std::vector<BoundingSphere>& s, SplitMix64& rng, const std::vector
 
 /// Interleaves the bodies so that index order says nothing about position.
 void shuffle(std::vector<BoundingSphere>& s, SplitMix64& rng) {
-  for (std::size_t k = s.size(); k > 1; --k) std::swap(s[k - 1], s[rng.below(k)]);
+  for (auto k = static_cast<std::uint32_t>(s.size()); k > 1; --k)
+    std::swap(s[k - 1], s[rng.below(k)]);
 }
 
 struct Scene {
@@ -163,7 +168,9 @@ struct Scene {
 };
 
 Scene make_scene(const std::string& name) {
-  SplitMix64 rng(0xC1EA7E + std::hash<std::string>{}(name) % 1000);
+  std::uint64_t seed = 0xCBF29CE484222325ull;  // FNV-1a of the name: the same on every platform
+  for (const char ch : name) seed = (seed ^ static_cast<unsigned char>(ch)) * 0x100000001B3ull;
+  SplitMix64 rng(seed);
   Scene sc;
   auto& s = sc.bodies;
   const double r = 1e-3;
@@ -216,6 +223,23 @@ Scene make_scene(const std::string& name) {
     add_ball(s, rng, std::vector<double>(30, r), {1e11, -1e11, 1e11}, 0.5);
     add_ball(s, rng, std::vector<double>(30, r), {-2e3, -2e3, 0.0}, 0.5);
     shuffle(s, rng);
+  } else if (name == "core_and_tendrils") {
+    // A dense core, chains of overlapping bodies reaching out to 4 core widths along
+    // +-x, y, z, and a few far bodies: the grid's dense window then covers the core only
+    // (fitted to the bulk of the bodies), and the chains touch across its edge.
+    const double side = side_for(std::vector<double>(2000, r), 0.5);
+    add_box(s, rng, std::vector<double>(2000, r), Vector3d::Constant(-0.5 * side), 0.5);
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const double sign : {-1.0, 1.0}) {
+        for (double d = 0.3 * side; d < 4.0 * side; d += 1.6 * r) {
+          Vector3d c = in_ball(rng, Vector3d::Zero(), 0.2 * r);
+          c[axis] += sign * d;
+          s.push_back({c, r});
+        }
+      }
+    }
+    for (int k = 0; k < 5; ++k) s.push_back({in_box(rng, {-1e4, -1e4, -1e4}, 2e4), r});
+    shuffle(s, rng);
   } else {
     ADD_FAILURE() << "no scene " << name;
   }
@@ -244,7 +268,8 @@ TEST_P(RandomScene, BothMethodsMatchAllPairs) {
 INSTANTIATE_TEST_SUITE_P(NeighbourSearch, RandomScene,
                          testing::Values("equal_dense", "equal_sparse", "equal_clustered",
                                          "mixed_1_to_20", "mixed_log_clustered", "few_huge",
-                                         "one_giant", "flat_layer", "far_offset", "outliers"),
+                                         "one_giant", "flat_layer", "far_offset", "outliers",
+                                         "core_and_tendrils"),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return info.param;
                          });
@@ -405,7 +430,10 @@ TEST(NeighbourSearch, ReusedSearcherFollowsMovingBodies) {
   for (int step = 0; step < 40; ++step) {
     SCOPED_TRACE("step " + std::to_string(step));
     for (BoundingSphere& b : s) b.centre += Vector3d(1e-3, -5e-4, 0.0) + in_ball(rng, {0, 0, 0}, r);
-    if (step == 10) add_box(s, rng, radii_between(rng, 600, 0.5 * r, 3 * r), s[0].centre, 0.5);
+    if (step == 10) {
+      const Vector3d corner = s[0].centre;  // a copy: add_box grows s
+      add_box(s, rng, radii_between(rng, 600, 0.5 * r, 3 * r), corner, 0.5);
+    }
     if (step == 20) s.resize(300);
     if (step == 25) s.resize(1200, BoundingSphere{s[5].centre, 2 * r});  // 900 coincident
     if (step == 30) s.resize(800);

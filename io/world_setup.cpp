@@ -1,0 +1,74 @@
+#include "io/world_setup.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace cleave::io {
+
+namespace {
+physics::RigidShape grain_shape(const Scenario& scenario, const geometry::Specimen& specimen) {
+  return physics::make_rigid_shape(specimen.prism, scenario.contact.dilation_radius);
+}
+
+struct StableStep {
+  double dt = 0.0, mass = 0.0, inertia = 0.0, stiffness = 0.0;
+};
+
+StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shape) {
+  StableStep s;
+  s.mass = scenario.material.density * shape.volume;
+  s.inertia = scenario.material.density * shape.principal_moments.minCoeff();
+  for (const auto* p : {&scenario.contact.particle_particle, &scenario.contact.particle_wall}) {
+    s.stiffness = std::max(s.stiffness, p->c_res * p->kn);
+  }
+  const double arm = shape.bounding_radius();
+  const double translation = physics::critical_time_step(s.mass, s.stiffness);
+  const double rotation = physics::critical_time_step(s.inertia, s.stiffness * arm * arm);
+  s.dt = scenario.dynamics.dt_safety * std::min(translation, rotation);
+  return s;
+}
+}  // namespace
+
+double stable_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
+  return stable_step(scenario, grain_shape(scenario, specimen)).dt;
+}
+
+void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
+  const DynamicsDef& dyn = scenario.dynamics;
+  const StableStep s = stable_step(scenario, grain_shape(scenario, specimen));
+  if (dyn.dt > s.dt) {
+    throw ScenarioError(
+        scenario.source, dyn.dt_position.line, dyn.dt_position.column, "dynamics.dt",
+        fmt::format("time step {:.3g} s is above the stable limit; use dt <= {:.3g} s "
+                    "(= dt_safety {:g} x 2 sqrt(m/k): lightest body {:.3g} kg, I {:.3g} kg m^2, "
+                    "stiffest spring C_res K_n = {:.3g} N/m)",
+                    dyn.dt, s.dt, dyn.dt_safety, s.mass, s.inertia, s.stiffness));
+  }
+}
+
+physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
+  check_time_step(scenario, specimen);
+  const DynamicsDef& dyn = scenario.dynamics;
+  physics::WorldSettings ws;
+  ws.gravity = dyn.gravity;
+  ws.dt = dyn.dt;
+  ws.particle_particle = scenario.contact.particle_particle;
+  ws.particle_wall = scenario.contact.particle_wall;
+  ws.search = dyn.search;
+  physics::World world(ws);
+  const physics::RigidShape shape = grain_shape(scenario, specimen);
+  const std::uint32_t sh = world.add_shape(shape);
+  double min_z = std::numeric_limits<double>::infinity();
+  for (const auto& g : specimen.grains) min_z = std::min(min_z, g.site.centre.z());
+  const Eigen::Vector3d lift(0, 0, dyn.lift - (min_z - specimen.def.t_bar / 2.0));
+  for (const auto& g : specimen.grains) {
+    world.add_body(sh, scenario.material.density, g.site.centre + shape.centroid + lift,
+                   shape.orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
+  }
+  for (const auto& w : scenario.walls) world.add_wall(w);
+  return world;
+}
+
+}  // namespace cleave::io

@@ -1,0 +1,26 @@
+#pragma once
+/// \file
+/// From a scenario and its specimen to a physics::World: one body per grain (sharing one
+/// rigid prism shape), the walls, the contact parameters, and the stable time step check.
+
+#include "geometry/specimen.hpp"
+#include "io/scenario.hpp"
+#include "physics/world.hpp"
+
+namespace cleave::io {
+
+/// The largest stable time step: dt_safety x 2 sqrt(m/k) for the lightest body against the
+/// stiffest spring (C_res K_n on unloading), for translation and for rotation about the
+/// weakest axis with the spring at the body's bounding radius.
+double stable_time_step(const Scenario& scenario, const geometry::Specimen& specimen);
+
+/// Throws ScenarioError at [dynamics] dt (file, line, key) when dt is above
+/// stable_time_step, saying which value is needed.
+void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen);
+
+/// The world of a [dynamics] run: grains become bodies at their lattice centres lifted so
+/// the specimen's lowest point is `dynamics.lift` above z = 0, at rest; walls are added in
+/// file order. Checks the time step first.
+physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen);
+
+}  // namespace cleave::io

@@ -1,0 +1,214 @@
+// Whole-world dynamics: walls carry weights, rollers and platens, a small drop test that
+// settles, and bit-identical repeat runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "geometry/specimen.hpp"
+#include "io/scenario.hpp"
+#include "io/world_setup.hpp"
+#include "physics/world.hpp"
+
+using namespace cleave;
+using namespace cleave::physics;
+
+namespace {
+
+ContactParams soft(double kn, double c_res, double mu) {
+  ContactParams p;
+  p.kn = kn;
+  p.ks = 0.4 * kn;
+  p.c_res = c_res;
+  p.mu_s = mu;
+  return p;
+}
+
+RigidShape prism_shape() {
+  return make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(0.9e-3, 0.85e-3), 0.05e-3);
+}
+
+const double kRho = 3100.0;
+
+/// Runs until the kinetic energy has decayed well below the weight's energy scale.
+void settle(World& world, int steps) {
+  for (int i = 0; i < steps; ++i) world.step();
+}
+
+}  // namespace
+
+TEST(Walls, FloorCarriesTheWeightOfARestingGrain) {
+  WorldSettings ws;
+  ws.gravity = {0, 0, -9.81};
+  ws.dt = 1e-6;
+  // C_res = 1: a purely elastic spring (with C_res > 1 the rest overlap keeps the offset
+  // of the unloading line); the damping of eq 2.6 settles it.
+  ws.particle_wall = soft(1e4, 1.0, 0.3);
+  World world(ws);
+  const RigidShape shape = prism_shape();
+  const auto sh = world.add_shape(shape);
+  const auto floor = world.add_wall(Wall::plane("floor", {0, 0, 0}, {0, 0, 1}));
+  // Lying on a basal face, its lowest corners 10 um above the floor's reach.
+  const BodyId id = world.add_body(sh, kRho, {0, 0, 0.425e-3 + 0.05e-3 + 10e-6},
+                                   shape.orientation_for());
+  settle(world, 200000);
+  const double weight = world.info(id).mass * 9.81;
+  EXPECT_NEAR(world.walls()[floor].reaction.z(), -weight, 1e-3 * weight);
+  EXPECT_NEAR(world.walls()[floor].reaction.x(), 0.0, 1e-6 * weight);
+  EXPECT_LT(world.state(id).v.norm(), 1e-4);
+  // Resting on a face: six corner contacts share the load, each pressed by weight/(6 kn).
+  ASSERT_EQ(world.contacts().size(), 6u);
+  for (const auto& c : world.contacts()) EXPECT_NEAR(c.overlap, weight / 6 / 1e4, 2e-3 * weight / 6 / 1e4);
+}
+
+TEST(Walls, TwoRollersShareTheLoadAndAPlatenOnlyCatchesWhatIsAboveIt) {
+  WorldSettings ws;
+  ws.gravity = {0, 0, -9.81};
+  ws.dt = 1e-6;
+  ws.particle_wall = soft(1e4, 2.0, 0.3);
+  World world(ws);
+  const RigidShape shape = prism_shape();
+  const auto sh = world.add_shape(shape);
+  // Two rollers along y under the grain, symmetric about x = 0 (a bending support).
+  const double R = 0.3e-3;
+  const auto left = world.add_wall(Wall::cylinder("left", {-0.5e-3, -2e-3, -R}, {0, 1, 0}, 4e-3, R));
+  const auto right = world.add_wall(Wall::cylinder("right", {0.5e-3, -2e-3, -R}, {0, 1, 0}, 4e-3, R));
+  // A small platen far to the side catches nothing of this grain.
+  const auto platen =
+      world.add_wall(Wall::platen("aside", {5e-3, 0, 0}, {0, 0, 1}, {1, 0, 0}, 1e-3, 1e-3));
+  // The grain lies on a side face (prism axis along x): its flat side rests on both rollers.
+  const Eigen::Quaterniond on_side(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  const BodyId id = world.add_body(sh, kRho, {0, 0, 0.9e-3 * std::sqrt(3.0) / 2 + 0.05e-3 + 5e-6},
+                                   shape.orientation_for(on_side));
+  settle(world, 300000);
+  const double weight = world.info(id).mass * 9.81;
+  const Eigen::Vector3d rl = world.walls()[left].reaction, rr = world.walls()[right].reaction;
+  EXPECT_NEAR(rl.z() + rr.z(), -weight, 2e-3 * weight);
+  EXPECT_NEAR(rl.z(), rr.z(), 2e-2 * weight);  // symmetric supports share the load
+  EXPECT_EQ(world.walls()[platen].reaction.norm(), 0.0);
+  EXPECT_LT(world.state(id).v.norm(), 1e-4);
+}
+
+namespace {
+
+/// A small drop test through the scenario path: 2 layers of a 6 x 6 mm box (15 grains)
+/// from 5 mm onto a floor, with the drop test's contact parameters.
+const char* kSmallDrop = R"([specimen]
+shape = "box"
+size = [6.0, 6.0, 2.0]
+[grain]
+r = 1.0
+r_bar = 0.9
+t = 1.0
+t_bar = 0.85
+[orientation]
+seed = 5
+[material]
+density = 3100
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5000.0
+ks = 2000.0
+c_res = 2.0
+mu_s = 0.3
+[contact.particle_wall]
+kn = 10000.0
+ks = 2000.0
+c_res = 10.0
+mu_s = 0.3
+[dynamics]
+dt = 1.2e-6
+duration = 0.3
+lift = 5.0
+[[wall]]
+kind = "plane"
+point = [0, 0, 0]
+normal = [0, 0, 1]
+)";
+
+std::uint64_t state_hash(const World& world) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+  };
+  for (const BodyId id : world.body_ids()) {
+    const BodyState& s = world.state(id);
+    for (int k = 0; k < 3; ++k) {
+      mix(s.x[k]);
+      mix(s.v[k]);
+      mix(s.L[k]);
+    }
+    mix(s.q.w());
+    mix(s.q.x());
+    mix(s.q.y());
+    mix(s.q.z());
+  }
+  return h;
+}
+
+}  // namespace
+
+TEST(DropTest, GrainsFallBounceAndSettleAboveTheFloor) {
+  const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
+  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
+  ASSERT_GE(specimen.grains.size(), 12u);
+  World world = io::make_world(scenario, specimen);
+  const double pe0 = world.potential_energy();
+  const double radius = scenario.contact.dilation_radius;
+  double max_overlap = 0.0;
+  bool settled = false;
+  const int steps = static_cast<int>(scenario.dynamics.duration / scenario.dynamics.dt);
+  for (int i = 0; i < steps && !settled; ++i) {
+    world.step();
+    for (const auto& c : world.contacts()) max_overlap = std::max(max_overlap, c.overlap);
+    const double released = pe0 - world.potential_energy();
+    settled = !world.contacts().empty() && world.kinetic_energy() < 1e-6 * released;
+  }
+  const double released = pe0 - world.potential_energy();
+  EXPECT_TRUE(settled) << "kinetic " << world.kinetic_energy() << " J of " << released << " J";
+  EXPECT_GT(released, 0.0);
+  // No grain below the floor: every corner stays above it (the dilated surface touches it).
+  for (const BodyId id : world.body_ids()) {
+    const BodyState& s = world.state(id);
+    for (const auto& v : world.shape(world.info(id).shape).primitives.vertices) {
+      EXPECT_GT((s.x + s.q * v).z(), 0.0);
+    }
+  }
+  // The deepest overlap during the impacts stays a small fraction of the dilation radius.
+  EXPECT_LT(max_overlap, 0.5 * radius);
+  EXPECT_GT(max_overlap, 0.0);
+}
+
+TEST(DropTest, RepeatRunsAreBitIdentical) {
+  const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
+  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
+  World a = io::make_world(scenario, specimen);
+  World b = io::make_world(scenario, specimen);
+  for (int i = 0; i < 60000; ++i) {  // through the first impacts
+    a.step();
+    b.step();
+  }
+  EXPECT_FALSE(a.contacts().empty());
+  EXPECT_EQ(state_hash(a), state_hash(b));
+}
+
+TEST(DropTest, ATimeStepAboveTheStableLimitIsRefusedWithTheValueNeeded) {
+  std::string text = kSmallDrop;
+  text.replace(text.find("dt = 1.2e-6"), 11, "dt = 0.001");
+  const io::Scenario scenario = io::parse_scenario(text, "small_drop.toml");
+  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
+  const double limit = io::stable_time_step(scenario, specimen);
+  EXPECT_GT(limit, 1.2e-6);
+  EXPECT_LT(limit, 1e-3);
+  try {
+    (void)io::make_world(scenario, specimen);
+    FAIL() << "no error for dt = 0.001";
+  } catch (const io::ScenarioError& e) {
+    EXPECT_EQ(e.key(), "dynamics.dt");
+    EXPECT_EQ(e.line(), 26);
+    EXPECT_NE(std::string(e.what()).find("use dt <="), std::string::npos) << e.what();
+  }
+}
