@@ -227,7 +227,9 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
       const Eigen::Vector3d w = p2 - p1;
       const double s = w.cross(d2).dot(n) / den;
       const double t = w.cross(d1).dot(n) / den;
-      if (!(s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)) continue;
+      // Strictly inside both rims: a crossing at a corner is that corner's contact.
+      constexpr double eps = 1e-9;
+      if (!(s > eps && s < 1.0 - eps && t > eps && t < 1.0 - eps)) continue;
       const Eigen::Vector3d qa = p1 + s * d1, qb = p2 + t * d2;
       const double pen = radii - (qb - qa).dot(n);
       if (pen <= -margin) continue;
