@@ -1,6 +1,7 @@
 #include "physics/world.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <stdexcept>
 #include <string>
 
@@ -114,6 +115,7 @@ void World::compute_forces() {
   for (auto& w : walls_) w.reaction.setZero();
   records_.clear();
   next_history_.clear();
+  history_cursor_ = 0;
   body_contacts();
   wall_contacts();
   std::swap(history_, next_history_);
@@ -130,6 +132,10 @@ void World::body_contacts() {
     const std::uint32_t a = live_slots_[i], b = live_slots_[j];
     feature_buffer_.clear();
     polyhedron_contacts(posed_[a], posed_[b], 0.0, feature_buffer_);
+    // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
+    std::sort(feature_buffer_.begin(), feature_buffer_.end(), [](const auto& x, const auto& y) {
+      return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+    });
     for (const auto& fc : feature_buffer_) apply(a, b, false, fc.contact, fc.feature_a, fc.feature_b);
   }
 }
@@ -165,6 +171,25 @@ void World::wall_contacts() {
   }
 }
 
+const ContactHistory* World::previous_history(const ContactKey& key) {
+  // Keys arrive in ascending order: walk forward; fall back to a binary search if not.
+  if (history_cursor_ > 0 && history_cursor_ <= history_.size() &&
+      key < history_[history_cursor_ - 1].key) {
+    history_cursor_ = 0;
+  }
+  if (history_cursor_ == 0 && !history_.empty() && key > history_.front().key) {
+    history_cursor_ = static_cast<std::size_t>(
+        std::lower_bound(history_.begin(), history_.end(), key,
+                         [](const HistoryEntry& e, const ContactKey& k) { return e.key < k; }) -
+        history_.begin());
+  }
+  while (history_cursor_ < history_.size() && history_[history_cursor_].key < key) ++history_cursor_;
+  if (history_cursor_ < history_.size() && history_[history_cursor_].key == key) {
+    return &history_[history_cursor_].history;
+  }
+  return nullptr;
+}
+
 void World::apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveContact& c,
                   std::uint32_t feature_a, std::uint32_t feature_b) {
   if (c.penetration <= 0.0) return;
@@ -197,10 +222,10 @@ void World::apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveCo
   k.lever = posed_[b].radius;
   const ContactKey key{wall ? (a | kWallFlag) : a, b, feature_a, feature_b};
   ContactHistory h;
-  if (auto it = history_.find(key); it != history_.end()) h = it->second;
+  if (const ContactHistory* old = previous_history(key)) h = *old;
   const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
   const ContactForce f = contact_force(params, k, h, settings_.dt);
-  next_history_[key] = h;
+  next_history_.push_back({key, h});
   sb.f += f.force;
   sb.tau += rb.cross(f.force) + f.moment;
   if (wall) {

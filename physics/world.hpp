@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <vector>
 
-#include <unordered_map>
 
 #include "physics/body.hpp"
 #include "physics/contact_law.hpp"
@@ -91,17 +90,18 @@ class World {
   void apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveContact& c,
              std::uint32_t feature_a, std::uint32_t feature_b);
 
+  /// A contact's identity across steps: the two bodies (or wall and body) and the two
+  /// features touching. Contacts are produced in ascending key order every step, so the
+  /// history of the previous step is found by a forward merge, without hashing.
   struct ContactKey {
     std::uint32_t a, b, fa, fb;
-    bool operator==(const ContactKey&) const = default;
+    auto operator<=>(const ContactKey&) const = default;
   };
-  struct KeyHash {
-    std::size_t operator()(const ContactKey& k) const {
-      std::uint64_t h = (std::uint64_t(k.a) << 32 | k.b) * 0x9E3779B97F4A7C15ull;
-      h ^= (std::uint64_t(k.fa) << 32 | k.fb) + 0xBF58476D1CE4E5B9ull + (h << 6) + (h >> 2);
-      return static_cast<std::size_t>(h);
-    }
+  struct HistoryEntry {
+    ContactKey key;
+    ContactHistory history;
   };
+  const ContactHistory* previous_history(const ContactKey& key);
   static constexpr std::uint32_t kWallFlag = 0x80000000u;
 
   WorldSettings settings_;
@@ -117,7 +117,8 @@ class World {
   std::vector<BodyPair> pairs_;
   std::vector<FeatureContact> feature_buffer_;
   NeighbourSearch search_;
-  std::unordered_map<ContactKey, ContactHistory, KeyHash> history_, next_history_;
+  std::vector<HistoryEntry> history_, next_history_;  // sorted by key
+  std::size_t history_cursor_ = 0;
   std::vector<ContactRecord> records_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
