@@ -3,6 +3,7 @@
 /// The `cleave` sub-commands. Each returns the process exit code.
 
 #include <filesystem>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -14,6 +15,7 @@ struct RunOptions {
   std::optional<std::string> mesh_format;  ///< overrides [output] mesh_format
   std::optional<std::string> mesh_layout;  ///< overrides [output] mesh_layout
   bool quiet = false;
+  std::uint64_t max_steps = 0;  ///< stop a [dynamics] run after this many steps (0: no limit)
 };
 
 /// Builds the specimen, splits every grain into its cleavage slabs and writes the result

@@ -76,7 +76,7 @@ double lowest_vertex(const physics::World& world) {
 }  // namespace
 
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
-                             const fs::path& out, bool quiet) {
+                             const fs::path& out, bool quiet, std::uint64_t max_steps) {
   const auto t0 = std::chrono::steady_clock::now();
   const io::DynamicsDef& dyn = scenario.dynamics;
   physics::World world = io::make_world(scenario, specimen);
@@ -86,7 +86,8 @@ DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Speci
   io::PvdSeries bodies_pvd(out / "bodies.pvd"), contacts_pvd(out / "contacts.pvd");
   std::string energy = "time_s,kinetic_J,potential_J,contacts,max_overlap_m\n";
   const double pe0 = world.potential_energy();
-  const std::uint64_t total = static_cast<std::uint64_t>(std::ceil(dyn.duration / dyn.dt));
+  std::uint64_t total = static_cast<std::uint64_t>(std::ceil(dyn.duration / dyn.dt));
+  if (max_steps > 0) total = std::min(total, max_steps);
   const std::uint64_t frame_every = dyn.frames > 0 ? std::max<std::uint64_t>(1, total / dyn.frames) : 0;
   const std::uint64_t log_every = std::max<std::uint64_t>(1, total / 200);
   DynamicsSummary sum;

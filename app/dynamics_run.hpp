@@ -27,6 +27,7 @@ struct DynamicsSummary {
 /// contacts_*.vtp), bodies.pvd, contacts.pvd and energy.csv into `out`. Throws
 /// io::ScenarioError when the time step is above the stable limit (io::check_time_step).
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
-                             const std::filesystem::path& out, bool quiet);
+                             const std::filesystem::path& out, bool quiet,
+                             std::uint64_t max_steps = 0);
 
 }  // namespace cleave::app

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--mesh-format", run.mesh_format, "stl | stl_ascii | obj (overrides the scenario)");
   run_cmd->add_option("--mesh-layout", run.mesh_layout, "scene | per_fragment (overrides the scenario)");
   run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors");
+  run_cmd->add_option("--max-steps", run.max_steps,
+                      "Stop the dynamics after this many steps (a quick look; 0: no limit)");
 
   CLI::App* check_cmd = app.add_subcommand("check", "Check a result folder");
   check_cmd->require_subcommand(1);

@@ -169,7 +169,8 @@ int run_command(const RunOptions& options) {
                     step.seconds()));
 
     if (scenario.dynamics.enabled) {
-      const DynamicsSummary d = run_dynamics(scenario, specimen, out, options.quiet);
+      const DynamicsSummary d =
+          run_dynamics(scenario, specimen, out, options.quiet, options.max_steps);
       say(fmt::format("  dynamics   {} steps, t = {:.4g} s, {} frames -> {}/bodies.pvd, "
                       "contacts.pvd, energy.csv ({:.1f} s, {:.1f} us/step)",
                       d.steps, d.time, d.frames, out.string(), d.wall_seconds,

@@ -607,9 +607,9 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
   }
 }
 
-constexpr std::string_view kDynamicsKeys[] = {"dt",           "duration", "gravity",
-                                              "lift",         "frames",   "settle_ratio",
-                                              "dt_safety",    "search"};
+constexpr std::string_view kDynamicsKeys[] = {"dt",        "duration",     "gravity",
+                                              "lift",      "frames",       "settle_ratio",
+                                              "dt_safety", "search",       "threads"};
 
 void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d) {
   t.reject_unknown(kDynamicsKeys);
@@ -631,6 +631,7 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d) {
       "search", {{"bounding_box", physics::SearchMethod::bounding_box},
                  {"basic", physics::SearchMethod::basic}},
       physics::SearchMethod::bounding_box);
+  d.threads = static_cast<int>(t.integer("threads", 0, 0));
 }
 
 constexpr std::string_view kWallKeys[] = {"name", "kind",   "point",  "normal",  "u",

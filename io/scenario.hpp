@@ -77,6 +77,7 @@ struct DynamicsDef {
   double settle_ratio = 0.0;   ///< stop once KE < ratio x released potential energy
   double dt_safety = 0.2;      ///< dt <= dt_safety x 2 sqrt(m_min / k_max)
   physics::SearchMethod search = physics::SearchMethod::bounding_box;
+  int threads = 0;             ///< 0: all cores; results do not depend on it
 };
 
 struct Scenario {

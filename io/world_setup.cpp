@@ -57,6 +57,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.particle_particle = scenario.contact.particle_particle;
   ws.particle_wall = scenario.contact.particle_wall;
   ws.search = dyn.search;
+  ws.threads = dyn.threads;
   physics::World world(ws);
   const physics::RigidShape shape = grain_shape(scenario, specimen);
   const std::uint32_t sh = world.add_shape(shape);

@@ -7,6 +7,10 @@
 
 #include "physics/integrator.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace cleave::physics {
 
 World::World(WorldSettings settings)
@@ -102,42 +106,81 @@ std::vector<BodyId> World::body_ids() const {
   return ids;
 }
 
+namespace {
+/// Loops shorter than this run on one thread: for small worlds the cost of waking threads
+/// every step exceeds the work (and oversubscribed cores make it far worse).
+constexpr std::ptrdiff_t kParallelMin = 512;
+
+int thread_count(int wanted) {
+#ifdef _OPENMP
+  return wanted > 0 ? wanted : omp_get_max_threads();
+#else
+  (void)wanted;
+  return 1;
+#endif
+}
+}  // namespace
+
 void World::compute_forces() {
   live_slots_.clear();
-  posed_.resize(states_.size());
   for (std::uint32_t i = 0; i < states_.size(); ++i) {
-    if (!infos_[i].alive) continue;
-    live_slots_.push_back(i);
+    if (infos_[i].alive) live_slots_.push_back(i);
+  }
+  posed_.resize(states_.size());
+  const int nt = thread_count(settings_.threads);
+  const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
+#pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin)
+  for (std::ptrdiff_t k = 0; k < live; ++k) {
+    const std::uint32_t i = live_slots_[static_cast<std::size_t>(k)];
     states_[i].f = infos_[i].mass * settings_.gravity;
     states_[i].tau.setZero();
     posed_[i].update(shapes_[infos_[i].shape], states_[i]);
   }
   for (auto& w : walls_) w.reaction.setZero();
-  records_.clear();
-  next_history_.clear();
-  history_cursor_ = 0;
-  body_contacts();
+  pending_.clear();
+  body_contacts(nt);
   wall_contacts();
-  std::swap(history_, next_history_);
+  evaluate_and_apply(nt);
   forces_current_ = true;
 }
 
-void World::body_contacts() {
+void World::body_contacts(int nt) {
   spheres_.clear();
   for (std::uint32_t slot : live_slots_) {
     spheres_.push_back({states_[slot].x, shapes_[infos_[slot].shape].bounding_radius()});
   }
   search_.find_pairs(spheres_, 0.0, pairs_);
-  for (const auto& [i, j] : pairs_) {
-    const std::uint32_t a = live_slots_[i], b = live_slots_[j];
-    feature_buffer_.clear();
-    polyhedron_contacts(posed_[a], posed_[b], 0.0, feature_buffer_);
-    // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
-    std::sort(feature_buffer_.begin(), feature_buffer_.end(), [](const auto& x, const auto& y) {
-      return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
-    });
-    for (const auto& fc : feature_buffer_) apply(a, b, false, fc.contact, fc.feature_a, fc.feature_b);
+  // Each thread takes a contiguous block of pairs; the blocks are joined in order, so the
+  // contact list (and everything after it) is the same for any number of threads.
+  const std::size_t n = pairs_.size();
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+  thread_pending_.resize(static_cast<std::size_t>(nt));
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+#ifdef _OPENMP
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+#else
+    const std::size_t t = 0;
+#endif
+    auto& out = thread_pending_[t];
+    out.clear();
+    std::vector<FeatureContact> features;
+    const std::size_t begin = n * t / static_cast<std::size_t>(nt);
+    const std::size_t end = n * (t + 1) / static_cast<std::size_t>(nt);
+    for (std::size_t p = begin; p < end; ++p) {
+      const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
+      features.clear();
+      polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+      // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
+      std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
+        return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+      });
+      for (const auto& fc : features) {
+        if (fc.contact.penetration > 0.0) out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
+      }
+    }
   }
+  for (const auto& part : thread_pending_) pending_.insert(pending_.end(), part.begin(), part.end());
 }
 
 void World::wall_contacts() {
@@ -154,16 +197,18 @@ void World::wall_contacts() {
         const double t = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
         if ((rel - t * wall.normal).norm() > reach + wall.radius) continue;
       }
+      const std::uint32_t a = w | kWallFlag;
       for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
-        if (auto c = wall.sphere_contact(p.vertices[v], p.radius)) {
-          apply(w, slot, true, *c, 0, feature_code(FeatureKind::vertex, v));
+        if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
+          pending_.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
         }
       }
       if (wall.kind == Wall::Kind::cylinder) {
         const auto& edges = p.primitives->edges;
         for (std::uint32_t e = 0; e < edges.size(); ++e) {
-          if (auto c = wall.edge_contact(p.vertices[edges[e].a], p.vertices[edges[e].b], p.radius)) {
-            apply(w, slot, true, *c, 0, feature_code(FeatureKind::edge, e));
+          auto c = wall.edge_contact(p.vertices[edges[e].a], p.vertices[edges[e].b], p.radius);
+          if (c && c->penetration > 0.0) {
+            pending_.push_back({{a, slot, 0, feature_code(FeatureKind::edge, e)}, *c});
           }
         }
       }
@@ -171,84 +216,90 @@ void World::wall_contacts() {
   }
 }
 
-const ContactHistory* World::previous_history(const ContactKey& key) {
-  // Keys arrive in ascending order: walk forward; fall back to a binary search if not.
-  if (history_cursor_ > 0 && history_cursor_ <= history_.size() &&
-      key < history_[history_cursor_ - 1].key) {
-    history_cursor_ = 0;
-  }
-  if (history_cursor_ == 0 && !history_.empty() && key > history_.front().key) {
-    history_cursor_ = static_cast<std::size_t>(
-        std::lower_bound(history_.begin(), history_.end(), key,
-                         [](const HistoryEntry& e, const ContactKey& k) { return e.key < k; }) -
-        history_.begin());
-  }
-  while (history_cursor_ < history_.size() && history_[history_cursor_].key < key) ++history_cursor_;
-  if (history_cursor_ < history_.size() && history_[history_cursor_].key == key) {
-    return &history_[history_cursor_].history;
-  }
-  return nullptr;
+const ContactHistory* World::previous_history(const ContactKey& key) const {
+  const auto it = std::lower_bound(history_.begin(), history_.end(), key,
+                                   [](const HistoryEntry& e, const ContactKey& k) { return e.key < k; });
+  return it != history_.end() && it->key == key ? &it->history : nullptr;
 }
 
-void World::apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveContact& c,
-                  std::uint32_t feature_a, std::uint32_t feature_b) {
-  if (c.penetration <= 0.0) return;
-  BodyState& sb = states_[b];
-  const BodyInfo& ib = infos_[b];
-  ContactKinematics k;
-  k.normal = c.normal;
-  k.overlap = c.penetration;
-  const Eigen::Vector3d rb = c.point - sb.x;
-  Eigen::Vector3d va_point, wa;
-  double m_crit, i_crit;
-  if (wall) {
-    va_point = walls_[a].velocity;
-    wa.setZero();
-    m_crit = ib.mass;
-    i_crit = ib.inertia.minCoeff();
-  } else {
-    const BodyState& sa = states_[a];
-    const BodyInfo& ia = infos_[a];
-    va_point = sa.v + sa.w.cross(c.point - sa.x);
-    wa = sa.w;
-    m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
-    const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
-    i_crit = i1 * i2 / (i1 + i2);
+void World::evaluate_and_apply(int nt) {
+  // The contact law for every contact, in parallel: each reads only the bodies' states and
+  // the previous step's history, and writes its own slot.
+  const std::size_t n = pending_.size();
+  forces_.resize(n);
+  next_history_.resize(n);
+#pragma omp parallel for num_threads(nt) schedule(static) if (static_cast<std::ptrdiff_t>(n) >= kParallelMin)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
+    const Pending& p = pending_[static_cast<std::size_t>(k)];
+    const bool wall = (p.key.a & kWallFlag) != 0;
+    const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+    const PrimitiveContact& c = p.contact;
+    const BodyState& sb = states_[b];
+    const BodyInfo& ib = infos_[b];
+    ContactKinematics kin;
+    kin.normal = c.normal;
+    kin.overlap = c.penetration;
+    Eigen::Vector3d va_point, wa;
+    if (wall) {
+      va_point = walls_[a].velocity;
+      wa.setZero();
+      kin.m_crit = ib.mass;
+      kin.i_crit = ib.inertia.minCoeff();
+    } else {
+      const BodyState& sa = states_[a];
+      const BodyInfo& ia = infos_[a];
+      va_point = sa.v + sa.w.cross(c.point - sa.x);
+      wa = sa.w;
+      kin.m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
+      const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
+      kin.i_crit = i1 * i2 / (i1 + i2);
+    }
+    kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
+    kin.spin = sb.w - wa;
+    kin.lever = posed_[b].radius;
+    ContactHistory h;
+    if (const ContactHistory* old = previous_history(p.key)) h = *old;
+    const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
+    forces_[static_cast<std::size_t>(k)] = contact_force(params, kin, h, settings_.dt);
+    next_history_[static_cast<std::size_t>(k)] = {p.key, h};
   }
-  k.velocity = sb.v + sb.w.cross(rb) - va_point;
-  k.spin = sb.w - wa;
-  k.m_crit = m_crit;
-  k.i_crit = i_crit;
-  k.lever = posed_[b].radius;
-  const ContactKey key{wall ? (a | kWallFlag) : a, b, feature_a, feature_b};
-  ContactHistory h;
-  if (const ContactHistory* old = previous_history(key)) h = *old;
-  const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
-  const ContactForce f = contact_force(params, k, h, settings_.dt);
-  next_history_.push_back({key, h});
-  sb.f += f.force;
-  sb.tau += rb.cross(f.force) + f.moment;
-  if (wall) {
-    walls_[a].reaction -= f.force;
-  } else {
-    BodyState& sa = states_[a];
-    sa.f -= f.force;
-    sa.tau -= (c.point - sa.x).cross(f.force) + f.moment;
+  // Sums in contact order, on one thread: the same result for any number of threads.
+  records_.clear();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Pending& p = pending_[k];
+    const bool wall = (p.key.a & kWallFlag) != 0;
+    const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+    const ContactForce& f = forces_[k];
+    BodyState& sb = states_[b];
+    sb.f += f.force;
+    sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
+    if (wall) {
+      walls_[a].reaction -= f.force;
+    } else {
+      BodyState& sa = states_[a];
+      sa.f -= f.force;
+      sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
+    }
+    records_.push_back({a, b, wall, p.contact.point, p.contact.normal, p.contact.penetration, f.force});
   }
-  records_.push_back({a, b, wall, c.point, c.normal, c.penetration, f.force});
+  std::swap(history_, next_history_);
 }
 
 void World::step() {
   const double h = settings_.dt;
   if (!forces_current_) compute_forces();
-  for (std::size_t i = 0; i < states_.size(); ++i) {
+  const int nt = thread_count(settings_.threads);
+  const auto slots = static_cast<std::ptrdiff_t>(states_.size());
+#pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < slots; ++i) {
     if (!infos_[i].alive) continue;
     kick(states_[i], infos_[i], 0.5 * h);
     drift(states_[i], infos_[i], h);
   }
   for (auto& w : walls_) w.origin += h * w.velocity;
   compute_forces();
-  for (std::size_t i = 0; i < states_.size(); ++i) {
+#pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < slots; ++i) {
     if (!infos_[i].alive) continue;
     kick(states_[i], infos_[i], 0.5 * h);
   }

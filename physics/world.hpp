@@ -24,6 +24,10 @@ struct WorldSettings {
   ContactParams particle_particle;  ///< table 2.3, particle-particle set
   ContactParams particle_wall;      ///< table 2.3, particle-wall set
   SearchMethod search = SearchMethod::bounding_box;
+  /// Threads for the per-body and per-contact loops (0: OpenMP's default, i.e. all cores).
+  /// Results are bit-identical for any count: work is split into ordered blocks and the
+  /// forces are summed in contact order.
+  int threads = 0;
 };
 
 /// One contact of the last step, for output and tests.
@@ -85,10 +89,9 @@ class World {
 
  private:
   void compute_forces();
-  void body_contacts();
+  void body_contacts(int threads);
   void wall_contacts();
-  void apply(std::uint32_t a, std::uint32_t b, bool wall, const PrimitiveContact& c,
-             std::uint32_t feature_a, std::uint32_t feature_b);
+  void evaluate_and_apply(int threads);
 
   /// A contact's identity across steps: the two bodies (or wall and body) and the two
   /// features touching. Contacts are produced in ascending key order every step, so the
@@ -101,7 +104,12 @@ class World {
     ContactKey key;
     ContactHistory history;
   };
-  const ContactHistory* previous_history(const ContactKey& key);
+  /// A contact found this step, before the law is applied.
+  struct Pending {
+    ContactKey key;  // a carries kWallFlag for wall contacts
+    PrimitiveContact contact;
+  };
+  const ContactHistory* previous_history(const ContactKey& key) const;
   static constexpr std::uint32_t kWallFlag = 0x80000000u;
 
   WorldSettings settings_;
@@ -115,10 +123,11 @@ class World {
   std::vector<std::uint32_t> live_slots_;
   std::vector<BoundingSphere> spheres_;
   std::vector<BodyPair> pairs_;
-  std::vector<FeatureContact> feature_buffer_;
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
-  std::size_t history_cursor_ = 0;
+  std::vector<Pending> pending_;
+  std::vector<std::vector<Pending>> thread_pending_;
+  std::vector<ContactForce> forces_;
   std::vector<ContactRecord> records_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0;

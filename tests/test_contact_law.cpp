@@ -154,7 +154,9 @@ TEST_P(HeadOnCollision, RestitutionIsOneOverSqrtCres) {
   EXPECT_NEAR((c.p_after - c.p_before).norm(), 0.0, 1e-15);
   const double e = -c.v_rel_after / c.v_rel_before;
   EXPECT_NEAR(e, 1.0 / std::sqrt(c_res), 0.01);
-  if (c_res == 1.0) EXPECT_NEAR(c.ke_after / c.ke_before, 1.0, 1e-3);  // energy comes back
+  if (c_res == 1.0) {
+    EXPECT_NEAR(c.ke_after / c.ke_before, 1.0, 1e-3);  // energy comes back
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cres, HeadOnCollision, ::testing::Values(1.0, 2.0, 4.0));

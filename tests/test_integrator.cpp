@@ -23,13 +23,20 @@ geometry::ExactPolyhedron cuboid(double a, double b, double c) {
 
 const double kRho = 3100.0;  // SiC, specific gravity 3.10 (table 2.3)
 
+WorldSettings settings(const Eigen::Vector3d& gravity, double dt) {
+  WorldSettings s;
+  s.gravity = gravity;
+  s.dt = dt;
+  return s;
+}
+
 class FreeFall : public ::testing::TestWithParam<double> {};
 
 }  // namespace
 
 TEST_P(FreeFall, MatchesHalfGTSquared) {
   const double dt = GetParam();
-  World world({Eigen::Vector3d(0, 0, -9.81), dt});
+  World world(settings(Eigen::Vector3d(0, 0, -9.81), dt));
   const auto shape = world.add_shape(
       make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(0.5e-3, 1e-3), 0.05e-3));
   const Eigen::Vector3d x0(0.01, -0.02, 0.05);
@@ -52,7 +59,7 @@ INSTANTIATE_TEST_SUITE_P(TimeSteps, FreeFall, ::testing::Values(1e-3, 1e-4, 2.5e
 namespace {
 
 struct Spin {
-  World world{{Eigen::Vector3d::Zero(), 1.0}};
+  World world{settings(Eigen::Vector3d::Zero(), 1.0)};
   BodyId id;
   Eigen::Vector3d moments;
 };
@@ -61,7 +68,7 @@ struct Spin {
 /// velocity w_body; dt chosen so the body turns `turn_per_step` radians per step.
 void make_spin(Spin& s, const Eigen::Vector3d& w_body, double turn_per_step) {
   const RigidShape shape = make_rigid_shape(cuboid(1e-3, 2e-3, 3e-3), 0.0);
-  s.world = World({Eigen::Vector3d::Zero(), turn_per_step / w_body.norm()});
+  s.world = World(settings(Eigen::Vector3d::Zero(), turn_per_step / w_body.norm()));
   const auto sh = s.world.add_shape(shape);
   const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
   s.id = s.world.add_body(sh, kRho, Eigen::Vector3d::Zero(), q, Eigen::Vector3d::Zero(), q * w_body);
