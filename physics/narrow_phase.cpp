@@ -348,29 +348,35 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
       if (!in_patch_a(feature, code)) out.push_back({feature, code, c});
     }
   }
+  // Edge against edge. Which edges can reach the other body, and B's edge directions, are
+  // worked out once per pair rather than once per edge pair.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
+  std::array<Eigen::Vector3d, kMaxVertices * 2> dir_b;
+  std::array<bool, kMaxVertices * 2> near_b;
+  if (eb.size() > dir_b.size() || ea.size() > dir_b.size()) return;
+  for (std::size_t j = 0; j < eb.size(); ++j) {
+    near_b[j] = edge_near(b_to_a, eb[j], reach);
+    dir_b[j] = (b.vertices[eb[j].b] - b.vertices[eb[j].a]).normalized();
+  }
   for (std::size_t i = 0; i < ea.size(); ++i) {
     if (!edge_near(a_to_b, ea[i], reach)) continue;
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
     const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
     const Eigen::Vector3d d1 = (q1 - p1).normalized();
+    const std::uint32_t code_i = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i));
     for (std::size_t j = 0; j < eb.size(); ++j) {
-      if (!edge_near(b_to_a, eb[j], reach)) continue;
-      const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
-      const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-      if (d1.cross((q2 - p2).normalized()).squaredNorm() < 1e-12) continue;  // parallel
-      if (in_patch_a(feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i)),
-                     feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j)))) {
-        continue;
-      }
-      auto hit = cylinder_cylinder(p1, q1, a.radius, p2, q2, b.radius, margin);
+      if (!near_b[j]) continue;
+      if (d1.cross(dir_b[j]).squaredNorm() < 1e-12) continue;  // parallel
+      const std::uint32_t code_j = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j));
+      if (in_patch_a(code_i, code_j)) continue;
+      auto hit = cylinder_cylinder(p1, q1, a.radius, b.vertices[eb[j].a], b.vertices[eb[j].b],
+                                   b.radius, margin);
       if (!hit) continue;
       if (!in_normal_cone(a, ea[i], hit->normal) || !in_normal_cone(b, eb[j], -hit->normal)) {
         continue;
       }
-      out.push_back({feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i)),
-                     feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j)), *hit});
+      out.push_back({code_i, code_j, *hit});
     }
   }
 }
