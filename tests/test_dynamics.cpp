@@ -35,16 +35,21 @@ void settle(World& world, int steps) {
   for (int i = 0; i < steps; ++i) world.step();
 }
 
-}  // namespace
-
-TEST(Walls, FloorCarriesTheWeightOfARestingGrain) {
+/// A world under gravity with the given particle-wall law and a step of 1 us.
+World gravity_world(const ContactParams& wall_law) {
   WorldSettings ws;
   ws.gravity = {0, 0, -9.81};
   ws.dt = 1e-6;
+  ws.particle_wall = wall_law;
+  return World(ws);
+}
+
+}  // namespace
+
+TEST(Walls, FloorCarriesTheWeightOfARestingGrain) {
   // C_res = 1: a purely elastic spring (with C_res > 1 the rest overlap keeps the offset
   // of the unloading line); the damping of eq 2.6 settles it.
-  ws.particle_wall = soft(1e4, 1.0, 0.3);
-  World world(ws);
+  World world = gravity_world(soft(1e4, 1.0, 0.3));
   const RigidShape shape = prism_shape();
   const auto sh = world.add_shape(shape);
   const auto floor = world.add_wall(Wall::plane("floor", {0, 0, 0}, {0, 0, 1}));
@@ -62,11 +67,7 @@ TEST(Walls, FloorCarriesTheWeightOfARestingGrain) {
 }
 
 TEST(Walls, TwoRollersShareTheLoadAndAPlatenOnlyCatchesWhatIsAboveIt) {
-  WorldSettings ws;
-  ws.gravity = {0, 0, -9.81};
-  ws.dt = 1e-6;
-  ws.particle_wall = soft(1e4, 2.0, 0.3);
-  World world(ws);
+  World world = gravity_world(soft(1e4, 2.0, 0.3));
   const RigidShape shape = prism_shape();
   const auto sh = world.add_shape(shape);
   // Two rollers along y under the grain, symmetric about x = 0 (a bending support).
