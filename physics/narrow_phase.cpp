@@ -184,9 +184,12 @@ struct Patch {
 /// B's face, B's corners over A's face, and the crossings of the two rims. Unlike single
 /// vertex or edge contacts, these points move continuously when the faces tilt a little,
 /// so the patch does not flicker as bodies rock on each other.
+/// `covered_a` and `covered_b` collect (as bits) the corners the patch already holds, whose
+/// own vertex contacts then need not be looked for.
 void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
                 const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double margin,
-                std::vector<FeatureContact>& out) {
+                std::vector<FeatureContact>& out, std::uint64_t& covered_a,
+                std::uint64_t& covered_b) {
   const double radii = a.radius + b.radius;
   const Eigen::Vector3d& na = a.face_normals[fa];
   const Eigen::Vector3d& nb = b.face_normals[fb];
@@ -203,6 +206,7 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
     if (pen <= -margin || !projects_inside(pb, nb, pa.pts[i], true)) continue;
     PrimitiveContact c{pa.pts[i] - (a.radius - 0.5 * pen) * nb, -nb, pen};
     out.push_back({feature_code(FeatureKind::vertex, ia[i]), feature_code(FeatureKind::face, fb), c});
+    covered_a |= std::uint64_t{1} << ia[i];
   }
   // B's corners over A's face (boundary excluded: a shared corner is counted once, above).
   for (std::size_t i = 0; i < pb.n; ++i) {
@@ -211,6 +215,7 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
     if (pen <= -margin || !projects_inside(pa, na, pb.pts[i], false)) continue;
     PrimitiveContact c{pb.pts[i] - (b.radius - 0.5 * pen) * na, na, pen};
     out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[i]), c});
+    covered_b |= std::uint64_t{1} << ib[i];
   }
   // Rim crossings, seen along n: strictly inside both edges.
   const auto& ea = a.primitives->edges;
@@ -306,8 +311,10 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
 
   // Face-to-face touches first: their patches replace the vertex and edge contacts of the
   // two faces.
+  static_assert(kMaxVertices <= 64, "corner bit masks are 64 bits");
   std::array<Patch, 8> patches;
   std::size_t n_patches = 0;
+  std::uint64_t covered_a = 0, covered_b = 0;
   for (std::size_t fa = 0; fa < a.face_normals.size() && n_patches < patches.size(); ++fa) {
     for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
       if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos) continue;
@@ -318,7 +325,7 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
       for (int v : ib) db = std::min(db, b_to_a.at(v, fa));
       if (da >= reach || db >= reach || da < -reach || db < -reach) continue;
       const std::size_t before = out.size();
-      face_patch(a, fa, b, fb, a_to_b, b_to_a, margin, out);
+      face_patch(a, fa, b, fb, a_to_b, b_to_a, margin, out, covered_a, covered_b);
       if (out.size() > before) patches[n_patches++] = {fa, fb};
       break;
     }
@@ -336,12 +343,14 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
   PrimitiveContact c;
   std::uint32_t feature = 0;
   for (std::size_t v = 0; v < a.vertices.size(); ++v) {
+    if ((covered_a >> v) & 1u) continue;
     if (vertex_against(a, v, b, a_to_b, margin, true, feature, c)) {
       const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
       if (!in_patch_a(code, feature)) out.push_back({code, feature, c});
     }
   }
   for (std::size_t v = 0; v < b.vertices.size(); ++v) {
+    if ((covered_b >> v) & 1u) continue;
     if (vertex_against(b, v, a, b_to_a, margin, false, feature, c)) {
       c.normal = -c.normal;  // from A towards B
       const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
