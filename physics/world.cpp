@@ -1,6 +1,7 @@
 #include "physics/world.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <tuple>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,7 @@ namespace cleave::physics {
 World::World(WorldSettings settings)
     : settings_(std::move(settings)), search_(settings_.search) {
   if (!(settings_.dt > 0.0)) throw std::invalid_argument("time step must be positive");
+  if (!(settings_.search_skin >= 0.0)) throw std::invalid_argument("search skin must be >= 0");
 }
 
 std::uint32_t World::add_shape(RigidShape shape) {
@@ -54,6 +56,7 @@ BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x
   st.v = v;
   ++live_;
   forces_current_ = false;
+  pairs_current_ = false;
   const BodyId id{slot, b.generation};
   set_angular_velocity(id, w);
   return id;
@@ -64,6 +67,7 @@ void World::remove_body(BodyId id) {
   infos_[id.index].alive = false;
   free_slots_.push_back(id.index);
   --live_;
+  pairs_current_ = false;
 }
 
 bool World::contains(BodyId id) const {
@@ -145,11 +149,27 @@ void World::compute_forces() {
 }
 
 void World::body_contacts(int nt) {
-  spheres_.clear();
-  for (std::uint32_t slot : live_slots_) {
-    spheres_.push_back({states_[slot].x, shapes_[infos_[slot].shape].bounding_radius()});
+  // Neighbour search with a Verlet skin: the pairs of the last search hold every pair that
+  // can touch until some body has moved half the skin (bounding spheres are centred on the
+  // centroid, so rotation does not move them).
+  bool fresh = pairs_current_ && searched_at_.size() == live_slots_.size();
+  for (std::size_t k = 0; fresh && k < live_slots_.size(); ++k) {
+    fresh = (states_[live_slots_[k]].x - searched_at_[k]).squaredNorm() < 0.25 * skin_ * skin_;
   }
-  search_.find_pairs(spheres_, 0.0, pairs_);
+  if (!fresh) {
+    spheres_.clear();
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::uint32_t slot : live_slots_) {
+      const double r = shapes_[infos_[slot].shape].bounding_radius();
+      spheres_.push_back({states_[slot].x, r});
+      smallest = std::min(smallest, r);
+    }
+    skin_ = live_slots_.empty() ? 0.0 : settings_.search_skin * smallest;
+    search_.find_pairs(spheres_, skin_, pairs_);
+    searched_at_.clear();
+    for (std::uint32_t slot : live_slots_) searched_at_.push_back(states_[slot].x);
+    pairs_current_ = true;
+  }
   // Each thread takes a contiguous block of pairs; the blocks are joined in order, so the
   // contact list (and everything after it) is the same for any number of threads.
   const std::size_t n = pairs_.size();

@@ -28,6 +28,10 @@ struct WorldSettings {
   /// Results are bit-identical for any count: work is split into ordered blocks and the
   /// forces are summed in contact order.
   int threads = 0;
+  /// Verlet skin of the neighbour search, as a fraction of the smallest bounding radius:
+  /// pairs are searched with this margin and reused until some body has moved more than
+  /// half of it (0: search every step).
+  double search_skin = 0.1;
 };
 
 /// One contact of the last step, for output and tests.
@@ -123,6 +127,9 @@ class World {
   std::vector<std::uint32_t> live_slots_;
   std::vector<BoundingSphere> spheres_;
   std::vector<BodyPair> pairs_;
+  std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
+  double skin_ = 0.0;                         // margin of the last search
+  bool pairs_current_ = false;
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
   std::vector<Pending> pending_;
