@@ -41,6 +41,20 @@
 ///   mesh_format = "obj"        # optional: "stl" (binary) | "stl_ascii" | "obj", default "obj"
 ///   mesh_layout = "scene"      # optional: "scene" | "per_fragment", default "scene"
 ///
+///   [material]                 # optional: density = 3100 (kg/m^3, > 0)
+///   [contact]                  # required by [dynamics]
+///   dilation_radius = 0.05     # length unit, > 0
+///   [contact.particle_particle] and [contact.particle_wall], each:
+///     kn (> 0, required), ks, kr, kt (>= 0, default 0; N/m and N m/rad),
+///     c_res (>= 1, default 1), mu_s, mu_r (>= 0, default 0), damping (>= 0, default 0.1)
+///   [dynamics]                 # optional; present: the grains move
+///   dt, duration (s, > 0, required), gravity (m/s^2, 3 numbers), lift (length unit),
+///   frames (integer >= 0, default 20), settle_ratio ([0, 1], default 0),
+///   dt_safety ((0, 1], default 0.2), search ("bounding_box" | "basic"), threads (>= 0)
+///   [[wall]]                   # any number: name, kind ("plane" | "platen" | "cylinder"),
+///                              # point, normal, velocity; platen: u, size; cylinder:
+///                              # length, radius (lengths in the length unit)
+///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
 /// Tables other than these, keys other than these, and keys of another shape (`diameter` in a
 /// box) are errors. Every error is a ScenarioError reading

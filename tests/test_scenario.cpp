@@ -239,6 +239,10 @@ TEST(Scenario, ReferenceFileLoads) {
   EXPECT_NEAR(s.specimen.outline.size.z(), 4e-3, kTol);
   EXPECT_NEAR(s.specimen.r, 1e-3, kTol);
   EXPECT_NEAR(s.specimen.t, 1e-3, kTol);
+  // It documents the dynamics tables too, and they parse.
+  EXPECT_TRUE(s.dynamics.enabled);
+  EXPECT_EQ(s.walls.size(), 1u);
+  EXPECT_EQ(s.contact.particle_particle.kn, 5000.0);
 }
 
 // ---- errors -------------------------------------------------------------------------------
