@@ -21,6 +21,10 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
     face_normals[f] = R * p.faces[f].normal;
     face_offsets[f] = face_normals[f].dot(vertices[p.faces[f].vertices[0]]);
   }
+  edge_directions.resize(p.edges.size());
+  for (std::size_t e = 0; e < p.edges.size(); ++e) {
+    edge_directions[e] = (vertices[p.edges[e].b] - vertices[p.edges[e].a]).normalized();
+  }
 }
 
 namespace {
@@ -136,7 +140,7 @@ bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
 /// of its two faces, in the plane across the edge), its boundary included: a face-to-face
 /// touch shows up as the crossings of the two faces' rims, with the face normal as u.
 bool in_normal_cone(const PosedShape& s, const geometry::ContactEdge& E, const Eigen::Vector3d& u) {
-  const Eigen::Vector3d e = (s.vertices[E.b] - s.vertices[E.a]).normalized();
+  const Eigen::Vector3d& e = s.edge_directions[static_cast<std::size_t>(&E - s.primitives->edges.data())];
   const Eigen::Vector3d& n1 = s.face_normals[E.left_face];
   const Eigen::Vector3d& n2 = s.face_normals[E.right_face];
   Eigen::Vector3d m1 = e.cross(n1);
@@ -357,28 +361,36 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
       if (!in_patch_a(feature, code)) out.push_back({feature, code, c});
     }
   }
-  // Edge against edge. Which edges can reach the other body, and B's edge directions, are
-  // worked out once per pair rather than once per edge pair.
+  // Edge against edge. Which edges can reach the other body, and which lie on a patched
+  // face, are worked out once per pair rather than once per edge pair.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
-  std::array<Eigen::Vector3d, kMaxVertices * 2> dir_b;
-  std::array<bool, kMaxVertices * 2> near_b;
-  if (eb.size() > dir_b.size() || ea.size() > dir_b.size()) return;
+  constexpr std::size_t kMaxEdges = 2 * kMaxVertices;
+  if (eb.size() > kMaxEdges || ea.size() > kMaxEdges) return;
+  std::array<bool, kMaxEdges> near_b;
+  std::array<std::uint8_t, kMaxEdges> patches_of_b{};  // bit k: on patch k's face of B
   for (std::size_t j = 0; j < eb.size(); ++j) {
     near_b[j] = edge_near(b_to_a, eb[j], reach);
-    dir_b[j] = (b.vertices[eb[j].b] - b.vertices[eb[j].a]).normalized();
+    for (std::size_t k = 0; k < n_patches; ++k) {
+      const auto f = static_cast<int>(patches[k].fb);
+      if (eb[j].left_face == f || eb[j].right_face == f) patches_of_b[j] |= std::uint8_t(1u << k);
+    }
   }
   for (std::size_t i = 0; i < ea.size(); ++i) {
     if (!edge_near(a_to_b, ea[i], reach)) continue;
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
     const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
-    const Eigen::Vector3d d1 = (q1 - p1).normalized();
+    const Eigen::Vector3d& d1 = a.edge_directions[i];
+    std::uint8_t patches_of_a = 0;
+    for (std::size_t k = 0; k < n_patches; ++k) {
+      const auto f = static_cast<int>(patches[k].fa);
+      if (ea[i].left_face == f || ea[i].right_face == f) patches_of_a |= std::uint8_t(1u << k);
+    }
     const std::uint32_t code_i = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i));
     for (std::size_t j = 0; j < eb.size(); ++j) {
-      if (!near_b[j]) continue;
-      if (d1.cross(dir_b[j]).squaredNorm() < 1e-12) continue;  // parallel
+      if (!near_b[j] || (patches_of_a & patches_of_b[j]) != 0) continue;  // patch has them
+      if (d1.cross(b.edge_directions[j]).squaredNorm() < 1e-12) continue;  // parallel
       const std::uint32_t code_j = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j));
-      if (in_patch_a(code_i, code_j)) continue;
       auto hit = cylinder_cylinder(p1, q1, a.radius, b.vertices[eb[j].a], b.vertices[eb[j].b],
                                    b.radius, margin);
       if (!hit) continue;

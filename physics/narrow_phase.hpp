@@ -40,6 +40,7 @@ struct PosedShape {
   std::vector<Eigen::Vector3d> vertices;      ///< world
   std::vector<Eigen::Vector3d> face_normals;  ///< world, outward
   std::vector<double> face_offsets;           ///< normal . x = offset on each face
+  std::vector<Eigen::Vector3d> edge_directions;  ///< world, unit, from edge.a to edge.b
   double radius = 0.0;                        ///< dilation radius
 
   void update(const RigidShape& shape, const BodyState& state);

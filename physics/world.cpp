@@ -248,42 +248,77 @@ void World::evaluate_and_apply(int nt) {
   const std::size_t n = pending_.size();
   forces_.resize(n);
   next_history_.resize(n);
-#pragma omp parallel for num_threads(nt) schedule(static) if (static_cast<std::ptrdiff_t>(n) >= kParallelMin)
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
-    const Pending& p = pending_[static_cast<std::size_t>(k)];
-    const bool wall = (p.key.a & kWallFlag) != 0;
-    const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
-    const PrimitiveContact& c = p.contact;
-    const BodyState& sb = states_[b];
-    const BodyInfo& ib = infos_[b];
-    ContactKinematics kin;
-    kin.normal = c.normal;
-    kin.overlap = c.penetration;
-    Eigen::Vector3d va_point, wa;
-    if (wall) {
-      va_point = walls_[a].velocity;
-      wa.setZero();
-      kin.m_crit = ib.mass;
-      kin.i_crit = ib.inertia.minCoeff();
-    } else {
-      const BodyState& sa = states_[a];
-      const BodyInfo& ia = infos_[a];
-      va_point = sa.v + sa.w.cross(c.point - sa.x);
-      wa = sa.w;
-      kin.m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
-      const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
-      kin.i_crit = i1 * i2 / (i1 + i2);
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+#ifdef _OPENMP
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+#else
+    const std::size_t t = 0;
+#endif
+    const std::size_t begin = n * t / static_cast<std::size_t>(nt);
+    const std::size_t end = n * (t + 1) / static_cast<std::size_t>(nt);
+    // Keys ascend through pending_, as through the history: one search, then a walk.
+    std::size_t cursor = begin < end ? static_cast<std::size_t>(
+                                           std::lower_bound(history_.begin(), history_.end(),
+                                                            pending_[begin].key,
+                                                            [](const HistoryEntry& e, const ContactKey& k) {
+                                                              return e.key < k;
+                                                            }) -
+                                           history_.begin())
+                                     : 0;
+    for (std::size_t k = begin; k < end; ++k) {
+      evaluate_contact(k, cursor);
     }
-    kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
-    kin.spin = sb.w - wa;
-    kin.lever = posed_[b].radius;
-    ContactHistory h;
-    if (const ContactHistory* old = previous_history(p.key)) h = *old;
-    const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
-    forces_[static_cast<std::size_t>(k)] = contact_force(params, kin, h, settings_.dt);
-    next_history_[static_cast<std::size_t>(k)] = {p.key, h};
   }
+  sum_forces();
+}
+
+/// The contact law for contact k: reads the bodies' states and the previous step's history
+/// (walking `cursor` forward through it), writes only slot k.
+void World::evaluate_contact(std::size_t k, std::size_t& cursor) {
+  const Pending& p = pending_[k];
+  const bool wall = (p.key.a & kWallFlag) != 0;
+  const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+  const PrimitiveContact& c = p.contact;
+  const BodyState& sb = states_[b];
+  const BodyInfo& ib = infos_[b];
+  ContactKinematics kin;
+  kin.normal = c.normal;
+  kin.overlap = c.penetration;
+  Eigen::Vector3d va_point, wa;
+  if (wall) {
+    va_point = walls_[a].velocity;
+    wa.setZero();
+    kin.m_crit = ib.mass;
+    kin.i_crit = ib.inertia.minCoeff();
+  } else {
+    const BodyState& sa = states_[a];
+    const BodyInfo& ia = infos_[a];
+    va_point = sa.v + sa.w.cross(c.point - sa.x);
+    wa = sa.w;
+    kin.m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
+    const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
+    kin.i_crit = i1 * i2 / (i1 + i2);
+  }
+  kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
+  kin.spin = sb.w - wa;
+  kin.lever = posed_[b].radius;
+  ContactHistory h;
+  if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
+    if (const ContactHistory* old = previous_history(p.key)) h = *old;  // out of order
+  } else {
+    while (cursor < history_.size() && history_[cursor].key < p.key) ++cursor;
+    if (cursor < history_.size() && history_[cursor].key == p.key) h = history_[cursor].history;
+  }
+  const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
+  forces_[k] = contact_force(params, kin, h, settings_.dt);
+  next_history_[k] = {p.key, h};
+}
+
+void World::sum_forces() {
   // Sums in contact order, on one thread: the same result for any number of threads.
+  const std::size_t n = pending_.size();
   records_.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const Pending& p = pending_[k];

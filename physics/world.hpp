@@ -96,6 +96,8 @@ class World {
   void body_contacts(int threads);
   void wall_contacts();
   void evaluate_and_apply(int threads);
+  void evaluate_contact(std::size_t k, std::size_t& history_cursor);
+  void sum_forces();
 
   /// A contact's identity across steps: the two bodies (or wall and body) and the two
   /// features touching. Contacts are produced in ascending key order every step, so the
