@@ -381,6 +381,8 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
     const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
     const Eigen::Vector3d& d1 = a.edge_directions[i];
+    const Eigen::Vector3d m1 = 0.5 * (p1 + q1);
+    const double h1 = 0.5 * (q1 - p1).norm();
     std::uint8_t patches_of_a = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fa);
@@ -389,10 +391,15 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
     const std::uint32_t code_i = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i));
     for (std::size_t j = 0; j < eb.size(); ++j) {
       if (!near_b[j] || (patches_of_a & patches_of_b[j]) != 0) continue;  // patch has them
+      // Two segments whose midpoints are further apart than their half lengths plus the
+      // reach cannot touch.
+      const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
+      const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
+      const double bound = h1 + 0.5 * (q2 - p2).norm() + reach;
+      if ((0.5 * (p2 + q2) - m1).squaredNorm() > bound * bound) continue;
       if (d1.cross(b.edge_directions[j]).squaredNorm() < 1e-12) continue;  // parallel
       const std::uint32_t code_j = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j));
-      auto hit = cylinder_cylinder(p1, q1, a.radius, b.vertices[eb[j].a], b.vertices[eb[j].b],
-                                   b.radius, margin);
+      auto hit = cylinder_cylinder(p1, q1, a.radius, p2, q2, b.radius, margin);
       if (!hit) continue;
       if (!in_normal_cone(a, ea[i], hit->normal) || !in_normal_cone(b, eb[j], -hit->normal)) {
         continue;
