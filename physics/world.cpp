@@ -115,6 +115,21 @@ namespace {
 /// every step exceeds the work (and oversubscribed cores make it far worse).
 constexpr std::ptrdiff_t kParallelMin = 512;
 
+/// The contiguous block [begin, end) of n items that the calling thread of a team of nt
+/// takes: blocks follow thread order, so joining them in order keeps the items' order.
+struct Block {
+  std::size_t thread, begin, end;
+};
+Block thread_block(std::size_t n, int nt) {
+#ifdef _OPENMP
+  const auto t = static_cast<std::size_t>(omp_get_thread_num());
+#else
+  const std::size_t t = 0;
+#endif
+  const auto teams = static_cast<std::size_t>(nt);
+  return {t, n * t / teams, n * (t + 1) / teams};
+}
+
 int thread_count(int wanted) {
 #ifdef _OPENMP
   return wanted > 0 ? wanted : omp_get_max_threads();
@@ -177,16 +192,10 @@ void World::body_contacts(int nt) {
   thread_pending_.resize(static_cast<std::size_t>(nt));
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-#ifdef _OPENMP
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-#else
-    const std::size_t t = 0;
-#endif
+    const auto [t, begin, end] = thread_block(n, nt);
     auto& out = thread_pending_[t];
     out.clear();
     std::vector<FeatureContact> features;
-    const std::size_t begin = n * t / static_cast<std::size_t>(nt);
-    const std::size_t end = n * (t + 1) / static_cast<std::size_t>(nt);
     for (std::size_t p = begin; p < end; ++p) {
       const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
       features.clear();
@@ -251,13 +260,8 @@ void World::evaluate_and_apply(int nt) {
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-#ifdef _OPENMP
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-#else
-    const std::size_t t = 0;
-#endif
-    const std::size_t begin = n * t / static_cast<std::size_t>(nt);
-    const std::size_t end = n * (t + 1) / static_cast<std::size_t>(nt);
+    const auto [t, begin, end] = thread_block(n, nt);
+    (void)t;
     // Keys ascend through pending_, as through the history: one search, then a walk.
     std::size_t cursor = begin < end ? static_cast<std::size_t>(
                                            std::lower_bound(history_.begin(), history_.end(),
