@@ -213,13 +213,16 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
     covered_a |= std::uint64_t{1} << ia[i];
   }
   // B's corners over A's face (boundary excluded: a shared corner is counted once, above).
+  // A corner of B on the rim of A's face gets no contact of its own, but it is covered all
+  // the same: whatever touches there is A's corner or A's rim, both part of this patch.
   for (std::size_t i = 0; i < pb.n; ++i) {
     const double d = b_to_a.at(ib[i], fa);
     const double pen = radii - d;
-    if (pen <= -margin || !projects_inside(pa, na, pb.pts[i], false)) continue;
+    if (pen <= -margin || !projects_inside(pa, na, pb.pts[i], true)) continue;
+    covered_b |= std::uint64_t{1} << ib[i];
+    if (!projects_inside(pa, na, pb.pts[i], false)) continue;
     PrimitiveContact c{pb.pts[i] - (b.radius - 0.5 * pen) * na, na, pen};
     out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[i]), c});
-    covered_b |= std::uint64_t{1} << ib[i];
   }
   // Rim crossings, seen along n: strictly inside both edges.
   const auto& ea = a.primitives->edges;
