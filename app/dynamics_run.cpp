@@ -42,6 +42,9 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
     const auto& o = specimen.grains.at(static_cast<std::size_t>(b.grain_id)).orientation;
     ids["family_11_20"].push_back(o.family == geometry::CleavageFamily::a_11_20 ? 1 : 0);
     ids["angle_deg"].push_back(o.angle_deg);
+    // The crystal's c axis (the prism axis, z of the shape frame) in the world.
+    const auto& shape = world.shape(b.shape);
+    vec["c_axis"].push_back(s.q * (shape.axes.transpose() * Eigen::Vector3d::UnitZ()));
     vec["velocity"].push_back(s.v);
     vec["angular_velocity"].push_back(s.w);
     sca["speed"].push_back(s.v.norm());
@@ -85,6 +88,10 @@ DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Speci
   fs::create_directories(frames_dir);
   io::PvdSeries bodies_pvd(out / "bodies.pvd"), contacts_pvd(out / "contacts.pvd");
   std::string energy = "time_s,kinetic_J,potential_J,contacts,max_overlap_m\n";
+  // Reaction force on every wall (the force the grains exert on it), N.
+  std::string walls = "time_s";
+  for (const auto& w : world.walls()) walls += fmt::format(",{0}_Fx_N,{0}_Fy_N,{0}_Fz_N", w.name);
+  walls += "\n";
   const double pe0 = world.potential_energy();
   std::uint64_t total = static_cast<std::uint64_t>(std::ceil(dyn.duration / dyn.dt));
   if (max_steps > 0) total = std::min(total, max_steps);
@@ -111,6 +118,11 @@ DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Speci
     if (i % log_every == 0 || i == total) {
       energy += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g}\n", world.time(), ke,
                             world.potential_energy(), world.contacts().size(), overlap);
+      walls += fmt::format("{:.9g}", world.time());
+      for (const auto& w : world.walls()) {
+        walls += fmt::format(",{:.9g},{:.9g},{:.9g}", w.reaction.x(), w.reaction.y(), w.reaction.z());
+      }
+      walls += "\n";
     }
     if (frame_every && i % frame_every == 0) write_frame();
     const bool settled = dyn.settle_ratio > 0.0 && released > 0.0 && world.contacts().size() > 0 &&
@@ -133,6 +145,7 @@ DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Speci
   if (!quiet) std::fprintf(stderr, "\n");
   if (frame_every && world.steps() % frame_every != 0) write_frame();
   io::write_file_atomically(out / "energy.csv", energy);
+  io::write_file_atomically(out / "walls.csv", walls);
   sum.steps = world.steps();
   sum.time = world.time();
   sum.kinetic_energy = world.kinetic_energy();

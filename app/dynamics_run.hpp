@@ -24,7 +24,7 @@ struct DynamicsSummary {
 };
 
 /// Runs [dynamics] of `scenario` on `specimen`, writing frames/ (bodies_*.vtp,
-/// contacts_*.vtp), bodies.pvd, contacts.pvd and energy.csv into `out`. Throws
+/// contacts_*.vtp), bodies.pvd, contacts.pvd, energy.csv and walls.csv into `out`. Throws
 /// io::ScenarioError when the time step is above the stable limit (io::check_time_step).
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const std::filesystem::path& out, bool quiet,

@@ -172,7 +172,7 @@ int run_command(const RunOptions& options) {
       const DynamicsSummary d =
           run_dynamics(scenario, specimen, out, options.quiet, options.max_steps);
       say(fmt::format("  dynamics   {} steps, t = {:.4g} s, {} frames -> {}/bodies.pvd, "
-                      "contacts.pvd, energy.csv ({:.1f} s, {:.1f} us/step)",
+                      "contacts.pvd, energy.csv, walls.csv ({:.1f} s, {:.1f} us/step)",
                       d.steps, d.time, d.frames, out.string(), d.wall_seconds,
                       1e6 * d.wall_seconds / std::max<double>(1, d.steps)));
       say(fmt::format("             {}: kinetic energy {:.3g} J = {:.2e} of the {:.3g} J released; "

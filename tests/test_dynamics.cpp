@@ -181,6 +181,10 @@ TEST(DropTest, GrainsFallBounceAndSettleAboveTheFloor) {
   // The deepest overlap during the impacts stays a small fraction of the dilation radius.
   EXPECT_LT(max_overlap, 0.5 * radius);
   EXPECT_GT(max_overlap, 0.0);
+  // At rest the floor carries the whole weight.
+  double weight = 0.0;
+  for (const BodyId id : world.body_ids()) weight += world.info(id).mass * 9.81;
+  EXPECT_NEAR(-world.walls()[0].reaction.z(), weight, 0.01 * weight);
 }
 
 TEST(DropTest, RepeatRunsAreBitIdentical) {
