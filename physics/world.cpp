@@ -68,6 +68,12 @@ void World::remove_body(BodyId id) {
   free_slots_.push_back(id.index);
   --live_;
   pairs_current_ = false;
+  // Contact history is keyed by slot: a body that later takes this slot must not inherit
+  // the removed body's springs.
+  const std::uint32_t slot = id.index;
+  std::erase_if(history_, [slot](const HistoryEntry& e) {
+    return ((e.key.a & kWallFlag) == 0 && e.key.a == slot) || e.key.b == slot;
+  });
 }
 
 bool World::contains(BodyId id) const {
