@@ -1,0 +1,64 @@
+#include "physics/bond_law.hpp"
+
+#include <cmath>
+
+namespace cleave::physics {
+
+double BondSection::area() const { return M_PI * radius * radius; }
+double BondSection::inertia() const { return 0.25 * M_PI * std::pow(radius, 4); }
+double BondSection::polar() const { return 2.0 * inertia(); }
+
+namespace {
+/// Keeps the magnitude of a tangential vector while turning it into the plane across n.
+Eigen::Vector3d into_plane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) {
+  const double len = v.norm();
+  if (len == 0.0) return v;
+  const Eigen::Vector3d t = v - v.dot(n) * n;
+  const double tl = t.norm();
+  if (tl == 0.0) return Eigen::Vector3d::Zero();
+  return t * (len / tl);
+}
+}  // namespace
+
+BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
+                      const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
+                      BondState& b, double dt) {
+  BondResult out;
+  if (b.broken) return out;
+  // Spring stiffnesses from the continuum ones (eqs 2.10, 2.11).
+  const double Kbn = p.kbn * s.area();
+  const double Kbs = p.kbs * s.area();
+  const double Kbr = p.kbn * s.inertia();
+  const double Kbt = p.kbs * s.polar();
+  // Increments (eqs 2.12, 2.13): opening along n is tension.
+  const double vn = velocity.dot(n);
+  const Eigen::Vector3d vs = velocity - vn * n;
+  const double wt = spin.dot(n);
+  const Eigen::Vector3d wr = spin - wt * n;
+  b.normal += Kbn * vn * dt;
+  b.shear = into_plane(b.shear, n) - Kbs * dt * vs;
+  b.bending = into_plane(b.bending, n) - Kbr * dt * wr;
+  b.torsion -= Kbt * dt * wt;
+  // Limits (eq. 2.15) and failure (eq. 2.16), checked in this order.
+  const double r = s.radius;
+  if (b.normal > p.tbn * s.area()) {
+    out.failure = BondFailure::tension;
+  } else if (b.shear.norm() > p.tbs * s.area()) {
+    out.failure = BondFailure::shear;
+  } else if (b.bending.norm() > p.tbn * s.inertia() / r) {
+    out.failure = BondFailure::bending;
+  } else if (std::abs(b.torsion) > p.tbs * s.polar() / r) {
+    out.failure = BondFailure::torsion;
+  }
+  if (out.failure != BondFailure::none) {
+    b = BondState{};
+    b.broken = true;
+    return out;
+  }
+  // Tension pulls B back towards A.
+  out.force = -b.normal * n + b.shear;
+  out.moment = b.bending + b.torsion * n;
+  return out;
+}
+
+}  // namespace cleave::physics

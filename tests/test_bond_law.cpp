@@ -1,0 +1,120 @@
+// The bond law of sec. 2.3.3 (eqs 2.9-2.16): stiffnesses from the bond section, and each
+// failure mode alone, exactly at its limit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "physics/bond_law.hpp"
+
+using namespace cleave::physics;
+
+namespace {
+
+// Table 2.5's bond parameters (bending and Brazilian tests), read as SI: stiffness per
+// area N/m^3, strengths Pa; the bond radius is the 0.05 mm dilation radius.
+const BondParams kParams{5000.0, 2000.0, 1000.0, 1000.0};
+const BondSection kSection{0.05e-3};
+const Eigen::Vector3d kN = Eigen::Vector3d::UnitZ();
+const double kDt = 1e-6;
+
+/// Applies one step of relative motion that moves B by `move` and turns it by `turn`.
+BondResult push(BondState& s, const Eigen::Vector3d& move, const Eigen::Vector3d& turn) {
+  return bond_force(kParams, kSection, kN, move / kDt, turn / kDt, s, kDt);
+}
+
+}  // namespace
+
+TEST(BondSection, AreaAndMomentsOfTheCircularSection) {
+  const double r = 0.05e-3;
+  EXPECT_DOUBLE_EQ(kSection.area(), M_PI * r * r);
+  EXPECT_DOUBLE_EQ(kSection.inertia(), M_PI * r * r * r * r / 4);
+  EXPECT_DOUBLE_EQ(kSection.polar(), M_PI * r * r * r * r / 2);
+}
+
+TEST(BondLaw, ForcesAndMomentsFollowTheBondStiffnesses) {
+  const double A = kSection.area(), I = kSection.inertia(), J = kSection.polar();
+  BondState s;
+  // Open by 1e-9 m: tension K_bn delta pulls B back (eq. 2.12).
+  BondResult r = push(s, 1e-9 * kN, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(r.force.z(), -kParams.kbn * A * 1e-9, 1e-24);
+  // Slide by 2e-9 m along x: shear K_bs delta opposes it.
+  r = push(s, Eigen::Vector3d(2e-9, 0, 0), Eigen::Vector3d::Zero());
+  EXPECT_NEAR(r.force.x(), -kParams.kbs * A * 2e-9, 1e-24);
+  EXPECT_NEAR(r.force.z(), -kParams.kbn * A * 1e-9, 1e-24);  // the opening is still there
+  // Bend by 1e-6 rad about x and twist by 2e-6 rad about the normal (eq. 2.13).
+  r = push(s, Eigen::Vector3d::Zero(), Eigen::Vector3d(1e-6, 0, 2e-6));
+  EXPECT_NEAR(r.moment.x(), -kParams.kbn * I * 1e-6, 1e-30);
+  EXPECT_NEAR(r.moment.z(), -kParams.kbs * J * 2e-6, 1e-30);
+  EXPECT_EQ(r.failure, BondFailure::none);
+  EXPECT_FALSE(s.broken);
+}
+
+namespace {
+
+struct Mode {
+  BondFailure failure;
+  const char* name;
+};
+class FailureMode : public ::testing::TestWithParam<Mode> {};
+
+/// The motion that brings mode m to `fraction` of its limit (eq. 2.15), alone.
+void load(BondFailure m, double fraction, Eigen::Vector3d& move, Eigen::Vector3d& turn) {
+  const double r = kSection.radius;
+  move.setZero();
+  turn.setZero();
+  switch (m) {
+    case BondFailure::tension:  // K_bn d = t_bn A  ->  d = t_bn / k_bn
+      move.z() = fraction * kParams.tbn / kParams.kbn;
+      break;
+    case BondFailure::shear:  // K_bs d = t_bs A  ->  d = t_bs / k_bs
+      move.y() = fraction * kParams.tbs / kParams.kbs;
+      break;
+    case BondFailure::bending:  // k_bn I theta = t_bn I / r  ->  theta = t_bn / (k_bn r)
+      turn.y() = fraction * kParams.tbn / (kParams.kbn * r);
+      break;
+    case BondFailure::torsion:  // k_bs J theta = t_bs J / r  ->  theta = t_bs / (k_bs r)
+      turn.z() = fraction * kParams.tbs / (kParams.kbs * r);
+      break;
+    case BondFailure::none:
+      break;
+  }
+}
+
+}  // namespace
+
+TEST_P(FailureMode, IntactJustBelowItsLimitBrokenJustAbove) {
+  const BondFailure m = GetParam().failure;
+  Eigen::Vector3d move, turn;
+  BondState below;
+  load(m, 1.0 - 1e-9, move, turn);
+  BondResult r = push(below, move, turn);
+  EXPECT_EQ(r.failure, BondFailure::none);
+  EXPECT_FALSE(below.broken);
+  EXPECT_GT(r.force.norm() + r.moment.norm(), 0.0);
+
+  BondState above;
+  load(m, 1.0 + 1e-9, move, turn);
+  r = push(above, move, turn);
+  EXPECT_EQ(r.failure, m);
+  EXPECT_TRUE(above.broken);
+  EXPECT_EQ(r.force.norm() + r.moment.norm(), 0.0);
+  // Broken for good: no force however it is loaded afterwards.
+  r = push(above, -move, -turn);
+  EXPECT_EQ(r.failure, BondFailure::none);
+  EXPECT_EQ(r.force.norm() + r.moment.norm(), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, FailureMode,
+                         ::testing::Values(Mode{BondFailure::tension, "tension"},
+                                           Mode{BondFailure::shear, "shear"},
+                                           Mode{BondFailure::bending, "bending"},
+                                           Mode{BondFailure::torsion, "torsion"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(BondLaw, CompressionDoesNotBreakInTension) {
+  BondState s;
+  // Pressed together far beyond the tensile limit's opening: compression is not tension.
+  const BondResult r = push(s, -10.0 * kParams.tbn / kParams.kbn * kN, Eigen::Vector3d::Zero());
+  EXPECT_EQ(r.failure, BondFailure::none);
+  EXPECT_GT(r.force.z(), 0.0);  // pushes B away
+}
