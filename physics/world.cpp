@@ -121,18 +121,19 @@ namespace {
 /// every step exceeds the work (and oversubscribed cores make it far worse).
 constexpr std::ptrdiff_t kParallelMin = 512;
 
-/// The contiguous block [begin, end) of n items that the calling thread of a team of nt
-/// takes: blocks follow thread order, so joining them in order keeps the items' order.
+/// The contiguous block [begin, end) of n items that the calling thread takes, split over
+/// the threads actually running (OpenMP may give fewer than asked): blocks follow thread
+/// order, so joining them in order keeps the items' order.
 struct Block {
   std::size_t thread, begin, end;
 };
-Block thread_block(std::size_t n, int nt) {
+Block thread_block(std::size_t n) {
 #ifdef _OPENMP
   const auto t = static_cast<std::size_t>(omp_get_thread_num());
+  const auto teams = static_cast<std::size_t>(omp_get_num_threads());
 #else
-  const std::size_t t = 0;
+  const std::size_t t = 0, teams = 1;
 #endif
-  const auto teams = static_cast<std::size_t>(nt);
   return {t, n * t / teams, n * (t + 1) / teams};
 }
 
@@ -196,11 +197,11 @@ void World::body_contacts(int nt) {
   const std::size_t n = pairs_.size();
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   thread_pending_.resize(static_cast<std::size_t>(nt));
+  for (auto& part : thread_pending_) part.clear();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    const auto [t, begin, end] = thread_block(n, nt);
+    const auto [t, begin, end] = thread_block(n);
     auto& out = thread_pending_[t];
-    out.clear();
     std::vector<FeatureContact> features;
     for (std::size_t p = begin; p < end; ++p) {
       const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
@@ -266,7 +267,7 @@ void World::evaluate_and_apply(int nt) {
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    const auto [t, begin, end] = thread_block(n, nt);
+    const auto [t, begin, end] = thread_block(n);
     (void)t;
     // Keys ascend through pending_, as through the history: one search, then a walk.
     std::size_t cursor = begin < end ? static_cast<std::size_t>(
