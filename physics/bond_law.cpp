@@ -1,4 +1,5 @@
 #include "physics/bond_law.hpp"
+#include "physics/tangent.hpp"
 
 #include <cmath>
 
@@ -8,17 +9,6 @@ double BondSection::area() const { return M_PI * radius * radius; }
 double BondSection::inertia() const { return 0.25 * M_PI * std::pow(radius, 4); }
 double BondSection::polar() const { return 2.0 * inertia(); }
 
-namespace {
-/// Keeps the magnitude of a tangential vector while turning it into the plane across n.
-Eigen::Vector3d into_plane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) {
-  const double len = v.norm();
-  if (len == 0.0) return v;
-  const Eigen::Vector3d t = v - v.dot(n) * n;
-  const double tl = t.norm();
-  if (tl == 0.0) return Eigen::Vector3d::Zero();
-  return t * (len / tl);
-}
-}  // namespace
 
 BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,

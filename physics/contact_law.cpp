@@ -1,22 +1,10 @@
 #include "physics/contact_law.hpp"
+#include "physics/tangent.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace cleave::physics {
-
-namespace {
-/// Keeps the magnitude of an incremental tangential quantity while turning it into the
-/// current tangent plane (the contact normal rotates with the bodies).
-Eigen::Vector3d into_plane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) {
-  const double len = v.norm();
-  if (len == 0.0) return v;
-  const Eigen::Vector3d t = v - v.dot(n) * n;
-  const double tl = t.norm();
-  if (tl == 0.0) return Eigen::Vector3d::Zero();
-  return t * (len / tl);
-}
-}  // namespace
 
 ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
                            ContactHistory& h, double dt) {
