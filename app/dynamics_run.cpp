@@ -10,6 +10,7 @@
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
 #include "io/world_setup.hpp"
+#include "physics/grain_stress.hpp"
 #include "physics/world.hpp"
 
 namespace cleave::app {
@@ -25,6 +26,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 /// The body frame: every body's world mesh and its fields.
 io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& specimen) {
   io::BodyFrame frame;
+  const std::vector<Eigen::Matrix3d> stress = world.body_stresses();
   auto& ids = frame.body_fields.ids;
   auto& vec = frame.body_fields.vectors;
   auto& sca = frame.body_fields.scalars;
@@ -48,6 +50,11 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
     vec["velocity"].push_back(s.v);
     vec["angular_velocity"].push_back(s.w);
     sca["speed"].push_back(s.v.norm());
+    // Grain stress (eq. 2.17) from the contacts: mean (hydrostatic), von Mises, principal.
+    const Eigen::Matrix3d& sigma = stress[id.index];
+    sca["mean_stress_Pa"].push_back(physics::mean_stress(sigma));
+    sca["von_mises_Pa"].push_back(physics::von_mises(sigma));
+    vec["principal_stress_Pa"].push_back(physics::principal_stresses(sigma));
   }
   return frame;
 }

@@ -373,6 +373,25 @@ void World::step() {
   ++steps_;
 }
 
+std::vector<Eigen::Matrix3d> World::body_stresses() const {
+  // Sum d (x) f per body from the contact records (contact order: deterministic), then
+  // symmetrise and divide by 2V (eq. 2.17).
+  std::vector<Eigen::Matrix3d> sum(states_.size(), Eigen::Matrix3d::Zero());
+  for (const ContactRecord& c : records_) {
+    sum[c.b] += (c.point - states_[c.b].x) * c.force.transpose();
+    if (!c.wall) sum[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    if (!infos_[i].alive) {
+      sum[i].setZero();
+      continue;
+    }
+    const double volume = shapes_[infos_[i].shape].volume;
+    sum[i] = (sum[i] + sum[i].transpose()) / (2.0 * volume);
+  }
+  return sum;
+}
+
 double World::kinetic_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < states_.size(); ++i) {

@@ -81,6 +81,9 @@ class World {
   [[nodiscard]] const std::vector<ContactRecord>& contacts() const { return records_; }
   /// Slots of live bodies in ascending order, with their ids.
   [[nodiscard]] std::vector<BodyId> body_ids() const;
+  /// The averaged stress (eq. 2.17, grain_stress.hpp) of every body from the contacts of
+  /// the last force evaluation, indexed by slot (zero for slots without a live body).
+  [[nodiscard]] std::vector<Eigen::Matrix3d> body_stresses() const;
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::uint64_t steps() const { return steps_; }
   [[nodiscard]] const WorldSettings& settings() const { return settings_; }

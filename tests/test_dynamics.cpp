@@ -242,3 +242,24 @@ TEST(DropTest, ATimeStepAboveTheStableLimitIsRefusedWithTheValueNeeded) {
     EXPECT_NE(std::string(e.what()).find("use dt <="), std::string::npos) << e.what();
   }
 }
+
+TEST(GrainStressInAWorld, AGrainRestingOnTheFloorCarriesItsWeightOverItsBase) {
+  // Resting on its basal face, the grain's averaged stress (eq. 2.17) is vertical
+  // compression: the floor pushes up with the weight W at the contact points, a height h
+  // below the centroid (half the thickness plus the dilation radius), gravity acts at the
+  // centroid (no arm): sigma_zz = -W h / V.
+  World world = gravity_world(soft(1e4, 1.0, 0.3));
+  const RigidShape shape = prism_shape();
+  const auto sh = world.add_shape(shape);
+  world.add_wall(Wall::plane("floor", {0, 0, 0}, {0, 0, 1}));
+  const BodyId id = world.add_body(sh, kRho, {0, 0, 0.425e-3 + 0.05e-3 + 10e-6},
+                                   shape.orientation_for());
+  settle(world, 200000);
+  const Eigen::Matrix3d s = world.body_stresses()[id.index];
+  const double weight = world.info(id).mass * 9.81;
+  const double area = 1.5 * std::sqrt(3.0) * 0.9e-3 * 0.9e-3;
+  const double h = 0.425e-3 + 0.05e-3;  // overlap (~1 nm) negligible
+  EXPECT_NEAR(s(2, 2), -weight * h / (area * 0.85e-3), 1e-3 * weight * h / (area * 0.85e-3));
+  EXPECT_NEAR(s(0, 0), 0.0, 1e-6 * weight / area);
+  EXPECT_LT(s(2, 2), 0.0);
+}
