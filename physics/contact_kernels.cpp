@@ -25,6 +25,25 @@ inline PrimitiveContact contact_between(const Vector3d& core_a, double ra, const
                           penetration};
 }
 
+/// The contact between core points `core_a` and `core_b` (a centre, or the closest points
+/// of two axes) dilated by `ra` and `rb`, when their distance is within reach: rejected on
+/// the squared distance before the square root; coincident cores take `fallback` as their
+/// normal.
+std::optional<PrimitiveContact> contact_of_cores(const Vector3d& core_a, double ra,
+                                                 const Vector3d& core_b, double rb,
+                                                 double margin, const Vector3d& fallback) {
+  const double reach = ra + rb + margin;
+  if (!(reach > 0.0)) return std::nullopt;
+  const Vector3d delta = core_b - core_a;
+  const double dist2 = delta.squaredNorm();
+  if (!(dist2 < reach * reach)) return std::nullopt;
+  const double dist = std::sqrt(dist2);
+  const double penetration = ra + rb - dist;
+  if (!(penetration > -margin)) return std::nullopt;
+  const Vector3d normal = dist > 0.0 ? Vector3d(delta / dist) : fallback;
+  return contact_between(core_a, ra, core_b, rb, normal, penetration);
+}
+
 /// Cylinder-cylinder for (nearly) parallel segments p1 + s d1, p2 + t d2 (|d1|^2 = a1,
 /// |d2|^2 = a2, both > 0). Both segments are projected on their common direction; where
 /// the projections overlap over a positive length, the contact is between the points of
@@ -47,16 +66,8 @@ std::optional<PrimitiveContact> parallel_cylinders(const Vector3d& p1, const Vec
   const double mid = 0.5 * (lo + hi);
   const Vector3d core_a = p1 + (mid / end1) * d1;
   const Vector3d core_b = p2 + ((mid - start2) / (end2 - start2)) * d2;
-  const Vector3d delta = core_b - core_a;
-  const double reach = r1 + r2 + margin;
-  const double dist2 = delta.squaredNorm();
-  if (!(dist2 < reach * reach)) return std::nullopt;
-  const double dist = std::sqrt(dist2);
-  const double penetration = r1 + r2 - dist;
-  if (!(penetration > -margin)) return std::nullopt;
   // Collinear overlapping axes: no preferred side, any direction across the axis will do.
-  const Vector3d normal = dist > 0.0 ? Vector3d(delta / dist) : Vector3d(axis.unitOrthogonal());
-  return contact_between(core_a, r1, core_b, r2, normal, penetration);
+  return contact_of_cores(core_a, r1, core_b, r2, margin, axis.unitOrthogonal());
 }
 
 }  // namespace
@@ -65,16 +76,7 @@ std::optional<PrimitiveContact> parallel_cylinders(const Vector3d& p1, const Vec
 /// between the centres. Rejected on the squared distance before any square root.
 std::optional<PrimitiveContact> sphere_sphere(const Eigen::Vector3d& ca, double ra,
                                               const Eigen::Vector3d& cb, double rb, double margin) noexcept {
-  const double reach = ra + rb + margin;
-  if (!(reach > 0.0)) return std::nullopt;
-  const Vector3d delta = cb - ca;
-  const double dist2 = delta.squaredNorm();
-  if (!(dist2 < reach * reach)) return std::nullopt;
-  const double dist = std::sqrt(dist2);
-  const double penetration = ra + rb - dist;
-  if (!(penetration > -margin)) return std::nullopt;
-  const Vector3d normal = dist > 0.0 ? Vector3d(delta / dist) : Vector3d::UnitZ();
-  return contact_between(ca, ra, cb, rb, normal, penetration);
+  return contact_of_cores(ca, ra, cb, rb, margin, Vector3d::UnitZ());
 }
 
 /// Sphere-facet, App. B.2 / sec. 2.3.1: penetration = R_S - D, D the distance from the
@@ -115,17 +117,8 @@ std::optional<PrimitiveContact> sphere_cylinder(const Eigen::Vector3d& c, double
   const double len2 = axis.squaredNorm();
   const double along = axis.dot(c - p);                     // foot parameter times len2
   if (!(along > 0.0 && along < len2)) return std::nullopt;  // also rejects len2 == 0
-  const double reach = rs + rc + margin;
-  if (!(reach > 0.0)) return std::nullopt;
   const Vector3d foot = p + (along / len2) * axis;
-  const Vector3d delta = foot - c;
-  const double dist2 = delta.squaredNorm();
-  if (!(dist2 < reach * reach)) return std::nullopt;
-  const double dist = std::sqrt(dist2);
-  const double penetration = rs + rc - dist;
-  if (!(penetration > -margin)) return std::nullopt;
-  const Vector3d normal = dist > 0.0 ? Vector3d(delta / dist) : Vector3d(axis.unitOrthogonal());
-  return contact_between(c, rs, foot, rc, normal, penetration);
+  return contact_of_cores(c, rs, foot, rc, margin, axis.unitOrthogonal());
 }
 
 /// Cylinder-cylinder, App. B.2 / sec. 2.3.1: penetration = (R_C1 + R_C2) - D, D the closest
