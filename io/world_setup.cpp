@@ -35,9 +35,10 @@ double stable_time_step(const Scenario& scenario, const geometry::Specimen& spec
   return stable_step(scenario, grain_shape(scenario, specimen)).dt;
 }
 
-void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
+namespace {
+void check_time_step(const Scenario& scenario, const physics::RigidShape& shape) {
   const DynamicsDef& dyn = scenario.dynamics;
-  const StableStep s = stable_step(scenario, grain_shape(scenario, specimen));
+  const StableStep s = stable_step(scenario, shape);
   if (dyn.dt > s.dt) {
     throw ScenarioError(
         scenario.source, dyn.dt_position.line, dyn.dt_position.column, "dynamics.dt",
@@ -47,9 +48,15 @@ void check_time_step(const Scenario& scenario, const geometry::Specimen& specime
                     dyn.dt, s.dt, dyn.dt_safety, s.mass, s.inertia, s.stiffness));
   }
 }
+}  // namespace
+
+void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
+  check_time_step(scenario, grain_shape(scenario, specimen));
+}
 
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
-  check_time_step(scenario, specimen);
+  const physics::RigidShape shape = grain_shape(scenario, specimen);
+  check_time_step(scenario, shape);
   const DynamicsDef& dyn = scenario.dynamics;
   physics::WorldSettings ws;
   ws.gravity = dyn.gravity;
@@ -59,7 +66,6 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.search = dyn.search;
   ws.threads = dyn.threads;
   physics::World world(ws);
-  const physics::RigidShape shape = grain_shape(scenario, specimen);
   const std::uint32_t sh = world.add_shape(shape);
   double min_z = std::numeric_limits<double>::infinity();
   for (const auto& g : specimen.grains) min_z = std::min(min_z, g.site.centre.z());
