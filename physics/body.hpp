@@ -38,6 +38,7 @@ struct BodyInfo {
   int grain_id = -1;             ///< the grain it is (or came from); -1 for none
   std::uint32_t generation = 0;
   bool alive = false;
+  bool fixed = false;            ///< prescribed motion: forces do not change its velocities
 };
 
 }  // namespace cleave::physics

@@ -40,6 +40,7 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
     out.failure = BondFailure::torsion;
   }
   if (out.failure != BondFailure::none) {
+    out.at_failure = b;
     b = BondState{};
     b.broken = true;
     return out;
@@ -48,6 +49,17 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
   out.force = -b.normal * n + b.shear;
   out.moment = b.bending + b.torsion * n;
   return out;
+}
+
+const char* to_string(BondFailure mode) {
+  switch (mode) {
+    case BondFailure::none: return "none";
+    case BondFailure::tension: return "tension";
+    case BondFailure::shear: return "shear";
+    case BondFailure::bending: return "bending";
+    case BondFailure::torsion: return "torsion";
+  }
+  return "unknown";
 }
 
 }  // namespace cleave::physics

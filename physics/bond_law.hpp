@@ -49,7 +49,11 @@ struct BondResult {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B (A gets the opposite)
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  ///< on B
   BondFailure failure = BondFailure::none;           ///< set on the step it breaks
+  BondState at_failure;  ///< the loads that broke it (when `failure` is set)
 };
+
+/// Lower-case name of a failure mode ("none", "tension", ...).
+const char* to_string(BondFailure mode);
 
 /// One step of the bond at unit normal n (from A towards B) with relative velocity
 /// `velocity` (B's material point minus A's at the bond) and relative spin `spin`

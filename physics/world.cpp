@@ -48,6 +48,7 @@ BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x
   b.inv_inertia = b.inertia.cwiseInverse();
   b.grain_id = grain_id;
   b.alive = true;
+  b.fixed = false;
   ++b.generation;
   BodyState& st = states_[slot];
   st = BodyState{};
@@ -74,6 +75,12 @@ void World::remove_body(BodyId id) {
   std::erase_if(history_, [slot](const HistoryEntry& e) {
     return ((e.key.a & kWallFlag) == 0 && e.key.a == slot) || e.key.b == slot;
   });
+  std::erase_if(bonds_, [slot](const Bond& bd) { return bd.a == slot || bd.b == slot; });
+}
+
+void World::set_fixed(BodyId id, bool fixed) {
+  if (!contains(id)) throw std::out_of_range("set_fixed: stale or invalid body id");
+  infos_[id.index].fixed = fixed;
 }
 
 bool World::contains(BodyId id) const {
@@ -167,6 +174,8 @@ void World::compute_forces() {
   body_contacts(nt);
   wall_contacts();
   evaluate_and_apply(nt);
+  bond_forces(nt);
+  if (settings_.local_damping > 0.0) apply_local_damping(nt);
   forces_current_ = true;
 }
 
@@ -278,8 +287,16 @@ void World::evaluate_and_apply(int nt) {
                                                             }) -
                                            history_.begin())
                                      : 0;
+    std::size_t bond_cursor = 0;
+    if (begin < end && !bonds_.empty()) {
+      const std::uint32_t a0 = pending_[begin].key.a;
+      bond_cursor = static_cast<std::size_t>(
+          std::lower_bound(bonds_.begin(), bonds_.end(), a0,
+                           [](const Bond& bd, std::uint32_t a) { return bd.a < a; }) -
+          bonds_.begin());
+    }
     for (std::size_t k = begin; k < end; ++k) {
-      evaluate_contact(k, cursor);
+      evaluate_contact(k, cursor, bond_cursor);
     }
   }
   sum_forces();
@@ -287,7 +304,7 @@ void World::evaluate_and_apply(int nt) {
 
 /// The contact law for contact k: reads the bodies' states and the previous step's history
 /// (walking `cursor` forward through it), writes only slot k.
-void World::evaluate_contact(std::size_t k, std::size_t& cursor) {
+void World::evaluate_contact(std::size_t k, std::size_t& cursor, std::size_t& bond_cursor) {
   const Pending& p = pending_[k];
   const bool wall = (p.key.a & kWallFlag) != 0;
   const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
@@ -315,6 +332,10 @@ void World::evaluate_contact(std::size_t k, std::size_t& cursor) {
   kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
   kin.spin = sb.w - wa;
   kin.lever = posed_[b].radius;
+  if (!wall && !bonds_.empty()) {
+    // Overlaps count from the one stored at bonding (end of sec. 2.3.3).
+    kin.overlap -= initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
+  }
   ContactHistory h;
   if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
     if (const ContactHistory* old = previous_history(p.key)) h = *old;  // out of order
@@ -359,14 +380,14 @@ void World::step() {
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < slots; ++i) {
     if (!infos_[i].alive) continue;
-    kick(states_[i], infos_[i], 0.5 * h);
+    if (!infos_[i].fixed) kick(states_[i], infos_[i], 0.5 * h);
     drift(states_[i], infos_[i], h);
   }
   for (auto& w : walls_) w.origin += h * w.velocity;
   compute_forces();
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < slots; ++i) {
-    if (!infos_[i].alive) continue;
+    if (!infos_[i].alive || infos_[i].fixed) continue;
     kick(states_[i], infos_[i], 0.5 * h);
   }
   time_ += h;
@@ -381,6 +402,11 @@ std::vector<Eigen::Matrix3d> World::body_stresses() const {
     sum[c.b] += (c.point - states_[c.b].x) * c.force.transpose();
     if (!c.wall) sum[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
   }
+  for (const Bond& bd : bonds_) {  // bond forces are contact forces too
+    if (!bd.intact()) continue;
+    sum[bd.b] += (bd.point - states_[bd.b].x) * bd.force.transpose();
+    sum[bd.a] -= (bd.point - states_[bd.a].x) * bd.force.transpose();
+  }
   for (std::size_t i = 0; i < sum.size(); ++i) {
     if (!infos_[i].alive) {
       sum[i].setZero();
@@ -390,6 +416,160 @@ std::vector<Eigen::Matrix3d> World::body_stresses() const {
     sum[i] = (sum[i] + sum[i].transpose()) / (2.0 * volume);
   }
   return sum;
+}
+
+double World::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa,
+                              std::uint32_t fb, std::size_t& cursor) const {
+  auto before = [&](const Bond& bd) { return bd.a < a || (bd.a == a && bd.b < b); };
+  if (cursor > 0 && cursor <= bonds_.size() && !before(bonds_[cursor - 1])) {
+    // Out of order (a new thread block starts mid-pair): search again.
+    cursor = static_cast<std::size_t>(
+        std::lower_bound(bonds_.begin(), bonds_.end(), std::pair{a, b},
+                         [](const Bond& bd, std::pair<std::uint32_t, std::uint32_t> k) {
+                           return std::pair{bd.a, bd.b} < k;
+                         }) -
+        bonds_.begin());
+  }
+  while (cursor < bonds_.size() && before(bonds_[cursor])) ++cursor;
+  if (cursor == bonds_.size() || bonds_[cursor].a != a || bonds_[cursor].b != b) return 0.0;
+  for (const Bond::Overlap& o : bonds_[cursor].initial) {
+    if (o.fa == fa && o.fb == fb) return o.overlap;
+  }
+  return 0.0;
+}
+
+std::size_t World::initialise_bonds(const BondParams& params, double distance) {
+  if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
+  if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
+  if (!forces_current_) compute_forces();  // posed shapes and live slots of this state
+  std::vector<BoundingSphere> spheres;
+  for (std::uint32_t slot : live_slots_) {
+    spheres.push_back({states_[slot].x, shapes_[infos_[slot].shape].bounding_radius()});
+  }
+  std::vector<BodyPair> pairs;
+  NeighbourSearch search(settings_.search);
+  search.find_pairs(spheres, distance, pairs);
+  std::vector<FeatureContact> features;
+  for (const auto& [i, j] : pairs) {
+    const std::uint32_t a = live_slots_[i], b = live_slots_[j];
+    features.clear();
+    polyhedron_contacts(posed_[a], posed_[b], distance, features);
+    if (features.empty()) continue;
+    Bond bd;
+    bd.a = a;
+    bd.b = b;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+    for (const FeatureContact& fc : features) {
+      point += fc.contact.point;
+      normal += fc.contact.normal;
+      if (fc.contact.penetration > 0.0) {
+        bd.initial.push_back({fc.feature_a, fc.feature_b, fc.contact.penetration});
+      }
+    }
+    point /= static_cast<double>(features.size());
+    if (normal.norm() < 1e-12) continue;  // opposed normals: no well-defined bond
+    normal.normalize();
+    const BodyState& sa = states_[a];
+    const BodyState& sb = states_[b];
+    bd.arm_a = sa.q.conjugate() * (point - sa.x);
+    bd.arm_b = sb.q.conjugate() * (point - sb.x);
+    bd.normal_a = sa.q.conjugate() * normal;
+    bd.normal_b = sb.q.conjugate() * normal;
+    bd.section.radius = std::min(posed_[a].radius, posed_[b].radius);
+    bd.point = point;
+    bd.normal = normal;
+    bonds_.push_back(std::move(bd));
+  }
+  bond_params_ = params;
+  // The stress-free start: at rest, no shear or rolling springs, forces recomputed.
+  for (std::uint32_t slot : live_slots_) {
+    if (infos_[slot].fixed) continue;
+    states_[slot].v.setZero();
+    states_[slot].L.setZero();
+    states_[slot].w.setZero();
+  }
+  history_.clear();
+  forces_current_ = false;
+  compute_forces();
+  return bonds_.size();
+}
+
+void World::bond_forces(int nt) {
+  const std::size_t n = bonds_.size();
+  if (n == 0) return;
+  bond_results_.assign(n, BondResult{});
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+  // Each bond reads the two bodies and writes only itself.
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
+    Bond& bd = bonds_[static_cast<std::size_t>(k)];
+    if (!bd.intact()) continue;
+    const BodyState& sa = states_[bd.a];
+    const BodyState& sb = states_[bd.b];
+    const Eigen::Vector3d pa = sa.x + sa.q * bd.arm_a, pb = sb.x + sb.q * bd.arm_b;
+    bd.point = 0.5 * (pa + pb);
+    bd.normal = (sa.q * bd.normal_a + sb.q * bd.normal_b).normalized();
+    const Eigen::Vector3d velocity =
+        sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
+    BondResult& r = bond_results_[static_cast<std::size_t>(k)];
+    r = bond_force(bond_params_, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state,
+                   settings_.dt);
+    bd.force = r.force;
+    bd.moment = r.moment;
+  }
+  // Sum and log in bond order, on one thread (deterministic for any thread count).
+  for (std::size_t k = 0; k < n; ++k) {
+    Bond& bd = bonds_[k];
+    const BondResult& r = bond_results_[k];
+    if (r.failure != BondFailure::none) {
+      bd.failure = r.failure;
+      bd.broken_at = time_;
+      bd.force.setZero();
+      bd.moment.setZero();
+      breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id,
+                         bd.point, bd.normal, r.failure, r.at_failure});
+      continue;
+    }
+    if (!bd.intact()) continue;
+    BodyState& sa = states_[bd.a];
+    BodyState& sb = states_[bd.b];
+    sb.f += r.force;
+    sb.tau += (bd.point - sb.x).cross(r.force) + r.moment;
+    sa.f -= r.force;
+    sa.tau -= (bd.point - sa.x).cross(r.force) + r.moment;
+  }
+}
+
+void World::apply_local_damping(int nt) {
+  const double alpha = settings_.local_damping;
+  const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
+  if (live < kParallelMin) nt = 1;
+  auto damp = [alpha](Eigen::Vector3d& f, const Eigen::Vector3d& v) {
+    for (int c = 0; c < 3; ++c) {
+      if (v[c] != 0.0) f[c] -= alpha * std::abs(f[c]) * (v[c] > 0.0 ? 1.0 : -1.0);
+    }
+  };
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::ptrdiff_t k = 0; k < live; ++k) {
+    const std::uint32_t i = live_slots_[static_cast<std::size_t>(k)];
+    if (infos_[i].fixed) continue;
+    damp(states_[i].f, states_[i].v);
+    damp(states_[i].tau, states_[i].w);
+  }
+}
+
+BondCounts World::bond_counts() const {
+  BondCounts c;
+  for (const Bond& bd : bonds_) {
+    switch (bd.failure) {
+      case BondFailure::none: ++c.intact; break;
+      case BondFailure::tension: ++c.tension; break;
+      case BondFailure::shear: ++c.shear; break;
+      case BondFailure::bending: ++c.bending; break;
+      case BondFailure::torsion: ++c.torsion; break;
+    }
+  }
+  return c;
 }
 
 double World::kinetic_energy() const {

@@ -10,6 +10,7 @@
 
 
 #include "physics/body.hpp"
+#include "physics/bond_law.hpp"
 #include "physics/contact_law.hpp"
 #include "physics/narrow_phase.hpp"
 #include "physics/neighbour_search.hpp"
@@ -32,6 +33,60 @@ struct WorldSettings {
   /// pairs are searched with this margin and reused until some body has moved more than
   /// half of it (0: search every step).
   double search_skin = 0.1;
+  /// Local (non-viscous) damping of Cundall, as in PFC and Yade: every component of a
+  /// body's force and torque is reduced by `local_damping` times its magnitude when it
+  /// drives the motion and raised by as much when it resists it (0: none, 0.7: PFC's
+  /// default for quasi-static loading). It removes kinetic energy without viscosity, so a
+  /// slowly loaded specimen stays near equilibrium; it is not in the seed's model.
+  double local_damping = 0.0;
+};
+
+/// A bond between two bodies (sec. 2.3.3): eqs 2.9-2.16 act at the bond point in parallel
+/// with the contact law (quasi-parallel model). The bond point and normal are material:
+/// each is stored in both bodies' principal frames at bonding and followed as they move.
+struct Bond {
+  std::uint32_t a = 0, b = 0;                       ///< body slots, a < b
+  Eigen::Vector3d arm_a = Eigen::Vector3d::Zero();  ///< bond point from A's centroid, A's frame
+  Eigen::Vector3d arm_b = Eigen::Vector3d::Zero();  ///< bond point from B's centroid, B's frame
+  Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
+  Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
+  BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
+  BondState state;
+  BondFailure failure = BondFailure::none;  ///< the mode it broke in
+  double broken_at = -1.0;                   ///< simulated time of the break, s
+  /// The physical overlap of each touching feature pair at bonding (end of 2.3.3): later
+  /// overlaps of the same features count from it, so the bonded assembly starts stress-free.
+  /// Kept after the bond breaks, so a broken bond does not spring apart.
+  struct Overlap {
+    std::uint32_t fa, fb;
+    double overlap;
+  };
+  std::vector<Overlap> initial;
+  // Last force evaluation (world): the bond point, normal, and the force and moment on B.
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  [[nodiscard]] bool intact() const { return !state.broken; }
+};
+
+/// One bond failure (eq. 2.16), as logged.
+struct BondBreak {
+  double time = 0.0;
+  std::uint64_t step = 0;
+  std::size_t bond = 0;  ///< index into World::bonds()
+  std::uint32_t a = 0, b = 0;
+  int grain_a = -1, grain_b = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  BondFailure mode = BondFailure::none;
+  BondState loads;  ///< the bond's forces and moments when it broke
+};
+
+/// Intact bonds and broken ones by mode.
+struct BondCounts {
+  std::size_t intact = 0, tension = 0, shear = 0, bending = 0, torsion = 0;
+  [[nodiscard]] std::size_t broken() const { return tension + shear + bending + torsion; }
 };
 
 /// One contact of the last step, for output and tests.
@@ -69,6 +124,22 @@ class World {
   [[nodiscard]] const BodyInfo& info(BodyId id) const;
   /// Sets a body's angular velocity (world), i.e. its angular momentum L = R I R^T w.
   void set_angular_velocity(BodyId id, const Eigen::Vector3d& w);
+  /// A fixed body keeps its velocity and angular momentum whatever the forces (a prescribed
+  /// motion, like PFC's "fix velocity" or Yade's blocked DOFs); forces on it are still
+  /// summed, so they read as the reaction.
+  void set_fixed(BodyId id, bool fixed);
+
+  /// Bond initialisation (end of sec. 2.3.3): every pair of bodies whose dilated surfaces
+  /// are within `distance` (m) of each other gets a bond with parameters `params`, at the
+  /// mean of the pair's contact points, with the pair's mean normal; the overlaps at this
+  /// moment are stored so that the assembly starts stress-free; velocities, contact
+  /// histories, forces and moments are reset. Walls are never bonded. Returns the number
+  /// of bonds made; throws std::logic_error when bonds already exist.
+  std::size_t initialise_bonds(const BondParams& params, double distance);
+  [[nodiscard]] const std::vector<Bond>& bonds() const { return bonds_; }
+  [[nodiscard]] BondCounts bond_counts() const;
+  /// Every bond failure so far, in the order they happened.
+  [[nodiscard]] const std::vector<BondBreak>& bond_breaks() const { return breaks_; }
 
   /// Adds a wall; returns its index.
   std::size_t add_wall(Wall wall);
@@ -99,8 +170,14 @@ class World {
   void body_contacts(int threads);
   void wall_contacts();
   void evaluate_and_apply(int threads);
-  void evaluate_contact(std::size_t k, std::size_t& history_cursor);
+  void evaluate_contact(std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
   void sum_forces();
+  void bond_forces(int threads);
+  void apply_local_damping(int threads);
+  /// The overlap stored at bonding for features (fa, fb) of bonded pair (a, b), or 0;
+  /// `cursor` walks forward through bonds_ (sorted by pair) as keys ascend.
+  double initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa, std::uint32_t fb,
+                         std::size_t& cursor) const;
 
   /// A contact's identity across steps: the two bodies (or wall and body) and the two
   /// features touching. Contacts are produced in ascending key order every step, so the
@@ -141,6 +218,10 @@ class World {
   std::vector<std::vector<Pending>> thread_pending_;
   std::vector<ContactForce> forces_;
   std::vector<ContactRecord> records_;
+  std::vector<Bond> bonds_;  // sorted by (a, b)
+  BondParams bond_params_;
+  std::vector<BondResult> bond_results_;
+  std::vector<BondBreak> breaks_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
   bool forces_current_ = false;

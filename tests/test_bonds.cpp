@@ -1,0 +1,284 @@
+// Bonds in the world (sec. 2.3.3 of seed 000): bond initialisation with stored overlaps,
+// the bond stiffness of a bonded chain against the series-spring formula, a bonded
+// specimen at rest, and each failure mode of eq. 2.16 alone, exactly at its limit, under a
+// prescribed motion.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "geometry/exact_polyhedron.hpp"
+#include "physics/world.hpp"
+
+using namespace cleave;
+using namespace cleave::physics;
+
+namespace {
+
+constexpr double kSide = 0.5e-3;      // prism side, m
+constexpr double kThick = 1.0e-3;     // prism thickness, m
+constexpr double kDilation = 0.05e-3;  // m
+constexpr double kRho = 3100.0;
+const double kFlat = std::sqrt(3.0) * kSide;  // distance between opposite side faces
+
+/// Table 2.5 read as in scenarios/: bond springs of 5000 N/m and 2000 N/m on the section of
+/// the dilation radius (eq. 2.10), strengths 1000 Pa.
+BondParams table_2_5() {
+  const double area = M_PI * kDilation * kDilation;
+  return {5000.0 / area, 2000.0 / area, 1000.0, 1000.0};
+}
+
+ContactParams contact_law() {
+  ContactParams p;
+  p.kn = 5000.0;
+  p.ks = 2000.0;
+  p.c_res = 2.0;
+  p.mu_s = 0.3;
+  return p;
+}
+
+World make_world(double dt, double local_damping = 0.0) {
+  WorldSettings ws;
+  ws.gravity.setZero();
+  ws.dt = dt;
+  ws.particle_particle = contact_law();
+  ws.particle_wall = contact_law();
+  ws.local_damping = local_damping;
+  ws.threads = 1;
+  return World(ws);
+}
+
+RigidShape prism() {
+  return make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick), kDilation);
+}
+
+/// n prisms in a row along x, side face to side face; neighbouring dilated surfaces
+/// overlap by `overlap` (negative: a gap).
+std::vector<BodyId> row(World& world, int n, double overlap) {
+  const RigidShape shape = prism();
+  const auto sh = world.add_shape(shape);
+  const double pitch = kFlat + 2.0 * kDilation - overlap;
+  std::vector<BodyId> ids;
+  for (int i = 0; i < n; ++i) {
+    ids.push_back(world.add_body(sh, kRho, {i * pitch, 0, 0}, shape.orientation_for()));
+  }
+  return ids;
+}
+
+}  // namespace
+
+TEST(BondInitialisation, BondsEveryPairWithinTheBondingDistanceAndStoresOverlaps) {
+  World world = make_world(1e-7);
+  // Three prisms 4 um apart (gap between dilated surfaces), then a fourth 30 um away.
+  auto ids = row(world, 3, -4e-6);
+  const RigidShape shape = prism();
+  ids.push_back(world.add_body(0, kRho, {2 * (kFlat + 2 * kDilation + 4e-6) + kFlat + 2 * kDilation + 30e-6, 0, 0},
+                               shape.orientation_for()));
+  EXPECT_EQ(world.initialise_bonds(table_2_5(), 5e-6), 2u);
+  for (const Bond& b : world.bonds()) {
+    EXPECT_TRUE(b.initial.empty());  // not touching: nothing to store
+    EXPECT_NEAR(std::abs(b.normal.x()), 1.0, 1e-12);
+    EXPECT_DOUBLE_EQ(b.section.radius, kDilation);
+    // The bond point lies midway between the two side faces.
+    const double mid = 0.5 * (world.state(ids[b.a]).x.x() + world.state(ids[b.b]).x.x());
+    EXPECT_NEAR(b.point.x(), mid, 1e-12);
+  }
+  EXPECT_THROW(world.initialise_bonds(table_2_5(), 5e-6), std::logic_error);
+
+  // Overlapping neighbours: the overlaps are stored, so nothing pushes them apart.
+  World pressed = make_world(1e-7);
+  row(pressed, 2, 6e-6);
+  ASSERT_EQ(pressed.initialise_bonds(table_2_5(), 0.0), 1u);
+  const Bond& b = pressed.bonds().front();
+  ASSERT_FALSE(b.initial.empty());
+  for (const auto& o : b.initial) EXPECT_NEAR(o.overlap, 6e-6, 1e-12);
+}
+
+TEST(BondedSpecimen, AFreshlyBondedPressedBlockStaysAtRestFor10000Steps) {
+  // A 4 x 3 block of prisms pressed 6 um into each other (dilated surfaces overlap), as
+  // after compaction. Bonded with stored overlaps it carries no force and does not move;
+  // the same block unbonded springs apart (the control that shows the test can fail).
+  auto block = [](World& world) {
+    const RigidShape shape = prism();
+    const auto sh = world.add_shape(shape);
+    const double pitch = kFlat + 2.0 * kDilation - 6e-6;
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 4; ++i) {
+        // Honeycomb rows: every other row shifted by half a pitch, rows pitch * sqrt(3)/2 apart.
+        const Eigen::Vector3d x((i + 0.5 * (j % 2)) * pitch, j * pitch * std::sqrt(3.0) / 2.0, 0);
+        world.add_body(sh, kRho, x, shape.orientation_for());
+      }
+    }
+  };
+  World bonded = make_world(2e-7);
+  block(bonded);
+  const std::size_t bonds = bonded.initialise_bonds(table_2_5(), 0.0);
+  EXPECT_EQ(bonds, 3u * 3u + 2u * 7u);  // 3 per row, 7 between neighbouring rows (honeycomb)
+  for (int i = 0; i < 10000; ++i) bonded.step();
+  EXPECT_EQ(bonded.bond_counts().intact, bonds);
+  EXPECT_TRUE(bonded.bond_breaks().empty());
+  EXPECT_EQ(bonded.kinetic_energy(), 0.0);
+
+  World loose = make_world(2e-7);
+  block(loose);
+  for (int i = 0; i < 1000; ++i) loose.step();
+  // 6 um of overlap on 5000 N/m springs stores ~1e-7 J per contact point: it comes out.
+  EXPECT_GT(loose.kinetic_energy(), 1e-9);
+}
+
+TEST(BondedChain, TensionForceMatchesTheSeriesStiffnessOfItsBonds) {
+  // n prisms bonded in a row; the first held, the last pulled by delta and held. In
+  // equilibrium every bond carries the same force, K_bn delta / (n - 1), with
+  // K_bn = k_bn A_b (eqs 2.10, 2.12); contacts do not act in tension.
+  for (const int n : {2, 3, 6}) {
+    World world = make_world(2e-7, 0.7);
+    const auto ids = row(world, n, 3e-6);
+    ASSERT_EQ(world.initialise_bonds(table_2_5(), 0.0), static_cast<std::size_t>(n - 1));
+    world.set_fixed(ids.front(), true);
+    world.set_fixed(ids.back(), true);
+    const double delta = 1e-9;  // m, below the 1.57e-9 m tension limit of one bond
+    const int pull_steps = 2000;
+    world.state(ids.back()).v = {delta / (pull_steps * 2e-7), 0, 0};
+    for (int i = 0; i < pull_steps; ++i) world.step();
+    world.state(ids.back()).v.setZero();
+    for (int i = 0; i < 100000; ++i) world.step();
+    const double k_bn = table_2_5().kbn * M_PI * kDilation * kDilation;
+    const double expected = k_bn * delta / (n - 1);
+    // The held end feels the chain pull it back (-x), the other end forward.
+    EXPECT_NEAR(world.state(ids.back()).f.x(), -expected, 1e-6 * expected) << n << " prisms";
+    EXPECT_NEAR(world.state(ids.front()).f.x(), expected, 1e-6 * expected) << n << " prisms";
+    for (const Bond& b : world.bonds()) EXPECT_NEAR(b.state.normal, expected, 1e-6 * expected);
+  }
+}
+
+namespace {
+
+/// Two bonded prisms side by side along x; A held still, B moved by a prescribed rigid
+/// motion for `steps` steps. Returns the world after the motion.
+struct Pair {
+  World world = make_world(1e-7);
+  BodyId a, b;
+  Pair() {
+    const auto ids = row(world, 2, 2e-6);
+    a = ids[0];
+    b = ids[1];
+    world.initialise_bonds(table_2_5(), 0.0);
+    world.set_fixed(a, true);
+    world.set_fixed(b, true);
+  }
+  /// Moves B's material point at the bond by `move` and turns B about it by `turn`, over
+  /// `steps` steps.
+  void drive(const Eigen::Vector3d& move, const Eigen::Vector3d& turn, int steps) {
+    const double T = steps * 1e-7;
+    const Eigen::Vector3d w = turn / T;
+    const Eigen::Vector3d p = world.bonds().front().point;
+    world.set_angular_velocity(b, w);
+    // The centroid moves so that the bond point has velocity move / T.
+    world.state(b).v = move / T + w.cross(world.state(b).x - p);
+    for (int i = 0; i < steps; ++i) world.step();
+  }
+};
+
+struct ModeCase {
+  BondFailure mode;
+  const char* name;
+};
+class BondFailureAtItsLimit : public ::testing::TestWithParam<ModeCase> {};
+
+/// The relative motion that loads `mode` alone to `fraction` of its limit (eq. 2.15).
+void load_to(Pair& pair, BondFailure mode, double fraction) {
+  const BondParams p = table_2_5();
+  const BondSection s{kDilation};
+  const Eigen::Vector3d n = Eigen::Vector3d::UnitX(), t = Eigen::Vector3d::UnitY();
+  const double r = s.radius;
+  switch (mode) {
+    case BondFailure::tension:  // opening: F_bn = K_bn delta = t_bn A
+      pair.drive(fraction * p.tbn / p.kbn * n, Eigen::Vector3d::Zero(), 400);
+      break;
+    case BondFailure::shear:  // sliding: F_bs = K_bs delta = t_bs A
+      pair.drive(fraction * p.tbs / p.kbs * t, Eigen::Vector3d::Zero(), 400);
+      break;
+    case BondFailure::bending:  // K_br theta = t_bn I / r, K_br = k_bn I
+      pair.drive(Eigen::Vector3d::Zero(), fraction * p.tbn / (r * p.kbn) * t, 400);
+      break;
+    case BondFailure::torsion:  // K_bt theta = t_bs J / r, K_bt = k_bs J
+      pair.drive(Eigen::Vector3d::Zero(), fraction * p.tbs / (r * p.kbs) * n, 400);
+      break;
+    case BondFailure::none:
+      break;
+  }
+}
+
+}  // namespace
+
+TEST_P(BondFailureAtItsLimit, IntactJustBelowBrokenInThatModeJustAbove) {
+  const ModeCase c = GetParam();
+  {
+    Pair below;
+    load_to(below, c.mode, 0.999);
+    EXPECT_EQ(below.world.bond_counts().intact, 1u) << c.name;
+    EXPECT_TRUE(below.world.bond_breaks().empty()) << c.name;
+  }
+  Pair above;
+  load_to(above, c.mode, 1.001);
+  const BondCounts counts = above.world.bond_counts();
+  EXPECT_EQ(counts.intact, 0u) << c.name;
+  ASSERT_EQ(above.world.bond_breaks().size(), 1u) << c.name;
+  const BondBreak& br = above.world.bond_breaks().front();
+  EXPECT_EQ(br.mode, c.mode) << c.name;
+  EXPECT_EQ(above.world.bonds().front().failure, c.mode);
+  EXPECT_GT(br.time, 0.0);
+  // The logged load is the one that passed its limit (eq. 2.15), by at most one step's
+  // increment (the motion is spread over 400 steps).
+  const BondParams p = table_2_5();
+  const BondSection s{kDilation};
+  double load = 0.0, limit = 0.0;
+  switch (c.mode) {
+    case BondFailure::tension: load = br.loads.normal, limit = p.tbn * s.area(); break;
+    case BondFailure::shear: load = br.loads.shear.norm(), limit = p.tbs * s.area(); break;
+    case BondFailure::bending:
+      load = br.loads.bending.norm(), limit = p.tbn * s.inertia() / s.radius;
+      break;
+    case BondFailure::torsion:
+      load = std::abs(br.loads.torsion), limit = p.tbs * s.polar() / s.radius;
+      break;
+    case BondFailure::none: break;
+  }
+  EXPECT_GT(load, limit) << c.name;
+  EXPECT_LT(load, limit * (1.0 + 1.001 / 400 + 1e-9)) << c.name;
+  // A broken bond never heals: moving back leaves it broken and carrying nothing.
+  above.drive(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 10);
+  EXPECT_EQ(above.world.bond_counts().broken(), 1u);
+  EXPECT_EQ(above.world.bonds().front().force.norm(), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, BondFailureAtItsLimit,
+                         ::testing::Values(ModeCase{BondFailure::tension, "tension"},
+                                           ModeCase{BondFailure::shear, "shear"},
+                                           ModeCase{BondFailure::bending, "bending"},
+                                           ModeCase{BondFailure::torsion, "torsion"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(BondedPair, CompressionAddsTheContactSpringsToTheBond) {
+  // Quasi-parallel model: pushed together, the bond (K_bn) and the contact (K_n per contact
+  // point, counted from the stored overlap) both resist, and their forces add.
+  Pair pair;
+  const double delta = 0.5e-9;
+  pair.drive(-delta * Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 200);
+  World& w = pair.world;
+  // One more step at rest, so the contact damping of eq. 2.6 has no speed to act on.
+  w.state(pair.b).v.setZero();
+  w.set_angular_velocity(pair.b, Eigen::Vector3d::Zero());
+  w.step();
+  const double k_bn = table_2_5().kbn * M_PI * kDilation * kDilation;
+  double contact = 0.0;
+  std::size_t points = 0;
+  for (const auto& c : w.contacts()) {
+    if (c.wall) continue;
+    contact += c.force.x();
+    if (c.force.norm() > 0.0) ++points;
+  }
+  ASSERT_GT(points, 0u);
+  EXPECT_NEAR(contact, points * 5000.0 * delta, 1e-3 * points * 5000.0 * delta);
+  EXPECT_NEAR(w.bonds().front().force.x(), k_bn * delta, 1e-6 * k_bn * delta);
+  EXPECT_NEAR(w.state(pair.b).f.x(), contact + k_bn * delta, 1e-3 * k_bn * delta);
+}
