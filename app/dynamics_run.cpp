@@ -1,12 +1,15 @@
 #include "dynamics_run.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
+#include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
 #include "io/world_setup.hpp"
@@ -18,6 +21,7 @@ namespace cleave::app {
 namespace {
 
 namespace fs = std::filesystem;
+using io::StageDef;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -73,6 +77,25 @@ io::LinkFrame contact_frame(const physics::World& world) {
   return frame;
 }
 
+/// The bond network as lines between the two grains' centroids (the beams of figs 2.18 and
+/// 2.22): intact (1) or broken (0), the failure mode, and the bond's loads.
+io::LinkFrame bond_frame(const physics::World& world) {
+  io::LinkFrame frame;
+  auto& f = frame.fields;
+  for (const physics::Bond& b : world.bonds()) {
+    frame.a.push_back(world.state(world.id_at(b.a)).x);
+    frame.b.push_back(world.state(world.id_at(b.b)).x);
+    f.ids["intact"].push_back(b.intact() ? 1 : 0);
+    f.ids["failure_mode"].push_back(static_cast<long long>(b.failure));
+    f.scalars["normal_force_N"].push_back(b.state.normal);
+    f.scalars["shear_force_N"].push_back(b.state.shear.norm());
+    f.scalars["bending_moment_Nm"].push_back(b.state.bending.norm());
+    f.scalars["torsion_moment_Nm"].push_back(std::abs(b.state.torsion));
+    f.vectors["force_N"].push_back(b.force);
+  }
+  return frame;
+}
+
 double lowest_vertex(const physics::World& world) {
   double z = std::numeric_limits<double>::infinity();
   for (const physics::BodyId id : world.body_ids()) {
@@ -83,83 +106,353 @@ double lowest_vertex(const physics::World& world) {
   return z;
 }
 
+/// What a testing machine reads off one wall: the force the specimen presses it with and
+/// how far it has moved, both along its load axis (magnitudes when it has none).
+struct WallReading {
+  double force = 0.0, displacement = 0.0;
+};
+
+WallReading read_wall(const physics::Wall& w, const Eigen::Vector3d& origin0) {
+  const Eigen::Vector3d moved = w.origin - origin0;
+  if (w.load_axis.squaredNorm() == 0.0) return {w.reaction.norm(), moved.norm()};
+  return {-w.reaction.dot(w.load_axis), moved.dot(w.load_axis)};
+}
+
+/// One dynamic run, stage after stage, and everything it writes.
+class Runner {
+ public:
+  Runner(const io::Scenario& scenario, const geometry::Specimen& specimen, fs::path out,
+         bool quiet, std::uint64_t max_steps)
+      : scenario_(scenario),
+        specimen_(specimen),
+        out_(std::move(out)),
+        quiet_(quiet),
+        max_steps_(max_steps),
+        world_(io::make_world(scenario, specimen)),
+        bodies_pvd_(out_ / "bodies.pvd"),
+        contacts_pvd_(out_ / "contacts.pvd"),
+        bonds_pvd_(out_ / "bonds.pvd") {
+    fs::create_directories(out_ / "frames");
+    for (const auto& w : world_.walls()) origin0_.push_back(w.origin);
+    pe0_ = world_.potential_energy();
+    energy_ = "time_s,kinetic_J,potential_J,contacts,max_overlap_m,stage\n";
+    walls_ = "time_s";
+    loads_ = "time_s,step,stage";
+    for (const auto& w : world_.walls()) {
+      walls_ += fmt::format(",{0}_Fx_N,{0}_Fy_N,{0}_Fz_N", w.name);
+      loads_ += fmt::format(",{0}_displacement_m,{0}_force_N", w.name);
+    }
+    walls_ += "\n";
+    loads_ += ",load_N,closure_m\n";
+    bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
+  }
+
+  DynamicsSummary run() {
+    const io::DynamicsDef& dyn = scenario_.dynamics;
+    stage_ = scenario_.stages.empty() ? "run" : scenario_.stages.front().name;
+    write_frame();
+    if (scenario_.stages.empty()) {
+      // A plain run: one stage as long as the duration, ended early once settled.
+      StageDef plain;
+      plain.name = "run";
+      plain.steps = static_cast<std::uint64_t>(std::ceil(dyn.duration / dyn.dt));
+      plain.frames = dyn.frames;
+      for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+        plain.wall_velocity.emplace_back(world_.walls()[i].name, world_.walls()[i].velocity);
+      }
+      run_stage(plain, true);
+    } else {
+      for (const StageDef& stage : scenario_.stages) {
+        if (stopped_) break;
+        run_stage(stage, false);
+      }
+    }
+    if (world_.steps() != last_frame_step_) write_frame();
+    write_tables();
+    sum_.steps = world_.steps();
+    sum_.time = world_.time();
+    sum_.kinetic_energy = world_.kinetic_energy();
+    sum_.released_energy = pe0_ - world_.potential_energy();
+    sum_.lowest_point = lowest_vertex(world_);
+    sum_.bond_counts = world_.bond_counts();
+    for (const auto& st : sum_.stages) sum_.peak_load = std::max(sum_.peak_load, st.peak_load);
+    const geometry::Outline& outline = specimen_.def.outline;
+    if (outline.kind == geometry::Outline::Kind::disc && sum_.peak_load > 0.0) {
+      /// Brazilian tensile strength sigma = 2P / (pi D t), sec. 2.5.4 of the dissertation.
+      sum_.brazilian_strength = 2.0 * sum_.peak_load / (M_PI * outline.size.x() * outline.size.z());
+    }
+    sum_.wall_seconds = seconds_since(t0_);
+    return sum_;
+  }
+
+ private:
+  void run_stage(const StageDef& stage, bool plain) {
+    StageSummary st;
+    st.name = stage.name;
+    st.kind = stage.kind;
+    st.start = world_.time();
+    stage_ = stage.name;
+    const std::size_t breaks0 = world_.bond_breaks().size();
+    if (stage.kind == StageDef::Kind::bond) {
+      sum_.bonds = world_.initialise_bonds(scenario_.bond.params, stage.bond_distance);
+      st.ended_by = "bonded";
+      st.end = world_.time();
+      if (!quiet_) {
+        std::fprintf(stderr, "%s  stage %-12s %zu bonds within %.3g mm (overlaps stored, at rest)\n",
+                     progress_shown_ ? "\n" : "", stage.name.c_str(), sum_.bonds,
+                     stage.bond_distance * 1e3);
+        progress_shown_ = false;
+      }
+      record();
+      write_frame();
+      sum_.stages.push_back(st);
+      return;
+    }
+    // Walls move as the stage says; the others stand still.
+    for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
+    for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = v;
+    std::vector<std::size_t> load_walls;
+    for (const auto& name : stage.load_walls) load_walls.push_back(wall_index(name));
+    std::vector<Eigen::Vector3d> stage_origin;
+    for (const auto& w : world_.walls()) stage_origin.push_back(w.origin);
+
+    std::uint64_t limit = stage.steps > 0 ? stage.steps
+                                          : static_cast<std::uint64_t>(std::ceil(stage.time / scenario_.dynamics.dt));
+    if (max_steps_ > 0) {
+      const std::uint64_t left = max_steps_ > world_.steps() ? max_steps_ - world_.steps() : 0;
+      if (left < limit) {
+        limit = left;
+        stopped_ = true;  // --max-steps: the run ends with this stage
+      }
+    }
+    const std::uint64_t frame_every = stage.frames > 0 ? std::max<std::uint64_t>(1, limit / stage.frames) : 0;
+    const std::uint64_t log_every = std::max<std::uint64_t>(1, limit / 1000);
+    std::vector<double> plot_x, plot_y;
+    const auto stage_t0 = std::chrono::steady_clock::now();
+    auto last_print = std::chrono::steady_clock::time_point{};
+    bool event = false;
+    for (std::uint64_t i = 1; i <= limit && !event; ++i) {
+      world_.step();
+      ++st.steps;
+      double overlap = 0.0;
+      for (const auto& c : world_.contacts()) overlap = std::max(overlap, c.overlap);
+      sum_.max_overlap = std::max(sum_.max_overlap, overlap);
+      // The stage's load: the mean force on its load walls; closure: their summed travel.
+      double load = 0.0, closure = 0.0;
+      for (std::size_t w : load_walls) {
+        const WallReading r = read_wall(world_.walls()[w], stage_origin[w]);
+        load += r.force / static_cast<double>(load_walls.size());
+        closure += r.displacement;
+      }
+      if (!load_walls.empty() && load > st.peak_load) {
+        st.peak_load = load;
+        st.peak_displacement = closure;
+      }
+      const std::size_t broken = world_.bond_breaks().size() - breaks0;
+      switch (stage.until) {
+        case StageDef::Until::limit:
+          if (plain) event = settled();
+          break;
+        case StageDef::Until::all_in_contact:
+          event = all_in_contact();
+          break;
+        case StageDef::Until::walls_touch:
+          event = std::all_of(load_walls.begin(), load_walls.end(), [&](std::size_t w) {
+            return world_.walls()[w].reaction.squaredNorm() > 0.0;
+          });
+          break;
+        case StageDef::Until::load_drop:
+          // After the peak, once bonds have broken (or there are none to break).
+          event = st.peak_load > 0.0 && (broken > 0 || world_.bonds().empty()) &&
+                  load < stage.load_drop * st.peak_load;
+          break;
+      }
+      if (i % log_every == 0 || i == limit || event) {
+        record(&load_walls, &stage_origin, load, closure);
+        if (!load_walls.empty()) {
+          plot_x.push_back(closure);
+          plot_y.push_back(load);
+        }
+      }
+      if (frame_every && (i % frame_every == 0)) write_frame();
+      if (!quiet_ && (seconds_since(last_print) > 1.0 || i == limit || event)) {
+        last_print = std::chrono::steady_clock::now();
+        const double elapsed = seconds_since(stage_t0);
+        const double eta = elapsed / static_cast<double>(i) * static_cast<double>(limit - i);
+        std::string line = fmt::format(
+            "\r  stage {:<12} step {}/{}  t = {:.4g} s  bodies {}  contacts {}  KE {:.3g} J",
+            stage.name, i, limit, world_.time(), world_.body_count(), world_.contacts().size(),
+            world_.kinetic_energy());
+        if (!world_.bonds().empty()) {
+          line += fmt::format("  bonds {}/{} broken", world_.bond_counts().broken(), world_.bonds().size());
+        }
+        if (!load_walls.empty()) line += fmt::format("  load {:.4g} N", load);
+        line += fmt::format("  ETA {:.0f} s   ", eta);
+        std::fputs(line.c_str(), stderr);
+        progress_shown_ = true;
+      }
+    }
+    st.end = world_.time();
+    st.bonds_broken = world_.bond_breaks().size() - breaks0;
+    st.ended_by = event ? (plain ? "settled" : io::to_string(stage.until)) : "limit";
+    st.event_missed = !event && stage.until != StageDef::Until::limit;
+    if (plain) sum_.settled = event;
+    if (!load_walls.empty() && plot_x.size() >= 2) {
+      st.plot = fmt::format("load_displacement_{}.svg", stage.name);
+      write_plot(stage, st, plot_x, plot_y);
+    }
+    breaks_by_stage_.emplace_back(world_.bond_breaks().size(), stage.name);
+    if (!quiet_) {
+      std::string line = fmt::format("\n{:>8}ended by {} after {} steps", "", st.ended_by, st.steps);
+      if (st.event_missed) line += fmt::format(" (the {} event did not come)", io::to_string(stage.until));
+      if (!load_walls.empty()) {
+        line += fmt::format("; peak load {:.4g} N at {:.4g} um closure", st.peak_load, st.peak_displacement * 1e6);
+      }
+      if (!world_.bonds().empty()) line += fmt::format("; {} bonds broke", st.bonds_broken);
+      std::fprintf(stderr, "%s\n", line.c_str());
+      progress_shown_ = false;
+    }
+    sum_.stages.push_back(st);
+  }
+
+  bool settled() const {
+    const double released = pe0_ - world_.potential_energy();
+    const double ratio = scenario_.dynamics.settle_ratio;
+    return ratio > 0.0 && released > 0.0 && !world_.contacts().empty() &&
+           world_.kinetic_energy() < ratio * released;
+  }
+
+  /// Every body touches another body (its dilated surface overlaps another's).
+  bool all_in_contact() {
+    touched_.clear();
+    for (const auto& c : world_.contacts()) {
+      if (c.wall || c.overlap <= 0.0) continue;
+      const std::size_t top = std::max(c.a, c.b) + 1;
+      if (touched_.size() < top) touched_.resize(top, 0);
+      touched_[c.a] = touched_[c.b] = 1;
+    }
+    for (const physics::BodyId id : world_.body_ids()) {
+      if (id.index >= touched_.size() || !touched_[id.index]) return false;
+    }
+    return true;
+  }
+
+  std::size_t wall_index(const std::string& name) const {
+    for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+      if (world_.walls()[i].name == name) return i;
+    }
+    throw std::logic_error("no wall named " + name);  // the scenario reader checked names
+  }
+  physics::Wall& wall(const std::string& name) { return world_.wall(wall_index(name)); }
+
+  void record(const std::vector<std::size_t>* load_walls = nullptr,
+              const std::vector<Eigen::Vector3d>* stage_origin = nullptr, double load = 0.0,
+              double closure = 0.0) {
+    double overlap = 0.0;
+    for (const auto& c : world_.contacts()) overlap = std::max(overlap, c.overlap);
+    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), world_.kinetic_energy(),
+                           world_.potential_energy(), world_.contacts().size(), overlap, stage_);
+    walls_ += fmt::format("{:.9g}", world_.time());
+    loads_ += fmt::format("{:.9g},{},{}", world_.time(), world_.steps(), stage_);
+    for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+      const auto& w = world_.walls()[i];
+      walls_ += fmt::format(",{:.9g},{:.9g},{:.9g}", w.reaction.x(), w.reaction.y(), w.reaction.z());
+      const WallReading r = read_wall(w, origin0_[i]);
+      loads_ += fmt::format(",{:.9g},{:.9g}", r.displacement, r.force);
+    }
+    walls_ += "\n";
+    const bool measured = load_walls != nullptr && stage_origin != nullptr && !load_walls->empty();
+    loads_ += measured ? fmt::format(",{:.9g},{:.9g}\n", load, closure) : ",,\n";
+    if (!world_.bonds().empty()) {
+      const physics::BondCounts c = world_.bond_counts();
+      bond_counts_ += fmt::format("{:.9g},{},{},{},{},{},{}\n", world_.time(), stage_, c.intact,
+                                  c.tension, c.shear, c.bending, c.torsion);
+    }
+  }
+
+  void write_frame() {
+    const std::string stem = fmt::format("{:06d}", sum_.frames);
+    const fs::path dir = "frames";
+    io::write_vtp(out_ / dir / ("bodies_" + stem + ".vtp"), body_frame(world_, specimen_));
+    io::write_vtp(out_ / dir / ("contacts_" + stem + ".vtp"), contact_frame(world_));
+    bodies_pvd_.add(world_.time(), dir / ("bodies_" + stem + ".vtp"));
+    contacts_pvd_.add(world_.time(), dir / ("contacts_" + stem + ".vtp"));
+    if (scenario_.bond.enabled) {
+      io::write_vtp(out_ / dir / ("bonds_" + stem + ".vtp"), bond_frame(world_));
+      bonds_pvd_.add(world_.time(), dir / ("bonds_" + stem + ".vtp"));
+    }
+    ++sum_.frames;
+    last_frame_step_ = world_.steps();
+  }
+
+  void write_plot(const StageDef& stage, const StageSummary& st, const std::vector<double>& x,
+                  const std::vector<double>& y) {
+    io::Plot plot;
+    plot.title = fmt::format("{}: stage '{}'", scenario_.name, stage.name);
+    plot.x_label = "platen closure (mm)";
+    plot.y_label = "load on the platens (N)";
+    io::PlotSeries series;
+    series.label = fmt::format("mean force on {}", fmt::join(stage.load_walls, ", "));
+    for (double v : x) series.x.push_back(v * 1e3);
+    series.y = y;
+    plot.series.push_back(std::move(series));
+    if (st.peak_load > 0.0) {
+      plot.markers.push_back({st.peak_displacement * 1e3, st.peak_load,
+                              fmt::format("peak {:.4g} N", st.peak_load)});
+    }
+    io::write_plot_svg(out_ / st.plot, plot);
+  }
+
+  void write_tables() {
+    io::write_file_atomically(out_ / "energy.csv", energy_);
+    io::write_file_atomically(out_ / "walls.csv", walls_);
+    io::write_file_atomically(out_ / "load_displacement.csv", loads_);
+    if (!scenario_.bond.enabled) return;
+    io::write_file_atomically(out_ / "bonds.csv", bond_counts_);
+    std::string breaks =
+        "time_s,step,stage,bond,body_a,body_b,grain_a,grain_b,x_m,y_m,z_m,nx,ny,nz,mode,"
+        "normal_force_N,shear_force_N,bending_moment_Nm,torsion_moment_Nm\n";
+    const auto& all = world_.bond_breaks();
+    std::size_t stage = 0;
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      while (stage < breaks_by_stage_.size() && k >= breaks_by_stage_[stage].first) ++stage;
+      const std::string name = stage < breaks_by_stage_.size() ? breaks_by_stage_[stage].second : stage_;
+      const physics::BondBreak& b = all[k];
+      breaks += fmt::format(
+          "{:.9g},{},{},{},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+          b.time, b.step, name, b.bond, b.a, b.b, b.grain_a, b.grain_b, b.point.x(), b.point.y(),
+          b.point.z(), b.normal.x(), b.normal.y(), b.normal.z(), physics::to_string(b.mode),
+          b.loads.normal, b.loads.shear.norm(), b.loads.bending.norm(), std::abs(b.loads.torsion));
+    }
+    io::write_file_atomically(out_ / "bond_breaks.csv", breaks);
+  }
+
+  const io::Scenario& scenario_;
+  const geometry::Specimen& specimen_;
+  fs::path out_;
+  bool quiet_;
+  std::uint64_t max_steps_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  physics::World world_;
+  io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_;
+  std::vector<Eigen::Vector3d> origin0_;
+  double pe0_ = 0.0;
+  std::string energy_, walls_, loads_, bond_counts_;
+  std::string stage_;
+  std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)
+  std::vector<char> touched_;
+  std::uint64_t last_frame_step_ = ~0ull;
+  bool stopped_ = false;
+  bool progress_shown_ = false;
+  DynamicsSummary sum_;
+};
+
 }  // namespace
 
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const fs::path& out, bool quiet, std::uint64_t max_steps) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const io::DynamicsDef& dyn = scenario.dynamics;
-  physics::World world = io::make_world(scenario, specimen);
-
-  const fs::path frames_dir = out / "frames";
-  fs::create_directories(frames_dir);
-  io::PvdSeries bodies_pvd(out / "bodies.pvd"), contacts_pvd(out / "contacts.pvd");
-  std::string energy = "time_s,kinetic_J,potential_J,contacts,max_overlap_m\n";
-  // Reaction force on every wall (the force the grains exert on it), N.
-  std::string walls = "time_s";
-  for (const auto& w : world.walls()) walls += fmt::format(",{0}_Fx_N,{0}_Fy_N,{0}_Fz_N", w.name);
-  walls += "\n";
-  const double pe0 = world.potential_energy();
-  std::uint64_t total = static_cast<std::uint64_t>(std::ceil(dyn.duration / dyn.dt));
-  if (max_steps > 0) total = std::min(total, max_steps);
-  const std::uint64_t frame_every = dyn.frames > 0 ? std::max<std::uint64_t>(1, total / dyn.frames) : 0;
-  const std::uint64_t log_every = std::max<std::uint64_t>(1, total / 200);
-  DynamicsSummary sum;
-  auto write_frame = [&] {
-    const std::string stem = fmt::format("{:06d}", sum.frames);
-    io::write_vtp(frames_dir / ("bodies_" + stem + ".vtp"), body_frame(world, specimen));
-    io::write_vtp(frames_dir / ("contacts_" + stem + ".vtp"), contact_frame(world));
-    bodies_pvd.add(world.time(), fs::path("frames") / ("bodies_" + stem + ".vtp"));
-    contacts_pvd.add(world.time(), fs::path("frames") / ("contacts_" + stem + ".vtp"));
-    ++sum.frames;
-  };
-  if (frame_every) write_frame();
-  auto last_print = std::chrono::steady_clock::now();
-  for (std::uint64_t i = 1; i <= total; ++i) {
-    world.step();
-    double overlap = 0.0;
-    for (const auto& c : world.contacts()) overlap = std::max(overlap, c.overlap);
-    sum.max_overlap = std::max(sum.max_overlap, overlap);
-    const double ke = world.kinetic_energy();
-    const double released = pe0 - world.potential_energy();
-    if (i % log_every == 0 || i == total) {
-      energy += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g}\n", world.time(), ke,
-                            world.potential_energy(), world.contacts().size(), overlap);
-      walls += fmt::format("{:.9g}", world.time());
-      for (const auto& w : world.walls()) {
-        walls += fmt::format(",{:.9g},{:.9g},{:.9g}", w.reaction.x(), w.reaction.y(), w.reaction.z());
-      }
-      walls += "\n";
-    }
-    if (frame_every && i % frame_every == 0) write_frame();
-    const bool settled = dyn.settle_ratio > 0.0 && released > 0.0 && world.contacts().size() > 0 &&
-                         ke < dyn.settle_ratio * released;
-    if (!quiet && (seconds_since(last_print) > 1.0 || i == total || settled)) {
-      last_print = std::chrono::steady_clock::now();
-      const double elapsed = seconds_since(t0);
-      const double eta = elapsed / static_cast<double>(i) * static_cast<double>(total - i);
-      std::fprintf(stderr,
-                   "\r  dynamics   step %llu/%llu  t = %.4g s  bodies %zu  contacts %zu  KE %.3g J  "
-                   "ETA %.0f s   ",
-                   static_cast<unsigned long long>(i), static_cast<unsigned long long>(total),
-                   world.time(), world.body_count(), world.contacts().size(), ke, eta);
-    }
-    if (settled) {
-      sum.settled = true;
-      break;
-    }
-  }
-  if (!quiet) std::fprintf(stderr, "\n");
-  if (frame_every && world.steps() % frame_every != 0) write_frame();
-  io::write_file_atomically(out / "energy.csv", energy);
-  io::write_file_atomically(out / "walls.csv", walls);
-  sum.steps = world.steps();
-  sum.time = world.time();
-  sum.kinetic_energy = world.kinetic_energy();
-  sum.released_energy = pe0 - world.potential_energy();
-  sum.lowest_point = lowest_vertex(world);
-  sum.wall_seconds = seconds_since(t0);
-  return sum;
+  Runner runner(scenario, specimen, out, quiet, max_steps);
+  return runner.run();
 }
 
 }  // namespace cleave::app

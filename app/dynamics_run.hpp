@@ -1,15 +1,35 @@
 #pragma once
 /// \file
-/// A dynamic run of a specimen: the grains become bodies of a physics::World, fall under
-/// gravity onto the walls, and the run writes ParaView frames and an energy history.
+/// A dynamic run of a specimen: the grains become bodies of a physics::World and move
+/// under gravity, walls and bonds. A run is a plain one ([dynamics] duration, stopping when
+/// the grains settle) or staged ([[stage]] tables, sec. 2.5.2: compaction, bond
+/// initialisation, loading). It writes ParaView frames and the histories users plot.
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
+#include "physics/world.hpp"
 
 namespace cleave::app {
+
+/// How one stage went.
+struct StageSummary {
+  std::string name;
+  io::StageDef::Kind kind = io::StageDef::Kind::motion;
+  std::uint64_t steps = 0;     ///< steps taken in the stage
+  double start = 0.0, end = 0.0;  ///< simulated time, s
+  /// "limit" (ran its length), the event that ended it, or "bonded" (a bond stage).
+  std::string ended_by;
+  bool event_missed = false;   ///< it waited for an event that did not come within its limit
+  double peak_load = 0.0;      ///< largest load on its load walls, N
+  double peak_displacement = 0.0;  ///< platen closure at that peak, m
+  std::size_t bonds_broken = 0;
+  std::string plot;            ///< load-displacement picture written for it (file name)
+};
 
 struct DynamicsSummary {
   std::uint64_t steps = 0;
@@ -21,11 +41,20 @@ struct DynamicsSummary {
   bool settled = false;            ///< KE fell below settle_ratio x released energy
   int frames = 0;
   double wall_seconds = 0.0;
+  std::vector<StageSummary> stages;  ///< one per [[stage]] (empty for a plain run)
+  std::size_t bonds = 0;             ///< bonds made at bond initialisation
+  physics::BondCounts bond_counts;
+  double peak_load = 0.0;            ///< largest load of any stage, N
+  /// Disc specimens: the Brazilian tensile strength 2P/(pi D t) of the peak load (sec. 2.5.4).
+  std::optional<double> brazilian_strength;
 };
 
-/// Runs [dynamics] of `scenario` on `specimen`, writing frames/ (bodies_*.vtp,
-/// contacts_*.vtp), bodies.pvd, contacts.pvd, energy.csv and walls.csv into `out`. Throws
-/// io::ScenarioError when the time step is above the stable limit (io::check_time_step).
+/// Runs [dynamics] (and its [[stage]]s) of `scenario` on `specimen`, writing into `out`:
+/// frames/ (bodies_*.vtp, contacts_*.vtp, bonds_*.vtp), bodies.pvd, contacts.pvd,
+/// bonds.pvd, energy.csv, walls.csv, load_displacement.csv, bonds.csv, bond_breaks.csv and
+/// a load-displacement picture (SVG) per loading stage. Throws io::ScenarioError when the
+/// time step is above the stable limit (io::check_time_step). `max_steps` > 0 caps the
+/// total number of steps.
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const std::filesystem::path& out, bool quiet,
                              std::uint64_t max_steps = 0);

@@ -171,17 +171,58 @@ int run_command(const RunOptions& options) {
     if (scenario.dynamics.enabled) {
       const DynamicsSummary d =
           run_dynamics(scenario, specimen, out, options.quiet, options.max_steps);
-      say(fmt::format("  dynamics   {} steps, t = {:.4g} s, {} frames -> {}/bodies.pvd, "
-                      "contacts.pvd, energy.csv, walls.csv ({:.1f} s, {:.1f} us/step)",
-                      d.steps, d.time, d.frames, out.string(), d.wall_seconds,
+      std::string files = "bodies.pvd, contacts.pvd";
+      if (scenario.bond.enabled) files += ", bonds.pvd";
+      files += ", energy.csv, walls.csv, load_displacement.csv";
+      if (scenario.bond.enabled) files += ", bonds.csv, bond_breaks.csv";
+      for (const auto& st : d.stages) {
+        if (!st.plot.empty()) files += ", " + st.plot;
+      }
+      say(fmt::format("  dynamics   {} steps, t = {:.4g} s, {} frames -> {}/{} ({:.1f} s, {:.1f} us/step)",
+                      d.steps, d.time, d.frames, out.string(), files, d.wall_seconds,
                       1e6 * d.wall_seconds / std::max<double>(1, d.steps)));
-      say(fmt::format("             {}: kinetic energy {:.3g} J = {:.2e} of the {:.3g} J released; "
-                      "largest overlap {:.3g} um ({:.1f}% of the dilation radius); lowest point "
-                      "z = {:.4g} mm",
-                      d.settled ? "settled" : "not settled", d.kinetic_energy,
-                      d.kinetic_energy / std::max(d.released_energy, 1e-300), d.released_energy,
-                      d.max_overlap * 1e6, 100 * d.max_overlap / scenario.contact.dilation_radius,
-                      d.lowest_point * 1e3));
+      if (scenario.stages.empty()) {
+        say(fmt::format("             {}: kinetic energy {:.3g} J = {:.2e} of the {:.3g} J released; "
+                        "largest overlap {:.3g} um ({:.1f}% of the dilation radius); lowest point "
+                        "z = {:.4g} mm",
+                        d.settled ? "settled" : "not settled", d.kinetic_energy,
+                        d.kinetic_energy / std::max(d.released_energy, 1e-300), d.released_energy,
+                        d.max_overlap * 1e6, 100 * d.max_overlap / scenario.contact.dilation_radius,
+                        d.lowest_point * 1e3));
+      }
+      for (const auto& st : d.stages) {
+        std::string line = fmt::format("             stage {:<12} {:>8} steps, t = {:.4g}..{:.4g} s, ended by {}",
+                                       st.name, st.steps, st.start, st.end, st.ended_by);
+        if (st.event_missed) line += " (its event did not come: check the stage)";
+        if (st.peak_load > 0.0) line += fmt::format(", peak load {:.4g} N", st.peak_load);
+        if (st.bonds_broken > 0) line += fmt::format(", {} bonds broke", st.bonds_broken);
+        say(line);
+        const std::string key = "stage_" + st.name;
+        manifest.facts[key + "_steps"] = std::to_string(st.steps);
+        manifest.facts[key + "_ended_by"] = st.ended_by;
+        manifest.facts[key + "_peak_load_N"] = fmt::format("{:.9g}", st.peak_load);
+        manifest.facts[key + "_bonds_broken"] = std::to_string(st.bonds_broken);
+      }
+      if (scenario.bond.enabled) {
+        const auto& c = d.bond_counts;
+        say(fmt::format("  bonds      {} made; {} intact, {} broken: tension {}, shear {}, bending {}, "
+                        "torsion {} (intergranular cracks; every break in bond_breaks.csv)",
+                        d.bonds, c.intact, c.broken(), c.tension, c.shear, c.bending, c.torsion));
+        manifest.facts["bonds"] = std::to_string(d.bonds);
+        manifest.facts["bonds_intact"] = std::to_string(c.intact);
+        manifest.facts["bonds_broken_tension"] = std::to_string(c.tension);
+        manifest.facts["bonds_broken_shear"] = std::to_string(c.shear);
+        manifest.facts["bonds_broken_bending"] = std::to_string(c.bending);
+        manifest.facts["bonds_broken_torsion"] = std::to_string(c.torsion);
+      }
+      if (d.peak_load > 0.0) manifest.facts["peak_load_N"] = fmt::format("{:.9g}", d.peak_load);
+      if (d.brazilian_strength) {
+        const auto& o = specimen.def.outline;
+        say(fmt::format("  strength   Brazilian: 2P/(pi D t) = 2 x {:.4g} N / (pi x {:g} mm x {:g} mm) "
+                        "= {:.4g} Pa",
+                        d.peak_load, o.size.x() * 1e3, o.size.z() * 1e3, *d.brazilian_strength));
+        manifest.facts["brazilian_strength_Pa"] = fmt::format("{:.9g}", *d.brazilian_strength);
+      }
       manifest.facts["dynamics_steps"] = std::to_string(d.steps);
       manifest.facts["dynamics_time_s"] = fmt::format("{:.9g}", d.time);
       manifest.facts["dynamics_settled"] = d.settled ? "true" : "false";

@@ -50,10 +50,22 @@
 ///   [dynamics]                 # optional; present: the grains move
 ///   dt, duration (s, > 0, required), gravity (m/s^2, 3 numbers), lift (length unit),
 ///   frames (integer >= 0, default 20), settle_ratio ([0, 1], default 0),
-///   dt_safety ((0, 1], default 0.2), search ("bounding_box" | "basic"), threads (>= 0)
+///   dt_safety ((0, 1], default 0.2), search ("bounding_box" | "basic"), threads (>= 0),
+///   local_damping ([0, 1), default 0). With [[stage]] tables, duration is left out.
 ///   [[wall]]                   # any number: name, kind ("plane" | "platen" | "cylinder"),
-///                              # point, normal, velocity; platen: u, size; cylinder:
-///                              # length, radius (lengths in the length unit)
+///                              # point, normal, velocity (length unit/s), load_axis;
+///                              # platen: u, size; cylinder: length, radius (length unit)
+///   [bond]                     # optional, sec. 2.3.3: kbn, kbs (N/m^3, eq. 2.9; kbn > 0,
+///                              # kbs >= 0), tbn, tbs (Pa, > 0, eq. 2.14); needs a bond stage
+///   [[stage]]                  # any number, run in file order (needs [dynamics]):
+///   name = "loading"           # required, unique
+///   kind = "motion"            # optional: "motion" (default) | "bond"
+///   # motion: wall_velocity = { top = [0, -0.001, 0] } (length unit/s; walls not listed
+///   #   stand still), steps (integer > 0) or time (s > 0): the stage's length, exactly one;
+///   #   until = "limit" (default) | "all_in_contact" | "walls_touch" | "load_drop": an event
+///   #   that ends it sooner; load_drop = 0.5 (fraction of the peak load, in (0, 1));
+///   #   load_walls = ["top"] (default: the walls that move); frames = 10 (>= 0)
+///   # bond: distance = 0.02 (length unit, >= 0): bond initialisation
 ///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
 /// Tables other than these, keys other than these, and keys of another shape (`diameter` in a
@@ -221,6 +233,7 @@ class TableReader {
       : source_(source), name_(std::move(name)), table_(table) {}
 
   [[nodiscard]] const toml::table* table() const { return table_; }
+  [[nodiscard]] const std::string& name() const { return name_; }
 
   [[noreturn]] void fail(const toml::source_region& where, std::string_view key,
                          const std::string& message) const {
@@ -621,18 +634,28 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
   }
 }
 
-constexpr std::string_view kDynamicsKeys[] = {"dt",        "duration",     "gravity",
-                                              "lift",      "frames",       "settle_ratio",
-                                              "dt_safety", "search",       "threads"};
+constexpr std::string_view kDynamicsKeys[] = {
+    "dt",        "duration", "gravity", "lift",         "frames",       "settle_ratio",
+    "dt_safety", "search",   "threads", "local_damping"};
 
-void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d) {
+void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool staged) {
   t.reject_unknown(kDynamicsKeys);
   if (t.table() == nullptr) return;
   d.enabled = true;
   const Number dt = t.number("dt", Range::positive());
   d.dt = dt.value;
   d.dt_position = {line_of(dt.node->source()), column_of(dt.node->source())};
-  d.duration = t.number("duration", Range::positive()).value;
+  if (staged) {
+    if (const toml::node* node = t.find("duration")) {
+      t.fail(*node, "duration",
+             "a staged run takes its length from its [[stage]] tables (steps or time); "
+             "remove duration");
+    }
+  } else {
+    d.duration = t.number("duration", Range::positive()).value;
+  }
+  d.local_damping =
+      t.number("local_damping", {.lo = 0.0, .hi = 1.0, .hi_open = true}, 0.0).value;
   if (t.find("gravity") != nullptr) {
     const auto g = t.numbers("gravity", 3, Range{});
     d.gravity = {g[0], g[1], g[2]};
@@ -648,8 +671,9 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d) {
   d.threads = static_cast<int>(t.integer("threads", 0, 0));
 }
 
-constexpr std::string_view kWallKeys[] = {"name", "kind",   "point",  "normal",  "u",
-                                          "size", "length", "radius", "velocity"};
+constexpr std::string_view kWallKeys[] = {"name",   "kind",   "point",    "normal",
+                                          "u",      "size",   "length",   "radius",
+                                          "velocity", "load_axis"};
 
 physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
   t.reject_unknown(kWallKeys);
@@ -697,18 +721,138 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
                                   t.number("radius", Range::positive()).value * unit);
       break;
   }
-  if (t.find("velocity") != nullptr) w.velocity = vec("velocity", 1.0);
+  if (t.find("velocity") != nullptr) w.velocity = vec("velocity", unit);
+  if (t.find("load_axis") != nullptr) w.load_axis = direction("load_axis").normalized();
   return w;
+}
+
+constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs"};
+
+void read_bond_table(const TableReader& t, BondDef& b) {
+  t.reject_unknown(kBondKeys);
+  if (t.table() == nullptr) return;
+  b.enabled = true;
+  b.params.kbn = t.number("kbn", Range::positive()).value;
+  b.params.kbs = t.number("kbs", Range::non_negative()).value;
+  b.params.tbn = t.number("tbn", Range::positive()).value;
+  b.params.tbs = t.number("tbs", Range::positive()).value;
+}
+
+constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
+                                                 "steps", "time",      "until",
+                                                 "load_drop", "load_walls", "frames"};
+constexpr std::string_view kBondStageKeys[] = {"name", "kind", "distance"};
+
+/// The names in an array of strings at `key`, each one a wall of the scenario.
+std::vector<std::string> read_wall_names(const TableReader& t, std::string_view key,
+                                         const std::vector<physics::Wall>& walls) {
+  std::vector<std::string> names;
+  const toml::node* node = t.find(key);
+  if (node == nullptr) return names;
+  const auto* array = node->as_array();
+  if (array == nullptr) {
+    t.fail(*node, key, fmt::format("expected an array of wall names, found {}", type_name(*node)));
+  }
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& e = *array->get(i);
+    const auto* name = e.as_string();
+    if (name == nullptr) {
+      t.fail(e, key, fmt::format("element {}: expected a wall name, found {}", i + 1, type_name(e)));
+    }
+    if (std::none_of(walls.begin(), walls.end(), [&](const auto& w) { return w.name == name->get(); })) {
+      t.fail(e, key, fmt::format("element {}: no [[wall]] is named '{}'", i + 1, name->get()));
+    }
+    names.push_back(name->get());
+  }
+  return names;
+}
+
+StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
+  StageDef st;
+  st.position = {line_of(t.table()->source()), column_of(t.table()->source())};
+  st.kind = t.choose<StageDef::Kind>(
+      "kind", {{"motion", StageDef::Kind::motion}, {"bond", StageDef::Kind::bond}},
+      StageDef::Kind::motion);
+  t.reject_unknown(st.kind == StageDef::Kind::bond ? std::span<const std::string_view>(kBondStageKeys)
+                                                   : std::span<const std::string_view>(kMotionStageKeys));
+  st.name = t.string("name");
+  if (st.name.empty()) t.fail(*t.find("name"), "name", "must not be empty");
+  if (st.kind == StageDef::Kind::bond) {
+    if (!s.bond.enabled) {
+      t.fail(*t.find("kind"), "kind", "a bond stage needs a [bond] table with the bond parameters");
+    }
+    st.bond_distance = t.number("distance", Range::non_negative(), 0.0).value * unit;
+    return st;
+  }
+  if (const toml::node* node = t.find("wall_velocity")) {
+    const auto* table = node->as_table();
+    if (table == nullptr) {
+      t.fail(*node, "wall_velocity",
+             fmt::format("expected a table of wall name = [vx, vy, vz], found {}", type_name(*node)));
+    }
+    const TableReader vt(s.source, t.name() + ".wall_velocity", table);
+    for (const auto& [key, value] : *table) {
+      const std::string name(key.str());
+      if (std::none_of(s.walls.begin(), s.walls.end(), [&](const auto& w) { return w.name == name; })) {
+        vt.fail(key_source(key, value), name, fmt::format("no [[wall]] is named '{}'", name));
+      }
+      const auto v = vt.numbers(name, 3, Range{});
+      st.wall_velocity.emplace_back(name, Eigen::Vector3d(v[0], v[1], v[2]) * unit);
+    }
+  }
+  const toml::node* steps = t.find("steps");
+  const toml::node* time = t.find("time");
+  if ((steps == nullptr) == (time == nullptr)) {
+    if (steps != nullptr) t.fail(*time, "time", "give the stage's length as steps or time, not both");
+    t.fail_absent("steps", "a motion stage needs its length: steps (integer > 0) or time (s > 0)");
+  }
+  if (steps != nullptr) st.steps = static_cast<std::uint64_t>(t.integer("steps", 1, 1));
+  if (time != nullptr) st.time = t.number("time", Range::positive()).value;
+  st.until = t.choose<StageDef::Until>("until",
+                                       {{"limit", StageDef::Until::limit},
+                                        {"all_in_contact", StageDef::Until::all_in_contact},
+                                        {"walls_touch", StageDef::Until::walls_touch},
+                                        {"load_drop", StageDef::Until::load_drop}},
+                                       StageDef::Until::limit);
+  const Number drop = t.number("load_drop", {.lo = 0.0, .hi = 1.0, .lo_open = true, .hi_open = true}, 0.5);
+  if (drop.node != nullptr && st.until != StageDef::Until::load_drop) {
+    t.fail(*drop.node, "load_drop", "applies only with until = \"load_drop\"");
+  }
+  st.load_drop = drop.value;
+  st.load_walls = read_wall_names(t, "load_walls", s.walls);
+  if (st.load_walls.empty()) {
+    for (const auto& [name, v] : st.wall_velocity) {
+      if (v.norm() > 0.0) st.load_walls.push_back(name);
+    }
+  }
+  if (st.load_walls.empty() &&
+      (st.until == StageDef::Until::load_drop || st.until == StageDef::Until::walls_touch)) {
+    t.fail(*t.find("until"), "until",
+           fmt::format("'{}' needs walls to watch: give load_walls or move walls in "
+                       "wall_velocity", to_string(st.until)));
+  }
+  st.frames = static_cast<int>(t.integer("frames", 0, 10));
+  return st;
 }
 
 // ---- the file -----------------------------------------------------------------------------
 
 constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
                                         "split",    "output",   "material", "contact",
-                                        "dynamics", "wall"};
+                                        "dynamics", "wall",     "bond",     "stage"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
+
+const char* to_string(StageDef::Until until) {
+  switch (until) {
+    case StageDef::Until::limit: return "limit";
+    case StageDef::Until::all_in_contact: return "all_in_contact";
+    case StageDef::Until::walls_touch: return "walls_touch";
+    case StageDef::Until::load_drop: return "load_drop";
+  }
+  return "?";
+}
 
 ScenarioError::ScenarioError(std::string file, int line, int column, std::string key,
                              std::string message)
@@ -737,10 +881,11 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   }
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
-    if (name == "wall") {  // an array of tables, [[wall]]
+    if (name == "wall" || name == "stage") {  // arrays of tables, [[wall]] and [[stage]]
       if (node != nullptr && !node->is_array_of_tables()) {
-        throw ScenarioError(source, line_of(node->source()), column_of(node->source()), "wall",
-                            fmt::format("expected [[wall]] tables, found {}", type_name(*node)));
+        throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
+                            std::string(name),
+                            fmt::format("expected [[{}]] tables, found {}", name, type_name(*node)));
       }
       continue;
     }
@@ -768,13 +913,47 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   read_split_table(reader("split"), s.split);
   read_output_table(reader("output"), s.output);
   read_material_table(reader("material"), s.material);
-  read_dynamics_table(reader("dynamics"), unit, s.dynamics);
+  const auto* stages = root.get_as<toml::array>("stage");
+  read_dynamics_table(reader("dynamics"), unit, s.dynamics, stages != nullptr);
   read_contact_table(reader("contact"), source, unit, s.contact, s.dynamics.enabled);
   if (const auto* walls = root.get_as<toml::array>("wall")) {
     for (std::size_t i = 0; i < walls->size(); ++i) {
       const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table());
       s.walls.push_back(read_wall(t, unit, i));
+      for (std::size_t j = 0; j < i; ++j) {
+        if (s.walls[j].name == s.walls[i].name) {
+          t.fail(*t.find("name"), "name", fmt::format("another [[wall]] is named '{}'", s.walls[i].name));
+        }
+      }
     }
+  }
+  read_bond_table(reader("bond"), s.bond);
+  if (stages != nullptr) {
+    if (!s.dynamics.enabled) {
+      const toml::node& first = *stages->get(0);
+      throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "stage",
+                          "[[stage]] tables need a [dynamics] table (dt, gravity, ...)");
+    }
+    std::size_t bond_stages = 0;
+    for (std::size_t i = 0; i < stages->size(); ++i) {
+      const TableReader t(source, fmt::format("stage[{}]", i + 1), stages->get(i)->as_table());
+      s.stages.push_back(read_stage(t, unit, s));
+      for (std::size_t j = 0; j < i; ++j) {
+        if (s.stages[j].name == s.stages[i].name) {
+          t.fail(*t.find("name"), "name", fmt::format("another [[stage]] is named '{}'", s.stages[i].name));
+        }
+      }
+      if (s.stages[i].kind == StageDef::Kind::bond && ++bond_stages > 1) {
+        t.fail(*t.find("kind"), "kind", "bonds are initialised once; this is the second bond stage");
+      }
+    }
+  }
+  if (s.bond.enabled && std::none_of(s.stages.begin(), s.stages.end(), [](const StageDef& st) {
+        return st.kind == StageDef::Kind::bond;
+      })) {
+    const toml::table& b = *root.get_as<toml::table>("bond");
+    throw ScenarioError(source, line_of(b.source()), column_of(b.source()), "bond",
+                        "[bond] is given but no [[stage]] of kind \"bond\" initialises the bonds");
   }
   return s;
 }

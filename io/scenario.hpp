@@ -13,6 +13,7 @@
 
 #include "geometry/specimen.hpp"
 #include "io/mesh_io.hpp"
+#include "physics/bond_law.hpp"
 #include "physics/contact_law.hpp"
 #include "physics/neighbour_search.hpp"
 #include "physics/wall.hpp"
@@ -78,7 +79,38 @@ struct DynamicsDef {
   double dt_safety = 0.2;      ///< dt <= dt_safety x 2 sqrt(m_min / k_max)
   physics::SearchMethod search = physics::SearchMethod::bounding_box;
   int threads = 0;             ///< 0: all cores; results do not depend on it
+  double local_damping = 0.0;  ///< Cundall's local damping coefficient, [0, 1)
 };
+
+/// [bond]: the bonded-particle law of sec. 2.3.3 (eqs 2.9, 2.14), SI units.
+struct BondDef {
+  bool enabled = false;
+  physics::BondParams params;  ///< k_bn, k_bs in N/m^3; t_bn, t_bs in Pa
+};
+
+/// One [[stage]] of a staged run (sec. 2.5.2: compaction, bond initialisation, loading).
+struct StageDef {
+  enum class Kind { motion, bond };
+  /// What ends a motion stage before its limit.
+  enum class Until { limit, all_in_contact, walls_touch, load_drop };
+  std::string name;
+  Kind kind = Kind::motion;
+  SourcePosition position;  ///< of the stage's header, for messages
+  /// motion: wall name -> velocity (m/s); walls not listed stand still during the stage.
+  std::vector<std::pair<std::string, Eigen::Vector3d>> wall_velocity;
+  std::uint64_t steps = 0;  ///< limit in steps (0: use `time`)
+  double time = 0.0;        ///< limit in simulated seconds (0: use `steps`)
+  Until until = Until::limit;
+  double load_drop = 0.5;   ///< load_drop: stop once the load < this fraction of its peak
+  /// Walls whose load is measured (load_drop, the load-displacement curve); default: the
+  /// walls that move in the stage.
+  std::vector<std::string> load_walls;
+  int frames = 10;          ///< ParaView frames over the stage's limit
+  double bond_distance = 0.0;  ///< bond: the bonding distance, m
+};
+
+/// The name of an `until` event as written in scenario files.
+const char* to_string(StageDef::Until until);
 
 struct Scenario {
   std::string source;            ///< file path (or a name for in-memory text)
@@ -91,6 +123,8 @@ struct Scenario {
   MaterialDef material;
   ContactDef contact;
   DynamicsDef dynamics;
+  BondDef bond;
+  std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
 };
 

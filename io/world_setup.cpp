@@ -20,12 +20,17 @@ StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shap
   StableStep s;
   s.mass = scenario.material.density * shape.volume;
   s.inertia = scenario.material.density * shape.principal_moments.minCoeff();
-  for (const auto* p : {&scenario.contact.particle_particle, &scenario.contact.particle_wall}) {
-    s.stiffness = std::max(s.stiffness, p->c_res * p->kn);
-  }
+  // A bond (eq. 2.10: K = k A_b with the dilation radius) acts in parallel with the
+  // particle-particle spring.
+  const physics::BondSection section{scenario.contact.dilation_radius};
+  const double bond_normal = scenario.bond.enabled ? scenario.bond.params.kbn * section.area() : 0.0;
+  const double bond_rolling = scenario.bond.enabled ? scenario.bond.params.kbn * section.inertia() : 0.0;
+  s.stiffness = std::max(scenario.contact.particle_particle.c_res * scenario.contact.particle_particle.kn + bond_normal,
+                         scenario.contact.particle_wall.c_res * scenario.contact.particle_wall.kn);
   const double arm = shape.bounding_radius();
   const double translation = physics::critical_time_step(s.mass, s.stiffness);
-  const double rotation = physics::critical_time_step(s.inertia, s.stiffness * arm * arm);
+  const double rotation =
+      physics::critical_time_step(s.inertia, std::max(s.stiffness * arm * arm, bond_rolling));
   s.dt = scenario.dynamics.dt_safety * std::min(translation, rotation);
   return s;
 }
@@ -44,7 +49,7 @@ void check_time_step(const Scenario& scenario, const physics::RigidShape& shape)
         scenario.source, dyn.dt_position.line, dyn.dt_position.column, "dynamics.dt",
         fmt::format("time step {:.3g} s is above the stable limit; use dt <= {:.3g} s "
                     "(= dt_safety {:g} x 2 sqrt(m/k): lightest body {:.3g} kg, I {:.3g} kg m^2, "
-                    "stiffest spring C_res K_n = {:.3g} N/m)",
+                    "stiffest spring C_res K_n (+ K_bn) = {:.3g} N/m)",
                     dyn.dt, s.dt, dyn.dt_safety, s.mass, s.inertia, s.stiffness));
   }
 }
@@ -65,6 +70,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.particle_wall = scenario.contact.particle_wall;
   ws.search = dyn.search;
   ws.threads = dyn.threads;
+  ws.local_damping = dyn.local_damping;
   physics::World world(ws);
   const std::uint32_t sh = world.add_shape(shape);
   double min_z = std::numeric_limits<double>::infinity();

@@ -11,6 +11,7 @@ Wall Wall::plane(std::string name, const Eigen::Vector3d& point, const Eigen::Ve
   w.name = std::move(name);
   w.origin = point;
   w.normal = normal.normalized();
+  w.load_axis = w.normal;
   return w;
 }
 

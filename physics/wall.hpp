@@ -27,6 +27,10 @@ struct Wall {
   double radius = 0.0;                ///< cylinder radius
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< prescribed, m/s
   Eigen::Vector3d reaction = Eigen::Vector3d::Zero();  ///< force of the bodies on it, last step
+  /// The axis a testing machine would read this wall's load and displacement along (unit;
+  /// planes and platens: their normal, pointing into the specimen; zero: none given, read
+  /// magnitudes).
+  Eigen::Vector3d load_axis = Eigen::Vector3d::Zero();
 
   static Wall plane(std::string name, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
   static Wall platen(std::string name, const Eigen::Vector3d& centre, const Eigen::Vector3d& normal,

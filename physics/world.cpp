@@ -101,6 +101,13 @@ const BodyInfo& World::info(BodyId id) const {
   return infos_[id.index];
 }
 
+BodyId World::id_at(std::uint32_t slot) const {
+  if (slot >= infos_.size() || !infos_[slot].alive) {
+    throw std::out_of_range("no live body in slot " + std::to_string(slot));
+  }
+  return {slot, infos_[slot].generation};
+}
+
 void World::set_angular_velocity(BodyId id, const Eigen::Vector3d& w) {
   BodyState& s = state(id);
   const BodyInfo& b = infos_[id.index];

@@ -122,6 +122,9 @@ class World {
   [[nodiscard]] const BodyState& state(BodyId id) const;
   [[nodiscard]] BodyState& state(BodyId id);
   [[nodiscard]] const BodyInfo& info(BodyId id) const;
+  /// The body in a slot (as contacts and bonds name them); throws std::out_of_range when no
+  /// live body is there.
+  [[nodiscard]] BodyId id_at(std::uint32_t slot) const;
   /// Sets a body's angular velocity (world), i.e. its angular momentum L = R I R^T w.
   void set_angular_velocity(BodyId id, const Eigen::Vector3d& w);
   /// A fixed body keeps its velocity and angular momentum whatever the forces (a prescribed
