@@ -55,10 +55,11 @@ struct Plot {
 /// Renders `plot` as a standalone SVG document (UTF-8, with an XML declaration). Pure and
 /// deterministic. Axis ranges span all finite points and markers and are widened to the
 /// ticks of nice_ticks (a zero-width range is padded); with no finite data at all the axes
-/// span [0, 1] and "no data" is shown. Series of more than 4000 finite points are thinned to
-/// about 4000 points: the points of each run are split into consecutive buckets and each
-/// bucket keeps its lowest and highest y (in their original order), so peaks survive. No
-/// NaN or infinity is ever written.
+/// span [0, 1] and "no data" is shown. Small pictures get fewer ticks (down to target 2), so
+/// that labels do not overlap, and the picture is widened where even that does not fit. Series of
+/// more than 4000 finite points are thinned to about 4000 points: the points of each run are split
+/// into consecutive buckets and each bucket keeps its lowest and highest y (in their original
+/// order), so peaks survive. No NaN or infinity is ever written.
 std::string render_svg(const Plot& plot);
 
 /// Writes render_svg(plot) to `path` atomically (through `path.tmp` and a rename; see
