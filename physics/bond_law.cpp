@@ -6,7 +6,7 @@
 namespace cleave::physics {
 
 double BondSection::area() const { return M_PI * radius * radius; }
-double BondSection::inertia() const { return 0.25 * M_PI * std::pow(radius, 4); }
+double BondSection::inertia() const { return 0.25 * M_PI * (radius * radius) * (radius * radius); }
 double BondSection::polar() const { return 2.0 * inertia(); }
 
 BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,

@@ -14,7 +14,12 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
   const Eigen::Matrix3d R = state.q.toRotationMatrix();
   const auto& p = shape.primitives;
   vertices.resize(p.vertices.size());
-  for (std::size_t i = 0; i < p.vertices.size(); ++i) vertices[i] = state.x + R * p.vertices[i];
+  lo = hi = state.x;
+  for (std::size_t i = 0; i < p.vertices.size(); ++i) {
+    vertices[i] = state.x + R * p.vertices[i];
+    lo = lo.cwiseMin(vertices[i]);
+    hi = hi.cwiseMax(vertices[i]);
+  }
   face_normals.resize(p.faces.size());
   face_offsets.resize(p.faces.size());
   for (std::size_t f = 0; f < p.faces.size(); ++f) {
@@ -311,6 +316,11 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
     return;  // shapes beyond the fixed buffers are not produced by cleave
   }
   const double reach = a.radius + b.radius + margin;
+  // Boxes first: far cheaper than the face tests, and enough for most pairs of elongated
+  // bodies whose bounding spheres overlap.
+  if ((a.lo.array() - reach > b.hi.array()).any() || (b.lo.array() - reach > a.hi.array()).any()) {
+    return;
+  }
   if (separated_by_facing_face(a, b, reach) || separated_by_facing_face(b, a, reach)) return;
   PlaneDistances a_to_b, b_to_a;
   plane_distances(a, b, a_to_b);  // A's vertices against B's faces

@@ -42,6 +42,8 @@ struct PosedShape {
   std::vector<double> face_offsets;           ///< normal . x = offset on each face
   std::vector<Eigen::Vector3d> edge_directions;  ///< world, unit, from edge.a to edge.b
   double radius = 0.0;                        ///< dilation radius
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero();  ///< world box of the vertices (undilated)
+  Eigen::Vector3d hi = Eigen::Vector3d::Zero();
 
   void update(const RigidShape& shape, const BodyState& state);
 };
