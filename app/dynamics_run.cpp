@@ -143,7 +143,7 @@ class Runner {
       loads_ += fmt::format(",{0}_displacement_m,{0}_force_N", w.name);
     }
     walls_ += "\n";
-    loads_ += ",load_N,closure_m\n";
+    loads_ += ",load_N,load_point_displacement_m\n";
     bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
   }
 
@@ -237,13 +237,7 @@ class Runner {
       double overlap = 0.0;
       for (const auto& c : world_.contacts()) overlap = std::max(overlap, c.overlap);
       sum_.max_overlap = std::max(sum_.max_overlap, overlap);
-      // The stage's load: the mean force on its load walls; closure: their summed travel.
-      double load = 0.0, closure = 0.0;
-      for (std::size_t w : load_walls) {
-        const WallReading r = read_wall(world_.walls()[w], stage_origin[w]);
-        load += r.force / static_cast<double>(load_walls.size());
-        closure += r.displacement;
-      }
+      const auto [load, closure] = machine_reading(load_walls, stage_origin);
       if (!load_walls.empty() && load > st.peak_load) {
         st.peak_load = load;
         st.peak_displacement = closure;
@@ -306,13 +300,47 @@ class Runner {
       std::string line = fmt::format("\n{:>8}ended by {} after {} steps", "", st.ended_by, st.steps);
       if (st.event_missed) line += fmt::format(" (the {} event did not come)", io::to_string(stage.until));
       if (!load_walls.empty()) {
-        line += fmt::format("; peak load {:.4g} N at {:.4g} um closure", st.peak_load, st.peak_displacement * 1e6);
+        line += fmt::format("; peak load {:.4g} N at {:.4g} um load-point displacement", st.peak_load,
+                            st.peak_displacement * 1e6);
       }
       if (!world_.bonds().empty()) line += fmt::format("; {} bonds broke", st.bonds_broken);
       std::fprintf(stderr, "%s\n", line.c_str());
       progress_shown_ = false;
     }
     sum_.stages.push_back(st);
+  }
+
+  /// What the testing machine reads: load walls whose load axes agree are one crosshead
+  /// (four-point bending: both loading rollers); the load is the total force on a
+  /// crosshead, averaged over the crossheads (Brazilian, compression: the two platens carry
+  /// the same force P), and the load-point displacement is the sum over the crossheads of
+  /// their mean travel (two platens closing in: the closure). Returns (load, displacement).
+  std::pair<double, double> machine_reading(const std::vector<std::size_t>& load_walls,
+                                            const std::vector<Eigen::Vector3d>& stage_origin) const {
+    std::vector<Eigen::Vector3d> axes;
+    std::vector<double> force, travel;
+    std::vector<int> members;
+    for (std::size_t w : load_walls) {
+      const physics::Wall& wall = world_.walls()[w];
+      const WallReading r = read_wall(wall, stage_origin[w]);
+      std::size_t k = 0;
+      while (k < axes.size() && !(wall.load_axis.squaredNorm() > 0.0 && axes[k].dot(wall.load_axis) > 0.99)) ++k;
+      if (k == axes.size()) {
+        axes.push_back(wall.load_axis);
+        force.push_back(0.0);
+        travel.push_back(0.0);
+        members.push_back(0);
+      }
+      force[k] += r.force;
+      travel[k] += r.displacement;
+      ++members[k];
+    }
+    double load = 0.0, displacement = 0.0;
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      load += force[k] / static_cast<double>(axes.size());
+      displacement += travel[k] / members[k];
+    }
+    return {load, displacement};
   }
 
   bool settled() const {
@@ -389,10 +417,10 @@ class Runner {
                   const std::vector<double>& y) {
     io::Plot plot;
     plot.title = fmt::format("{}: stage '{}'", scenario_.name, stage.name);
-    plot.x_label = "platen closure (mm)";
-    plot.y_label = "load on the platens (N)";
+    plot.x_label = "load-point displacement (mm)";
+    plot.y_label = "load P (N)";
     io::PlotSeries series;
-    series.label = fmt::format("mean force on {}", fmt::join(stage.load_walls, ", "));
+    series.label = fmt::format("load on {}", fmt::join(stage.load_walls, ", "));
     for (double v : x) series.x.push_back(v * 1e3);
     series.y = y;
     plot.series.push_back(std::move(series));

@@ -26,7 +26,7 @@ struct StageSummary {
   std::string ended_by;
   bool event_missed = false;   ///< it waited for an event that did not come within its limit
   double peak_load = 0.0;      ///< largest load on its load walls, N
-  double peak_displacement = 0.0;  ///< platen closure at that peak, m
+  double peak_displacement = 0.0;  ///< load-point displacement at that peak, m
   std::size_t bonds_broken = 0;
   std::string plot;            ///< load-displacement picture written for it (file name)
 };

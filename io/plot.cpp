@@ -496,6 +496,12 @@ std::string render_svg(const Plot& plot) {
     const bool to_left = p.x + 7 + w > area.x1;
     const double tx = to_left ? p.x - 7 : p.x + 7;
     const double ty = p.y - 7 - kFontSize < area.y0 ? p.y + 7 + kFontSize : p.y - 7;
+    // The label's ends and middle count as marker pixels too, so the legend avoids them.
+    const double far = to_left ? tx - w : tx + w;
+    for (double x : {tx, 0.5 * (tx + far), far}) {
+      marker_pixels.push_back({x, ty});
+      marker_pixels.push_back({x, ty - kFontSize});
+    }
     fmt::format_to(it,
                    "<g class=\"marker\"><circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"4\" "
                    "fill=\"white\" stroke=\"#222\" stroke-width=\"1.5\"/>"

@@ -584,4 +584,109 @@ TEST(ScenarioErrors, DynamicsNeedsContactAndValidWalls) {
   EXPECT_SCENARIO_ERROR(cres, 19, "contact.particle_wall.c_res", ">= 1");
 }
 
+// ---- staged runs: [bond] and [[stage]] ----------------------------------------------------
+
+/// kDropTest without its duration, plus a bond table and stages (appended at line 41 on).
+std::string staged(const std::string& stages, bool bond = true) {
+  std::string text = kDropTest;
+  text.replace(text.find("duration = 0.5\n"), 15, "# no duration\n");
+  if (bond) text += "[bond]\nkbn = 6.366e8\nkbs = 2.546e8\ntbn = 1000\ntbn_unused = 0\n";
+  return text + stages;
+}
+
+TEST(Scenario, StagesAndBonds) {
+  std::string text = kDropTest;
+  text.replace(text.find("duration = 0.5\n"), 15, "local_damping = 0.7\n");
+  text += R"([bond]
+kbn = 6.366e8
+kbs = 2.546e8
+tbn = 1000
+tbs = 500
+[[stage]]
+name = "compaction"
+wall_velocity = { wall_1 = [0, 0, 50], top = [0, 0, -50] }
+until = "all_in_contact"
+time = 0.05
+[[stage]]
+name = "bonding"
+kind = "bond"
+distance = 0.08
+[[stage]]
+name = "loading"
+wall_velocity = { top = [0, 0, -0.001] }
+until = "load_drop"
+load_drop = 0.4
+steps = 1000
+frames = 3
+)";
+  const Scenario s = parse_scenario(text, "staged.toml");
+  EXPECT_EQ(s.dynamics.local_damping, 0.7);
+  ASSERT_TRUE(s.bond.enabled);
+  EXPECT_EQ(s.bond.params.kbn, 6.366e8);
+  EXPECT_EQ(s.bond.params.tbs, 500.0);
+  ASSERT_EQ(s.stages.size(), 3u);
+  const StageDef& c = s.stages[0];
+  EXPECT_EQ(c.kind, StageDef::Kind::motion);
+  EXPECT_EQ(c.until, StageDef::Until::all_in_contact);
+  EXPECT_EQ(c.time, 0.05);
+  ASSERT_EQ(c.wall_velocity.size(), 2u);
+  EXPECT_NEAR(c.wall_velocity[0].second.z() + c.wall_velocity[1].second.z(), 0.0, 1e-15);
+  EXPECT_EQ(c.load_walls.size(), 2u);  // default: the walls that move
+  EXPECT_EQ(s.stages[1].kind, StageDef::Kind::bond);
+  EXPECT_NEAR(s.stages[1].bond_distance, 0.08e-3, 1e-18);
+  const StageDef& l = s.stages[2];
+  EXPECT_EQ(l.steps, 1000u);
+  EXPECT_EQ(l.load_drop, 0.4);
+  EXPECT_EQ(l.frames, 3);
+  ASSERT_EQ(l.load_walls, std::vector<std::string>{"top"});
+  EXPECT_NEAR(l.wall_velocity[0].second.z(), -1e-6, 1e-21);  // mm/s -> m/s
+}
+
+/// The 1-based line of the last occurrence of `needle` in `text`.
+int line_of_last(const std::string& text, const std::string& needle) {
+  const auto at = text.rfind(needle);
+  return at == std::string::npos ? -1 : 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+TEST(ScenarioErrors, StagesAndBonds) {
+  const std::string loading = "[[stage]]\nname = \"loading\"\nwall_velocity = { top = [0, 0, -1] }\n";
+  const std::string bonding = "[[stage]]\nname = \"bonding\"\nkind = \"bond\"\n";
+  // Each case: the text, the text on the offending line, the key, part of the message.
+  auto expect = [](const std::string& t, const std::string& at, const std::string& key, const std::string& part) {
+    EXPECT_SCENARIO_ERROR(t, line_of_last(t, at), key, part);
+  };
+  expect(staged(bonding + loading + "steps = 10\n"), "tbn_unused", "bond.tbn_unused", "unknown key in [bond]");
+  auto text = [&](const std::string& stages) {
+    std::string t = staged(stages);
+    t.replace(t.find("tbn_unused = 0\n"), 15, "tbs = 1000\n");
+    return t;
+  };
+  expect(text(bonding + loading), "[[stage]]", "stage[2].steps", "steps (integer > 0) or time");
+  expect(text(bonding + loading + "steps = 10\ntime = 1\n"), "time = 1", "stage[2].time", "not both");
+  expect(text(bonding + loading + "steps = 0\n"), "steps = 0", "stage[2].steps", ">= 1");
+  expect(text(bonding + "[[stage]]\nname = \"x\"\nwall_velocity = { lid = [0, 0, 1] }\nsteps = 5\n"), "lid",
+         "stage[2].wall_velocity.lid", "no [[wall]] is named 'lid'");
+  expect(text(bonding + "[[stage]]\nname = \"x\"\nsteps = 5\nuntil = \"load_drop\"\n"), "until",
+         "stage[2].until", "needs walls to watch");
+  expect(text(bonding + loading + "steps = 5\nuntil = \"broken\"\n"), "until", "stage[2].until",
+         "'limit', 'all_in_contact', 'walls_touch', 'load_drop'");
+  expect(text(bonding + loading + "steps = 5\nload_drop = 0.5\n"), "load_drop", "stage[2].load_drop",
+         "only with until = \"load_drop\"");
+  expect(text(bonding + loading + "steps = 5\ndistance = 1\n"), "distance", "stage[2].distance",
+         "unknown key in [stage[2]]");
+  expect(text(bonding + bonding), "name = \"bonding\"", "stage[2].name", "another [[stage]] is named 'bonding'");
+  expect(text(bonding + "[[stage]]\nname = \"again\"\nkind = \"bond\"\n"), "kind = \"bond\"", "stage[2].kind",
+         "bonds are initialised once");
+  expect(text(loading + "steps = 5\n"), "[bond]", "bond", "no [[stage]] of kind \"bond\" initialises the bonds");
+  // Without [bond], a bond stage has no parameters.
+  expect(staged(bonding, false), "kind = \"bond\"", "stage[1].kind", "needs a [bond] table");
+  // A staged run takes its length from its stages.
+  expect(kDropTest + std::string(bonding), "duration", "dynamics.duration", "remove duration");
+  std::string no_dynamics = kDropTest;
+  no_dynamics.erase(no_dynamics.find("[dynamics]"), no_dynamics.find("[[wall]]") - no_dynamics.find("[dynamics]"));
+  expect(no_dynamics + loading + "steps = 5\n", "[[stage]]", "stage", "[[stage]] tables need a [dynamics] table");
+  std::string twin = kDropTest;
+  twin += "[[wall]]\nname = \"top\"\nkind = \"plane\"\npoint = [0, 0, 9]\nnormal = [0, 0, -1]\n";
+  expect(twin, "name = \"top\"", "wall[4].name", "another [[wall]] is named 'top'");
+}
 }  // namespace cleave::io
