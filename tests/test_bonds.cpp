@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "geometry/exact_polyhedron.hpp"
 #include "physics/world.hpp"
@@ -281,4 +282,55 @@ TEST(BondedPair, CompressionAddsTheContactSpringsToTheBond) {
   EXPECT_NEAR(contact, points * 5000.0 * delta, 1e-3 * points * 5000.0 * delta);
   EXPECT_NEAR(w.bonds().front().force.x(), k_bn * delta, 1e-6 * k_bn * delta);
   EXPECT_NEAR(w.state(pair.b).f.x(), contact + k_bn * delta, 1e-3 * k_bn * delta);
+}
+
+TEST(BondedSpecimen, BitIdenticalForOneAndTwoThreadsUntilAndAfterBondsBreak) {
+  // A 30 x 20 honeycomb block (600 prisms, over 1700 bonds: the parallel paths run), its
+  // left column held and its right column pulled apart until bonds break; positions,
+  // velocities and the break log must agree bit for bit between 1 and 2 threads.
+  auto simulate = [](int threads) {
+    WorldSettings ws;
+    ws.gravity.setZero();
+    ws.dt = 2e-7;
+    ws.particle_particle = contact_law();
+    ws.particle_wall = contact_law();
+    ws.local_damping = 0.3;
+    ws.threads = threads;
+    World world(ws);
+    const RigidShape shape = prism();
+    const auto sh = world.add_shape(shape);
+    const double pitch = kFlat + 2.0 * kDilation - 2e-6;
+    std::vector<BodyId> left, right;
+    for (int j = 0; j < 20; ++j) {
+      for (int i = 0; i < 30; ++i) {
+        const Eigen::Vector3d x((i + 0.5 * (j % 2)) * pitch, j * pitch * std::sqrt(3.0) / 2.0, 0);
+        const BodyId id = world.add_body(sh, kRho, x, shape.orientation_for());
+        if (i == 0) left.push_back(id);
+        if (i == 29) right.push_back(id);
+      }
+    }
+    world.initialise_bonds(table_2_5(), 0.0);
+    for (BodyId id : left) world.set_fixed(id, true);
+    for (BodyId id : right) {
+      world.set_fixed(id, true);
+      world.state(id).v = {0.05, 0.0, 0.0};  // 10 nm per step: bonds break within 300 steps
+    }
+    for (int i = 0; i < 300; ++i) world.step();
+    return world;
+  };
+  const World one = simulate(1);
+  const World two = simulate(2);
+  ASSERT_GT(one.bonds().size(), 1700u);
+  ASSERT_FALSE(one.bond_breaks().empty());
+  ASSERT_EQ(one.bond_breaks().size(), two.bond_breaks().size());
+  for (std::size_t k = 0; k < one.bond_breaks().size(); ++k) {
+    EXPECT_EQ(one.bond_breaks()[k].bond, two.bond_breaks()[k].bond);
+    EXPECT_EQ(one.bond_breaks()[k].step, two.bond_breaks()[k].step);
+  }
+  const auto ids = one.body_ids();
+  for (const BodyId id : ids) {
+    EXPECT_EQ(std::memcmp(one.state(id).x.data(), two.state(id).x.data(), sizeof(double) * 3), 0);
+    EXPECT_EQ(std::memcmp(one.state(id).v.data(), two.state(id).v.data(), sizeof(double) * 3), 0);
+    EXPECT_EQ(std::memcmp(one.state(id).L.data(), two.state(id).L.data(), sizeof(double) * 3), 0);
+  }
 }
