@@ -183,3 +183,26 @@ TEST_F(BondedTest, BrazilianDiscSplitsAlongTheLoadedDiameterWithTheSameStrengthF
   for (double s : strength) mean += s / static_cast<double>(strength.size());
   EXPECT_LT(*hi - *lo, 0.01 * mean);
 }
+
+TEST_F(BondedTest, UniaxialCompactionEndsWhenEveryGrainTouchesAndBondsEveryNeighbour) {
+  // Compaction (four walls moving in) ends on the all_in_contact event; bond
+  // initialisation within 0.08 mm then bonds every pair of lattice neighbours (centres one
+  // pitch, sqrt(3) x 0.6 mm, apart), counted here from the specimen's own centres. The
+  // loading stage is cut short: this test is about the stages before it.
+  const fs::path dir = run("uniaxial_compression", {{"time = 2.5 ", "time = 0.002 "}, {"frames = 25", "frames = 0"}},
+                           "uniaxial");
+  const auto manifest = cleave::io::read_manifest(dir);
+  EXPECT_EQ(manifest.facts.at("stage_compaction_ended_by"), "all_in_contact");
+  const auto sites = read_csv(dir / "specimen.csv");
+  ASSERT_EQ(sites.size(), 44u);
+  std::size_t neighbours = 0;
+  for (std::size_t i = 0; i < sites.size(); ++i) {
+    for (std::size_t j = i + 1; j < sites.size(); ++j) {
+      const double dx = std::stod(sites[i].at("x_m")) - std::stod(sites[j].at("x_m"));
+      const double dy = std::stod(sites[i].at("y_m")) - std::stod(sites[j].at("y_m"));
+      if (std::hypot(dx, dy) < 1.1 * std::sqrt(3.0) * 0.6e-3) ++neighbours;
+    }
+  }
+  EXPECT_EQ(std::stoul(manifest.facts.at("bonds")), neighbours);
+  EXPECT_EQ(manifest.facts.at("stage_loading_ended_by"), "limit");
+}
