@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # cleave's one entry point for a fresh Debian 12 machine:
-#   ./build.sh demo   install what is missing, build, run the default job (two scenarios)
+#   ./build.sh demo   install what is missing, build, run the default job (three scenarios)
 #   ./build.sh test   install what is missing, build, run every test
 #   ./build.sh bench  install what is missing, build, run the benchmarks
 #   ./build.sh deps   only install what is missing
@@ -51,6 +51,7 @@ case "$mode" in
     "$build_dir/app/cleave" run scenarios/demo.toml --out results/demo
     "$build_dir/app/cleave" check volume --voxel --summary results/demo
     "$build_dir/app/cleave" run scenarios/demo_drop.toml --out results/demo_drop
+    "$build_dir/app/cleave" run scenarios/four_point_bending.toml --out results/four_point_bending
     ;;
   test)
     install_missing; build

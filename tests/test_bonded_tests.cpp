@@ -22,8 +22,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Runs cleave on one thread: CTest runs test executables side by side, and OpenMP threads
+/// that outnumber the cores spin at their barriers (results do not depend on the count).
 int run_cleave(const std::string& args, std::string* output = nullptr) {
-  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
+  const std::string cmd = "OMP_NUM_THREADS=1 " + std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return -1;
   std::string text;
@@ -143,8 +145,8 @@ TEST_F(BondedTest, FourPointBendingBreaksFirstOnTheTensionFaceAndTheCrackGrowsTo
 }
 
 TEST_F(BondedTest, BrazilianDiscSplitsAlongTheLoadedDiameterWithTheSameStrengthForAnySeed) {
-  // Platens at 0.05 mm/s instead of the shipped 0.001 mm/s: the peak load is within 3 % of
-  // the one at 0.01 mm/s (measured: 1.988 Pa against 1.935 Pa).
+  // Platens at 0.05 mm/s instead of the shipped (seed's) 0.001 mm/s: the strength is
+  // 3.3 % above the one at 0.001 mm/s (measured: 1.988 Pa against 1.924 Pa).
   std::vector<double> strength;
   for (const int seed : {1, 2, 3, 4, 5}) {
     const fs::path dir = run("brazilian",
