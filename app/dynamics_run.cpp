@@ -59,6 +59,11 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
     sca["mean_stress_Pa"].push_back(physics::mean_stress(sigma));
     sca["von_mises_Pa"].push_back(physics::von_mises(sigma));
     vec["principal_stress_Pa"].push_back(physics::principal_stresses(sigma));
+    // Eq. 2.18: the in-plane (xy) invariants the seed plots for its one-plane specimens.
+    const physics::PlaneInvariants pq = physics::plane_invariants(sigma);
+    sca["p_xy_Pa"].push_back(pq.p);
+    sca["q_xy_Pa"].push_back(pq.q);
+    sca["theta_xy_deg"].push_back(pq.theta * 180.0 / M_PI);
   }
   return frame;
 }

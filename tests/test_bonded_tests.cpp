@@ -65,6 +65,10 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
   return rows;
 }
 
+std::string manifest_count(const fs::path& dir, const std::string& key) {
+  return cleave::io::read_manifest(dir).facts.at(key);
+}
+
 struct Break {
   double time, x, y;  // s, mm, mm
   std::string mode;
@@ -116,8 +120,22 @@ TEST_F(BondedTest, FourPointBendingBreaksFirstOnTheTensionFaceAndTheCrackGrowsTo
   const fs::path dir = run("four_point_bending",
                            {{"load_left = [0.0, -0.01, 0.0], load_right = [0.0, -0.01, 0.0]",
                              "load_left = [0.0, -0.05, 0.0], load_right = [0.0, -0.05, 0.0]"},
-                            {"frames = 20", "frames = 0"}},
+                            {"frames = 20", "frames = 2"}},
                            "bending");
+  // What a user opens: the bond network series with its fields, grains with their stress,
+  // and the curve.
+  const std::string pvd = cleave::io::read_file(dir / "bonds.pvd");
+  EXPECT_NE(pvd.find("frames/bonds_"), std::string::npos);
+  const std::string bonds_vtp = cleave::io::read_file(dir / "frames" / "bonds_000001.vtp");
+  for (const char* field : {"\"intact\"", "\"failure_mode\"", "\"normal_force_N\"", "\"force_N\""}) {
+    EXPECT_NE(bonds_vtp.find(field), std::string::npos) << field;
+  }
+  const std::string bodies_vtp = cleave::io::read_file(dir / "frames" / "bodies_000001.vtp");
+  for (const char* field : {"\"von_mises_Pa\"", "\"p_xy_Pa\"", "\"q_xy_Pa\""}) {
+    EXPECT_NE(bodies_vtp.find(field), std::string::npos) << field;
+  }
+  EXPECT_NE(cleave::io::read_file(dir / "load_displacement_loading.svg").find("<svg"), std::string::npos);
+  EXPECT_EQ(read_csv(dir / "bonds.csv").back().at("broken_tension"), manifest_count(dir, "bonds_broken_tension"));
   const auto manifest = cleave::io::read_manifest(dir);
   EXPECT_EQ(manifest.facts.at("stage_loading_ended_by"), "load_drop");
   const std::vector<Break> b = breaks(dir);

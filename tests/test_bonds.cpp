@@ -148,6 +148,17 @@ TEST(BondedChain, TensionForceMatchesTheSeriesStiffnessOfItsBonds) {
     EXPECT_NEAR(world.state(ids.back()).f.x(), -expected, 1e-6 * expected) << n << " prisms";
     EXPECT_NEAR(world.state(ids.front()).f.x(), expected, 1e-6 * expected) << n << " prisms";
     for (const Bond& b : world.bonds()) EXPECT_NEAR(b.state.normal, expected, 1e-6 * expected);
+    // Eq. 2.17 counts bond forces: an inner prism pulled by F on both sides at arms of half
+    // the pitch carries sigma_xx = 2 (pitch / 2) F / V, and nothing else.
+    if (n >= 3) {
+      const BodyId mid = ids[1];
+      const Eigen::Matrix3d sigma = world.body_stresses()[mid.index];
+      const double pitch = kFlat + 2.0 * kDilation - 3e-6;
+      const double V = prism().volume;
+      EXPECT_NEAR(sigma(0, 0), pitch * expected / V, 1e-5 * pitch * expected / V);
+      EXPECT_NEAR(sigma(1, 1), 0.0, 1e-9 * pitch * expected / V);
+      EXPECT_NEAR(sigma(0, 1), 0.0, 1e-9 * pitch * expected / V);
+    }
   }
 }
 
