@@ -76,6 +76,137 @@ void World::remove_body(BodyId id) {
     return ((e.key.a & kWallFlag) == 0 && e.key.a == slot) || e.key.b == slot;
   });
   std::erase_if(bonds_, [slot](const Bond& bd) { return bd.a == slot || bd.b == slot; });
+  std::erase_if(offsets_, [slot](const PairOffset& o) { return o.a == slot || o.b == slot; });
+}
+
+Fragment fragment_placement(const RigidShape& parent, const RigidShape& piece, std::uint32_t shape) {
+  Fragment f;
+  f.shape = shape;
+  // Both principal frames are given in the same shape coordinates.
+  f.offset = parent.axes.transpose() * (piece.centroid - parent.centroid);
+  f.turn = Eigen::Quaterniond(Eigen::Matrix3d(parent.axes.transpose() * piece.axes)).normalized();
+  return f;
+}
+
+std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>& pieces) {
+  if (!contains(parent)) throw std::out_of_range("split_body: stale or invalid body id");
+  if (pieces.empty()) throw std::invalid_argument("split_body: no pieces");
+  const BodyState ps = states_[parent.index];
+  const BodyInfo pi = infos_[parent.index];
+  const double rho = pi.mass / shapes_[pi.shape].volume;
+  const std::uint32_t old_slot = parent.index;
+  // The parent's bonds, taken out before its slot is freed.
+  std::vector<Bond> moved;
+  // Neighbours whose overlap with the parent counted from a stored value: every piece
+  // gets that value with them (a piece may touch a neighbour its bond did not follow).
+  std::vector<std::pair<std::uint32_t, double>> stored;
+  auto remember = [&](std::uint32_t other, double overlap) {
+    if (overlap > 0.0) stored.emplace_back(other, overlap);
+  };
+  for (const Bond& bd : bonds_) {
+    if (bd.a != old_slot && bd.b != old_slot) continue;
+    moved.push_back(bd);
+    double most = 0.0;
+    for (const auto& o : bd.initial) most = std::max(most, o.overlap);
+    remember(bd.a == old_slot ? bd.b : bd.a, most);
+  }
+  for (const PairOffset& o : offsets_) {
+    if (o.a == old_slot) remember(o.b, o.overlap);
+    if (o.b == old_slot) remember(o.a, o.overlap);
+  }
+  std::erase_if(bonds_, [old_slot](const Bond& bd) { return bd.a == old_slot || bd.b == old_slot; });
+  remove_body(parent);
+  std::vector<BodyId> ids;
+  for (const Fragment& f : pieces) {
+    if (f.shape >= shapes_.size()) throw std::out_of_range("split_body: no shape " + std::to_string(f.shape));
+    const Eigen::Vector3d x = ps.x + ps.q * f.offset;
+    const BodyId id = add_body(f.shape, rho, x, ps.q * f.turn, ps.v + ps.w.cross(x - ps.x), ps.w,
+                               pi.grain_id);
+    infos_[id.index].fixed = pi.fixed;
+    ids.push_back(id);
+  }
+  // Each bond follows its material point to the piece that holds it.
+  for (Bond bd : moved) {
+    const bool parent_is_a = bd.a == old_slot;
+    const Eigen::Vector3d arm = parent_is_a ? bd.arm_a : bd.arm_b;
+    const Eigen::Vector3d normal = parent_is_a ? bd.normal_a : bd.normal_b;
+    const Eigen::Vector3d point = ps.x + ps.q * arm;  // world, at the split
+    std::size_t best = 0;
+    double best_depth = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const BodyState& s = states_[ids[k].index];
+      const auto& faces = shapes_[infos_[ids[k].index].shape].primitives.faces;
+      const Eigen::Vector3d local = s.q.conjugate() * (point - s.x);
+      double depth = -std::numeric_limits<double>::infinity();  // largest signed distance
+      for (const auto& face : faces) depth = std::max(depth, face.normal.dot(local) - face.offset);
+      if (depth < best_depth) {
+        best_depth = depth;
+        best = k;
+      }
+    }
+    const BodyState& s = states_[ids[best].index];
+    const std::uint32_t slot = ids[best].index;
+    const Eigen::Vector3d new_arm = s.q.conjugate() * (point - s.x);
+    const Eigen::Vector3d new_normal = s.q.conjugate() * (ps.q * normal);
+    if (parent_is_a) {
+      bd.a = slot;
+      bd.arm_a = new_arm;
+      bd.normal_a = new_normal;
+    } else {
+      bd.b = slot;
+      bd.arm_b = new_arm;
+      bd.normal_b = new_normal;
+    }
+    if (bd.a > bd.b) {
+      // A and B trade places: the normal turns round, and the loads on B become those on A.
+      std::swap(bd.a, bd.b);
+      std::swap(bd.arm_a, bd.arm_b);
+      std::swap(bd.normal_a, bd.normal_b);
+      bd.normal_a = -bd.normal_a;
+      bd.normal_b = -bd.normal_b;
+      bd.normal = -bd.normal;
+      bd.state.shear = -bd.state.shear;
+      bd.state.bending = -bd.state.bending;
+      bd.force = -bd.force;
+      bd.moment = -bd.moment;
+    }
+    // The new piece's features are numbered anew: the largest stored overlap stands for all.
+    double stored = 0.0;
+    for (const auto& o : bd.initial) stored = std::max(stored, o.overlap);
+    bd.initial.clear();
+    if (stored > 0.0) bd.initial.push_back({Bond::kAnyFeature, Bond::kAnyFeature, stored});
+    bonds_.push_back(std::move(bd));
+  }
+  std::sort(bonds_.begin(), bonds_.end(),
+            [](const Bond& x, const Bond& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  // The pieces meet along the new crack with their dilations overlapping by the sum of
+  // their radii: that overlap, and the parent's stored ones, count as zero.
+  auto offset = [&](std::uint32_t a, std::uint32_t b, double overlap) {
+    offsets_.push_back({std::min(a, b), std::max(a, b), overlap});
+  };
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const double ri = shapes_[infos_[ids[i].index].shape].primitives.dilation_radius;
+    for (std::size_t j = i + 1; j < ids.size(); ++j) {
+      const double rj = shapes_[infos_[ids[j].index].shape].primitives.dilation_radius;
+      offset(ids[i].index, ids[j].index, ri + rj);
+    }
+    for (const auto& [other, overlap] : stored) offset(ids[i].index, other, overlap);
+  }
+  std::sort(offsets_.begin(), offsets_.end(), [](const PairOffset& x, const PairOffset& y) {
+    return std::tie(x.a, x.b, x.overlap) < std::tie(y.a, y.b, y.overlap);
+  });
+  // One entry per pair: the largest.
+  std::vector<PairOffset> merged;
+  for (const PairOffset& o : offsets_) {
+    if (!merged.empty() && merged.back().a == o.a && merged.back().b == o.b) {
+      merged.back().overlap = std::max(merged.back().overlap, o.overlap);
+    } else {
+      merged.push_back(o);
+    }
+  }
+  offsets_ = std::move(merged);
+  forces_current_ = false;
+  return ids;
 }
 
 void World::set_fixed(BodyId id, bool fixed) {
@@ -339,9 +470,11 @@ void World::evaluate_contact(std::size_t k, std::size_t& cursor, std::size_t& bo
   kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
   kin.spin = sb.w - wa;
   kin.lever = posed_[b].radius;
-  if (!wall && !bonds_.empty()) {
-    // Overlaps count from the one stored at bonding (end of sec. 2.3.3).
-    kin.overlap -= initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
+  if (!wall && (!bonds_.empty() || !offsets_.empty())) {
+    // Overlaps count from the one stored at bonding (end of sec. 2.3.3) or at a split.
+    double stored = bonds_.empty() ? 0.0 : initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
+    if (!offsets_.empty()) stored = std::max(stored, pair_offset(a, b));
+    kin.overlap -= stored;
   }
   ContactHistory h;
   if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
@@ -439,10 +572,20 @@ double World::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa
   }
   while (cursor < bonds_.size() && before(bonds_[cursor])) ++cursor;
   if (cursor == bonds_.size() || bonds_[cursor].a != a || bonds_[cursor].b != b) return 0.0;
+  double any = 0.0;
   for (const Bond::Overlap& o : bonds_[cursor].initial) {
     if (o.fa == fa && o.fb == fb) return o.overlap;
+    if (o.fa == Bond::kAnyFeature) any = o.overlap;
   }
-  return 0.0;
+  return any;
+}
+
+double World::pair_offset(std::uint32_t a, std::uint32_t b) const {
+  const auto it = std::lower_bound(offsets_.begin(), offsets_.end(), std::pair{a, b},
+                                   [](const PairOffset& o, std::pair<std::uint32_t, std::uint32_t> k) {
+                                     return std::pair{o.a, o.b} < k;
+                                   });
+  return it != offsets_.end() && it->a == a && it->b == b ? it->overlap : 0.0;
 }
 
 std::size_t World::initialise_bonds(const BondParams& params, double distance) {

@@ -58,9 +58,10 @@ struct Bond {
   /// overlaps of the same features count from it, so the bonded assembly starts stress-free.
   /// Kept after the bond breaks, so a broken bond does not spring apart.
   struct Overlap {
-    std::uint32_t fa, fb;
+    std::uint32_t fa, fb;  ///< kAnyFeature for both: any feature pair (after a split)
     double overlap;
   };
+  static constexpr std::uint32_t kAnyFeature = 0xFFFFFFFFu;
   std::vector<Overlap> initial;
   // Last force evaluation (world): the bond point, normal, and the force and moment on B.
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -82,6 +83,18 @@ struct BondBreak {
   BondFailure mode = BondFailure::none;
   BondState loads;  ///< the bond's forces and moments when it broke
 };
+
+/// One piece a body breaks into (chapter 3): a registered shape placed in the parent's
+/// principal frame. `fragment_placement` computes the placement from the two shapes.
+struct Fragment {
+  std::uint32_t shape = 0;                               ///< World shape index
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();      ///< its centroid, parent's frame
+  Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();  ///< its frame -> parent's frame
+};
+
+/// Where piece `piece` (cut from `parent`'s exact shape, in the same shape coordinates)
+/// sits in the parent's principal frame.
+Fragment fragment_placement(const RigidShape& parent, const RigidShape& piece, std::uint32_t shape);
 
 /// Intact bonds and broken ones by mode.
 struct BondCounts {
@@ -115,6 +128,14 @@ class World {
                   const Eigen::Vector3d& w = Eigen::Vector3d::Zero(), int grain_id = -1);
   /// Removes a body; its id (and any copy of it) becomes invalid.
   void remove_body(BodyId id);
+  /// Replaces a body by the pieces it breaks into (between steps). Each piece moves with
+  /// the parent's rigid velocity field, v + w x r, and spins with w, so that mass, linear
+  /// momentum and angular momentum are kept (exactly, up to round-off, when the pieces'
+  /// mass properties add up to the parent's). Bonds of the parent go to the piece that
+  /// holds the bond point (the one whose dilated shape it is deepest inside); their overlaps
+  /// stored at bonding count for any feature pair of the new piece. Returns the new ids in
+  /// the order of `pieces`; the parent's id becomes invalid.
+  std::vector<BodyId> split_body(BodyId parent, const std::vector<Fragment>& pieces);
   [[nodiscard]] bool contains(BodyId id) const;
   [[nodiscard]] std::size_t body_count() const { return live_; }
 
@@ -222,6 +243,16 @@ class World {
   std::vector<ContactForce> forces_;
   std::vector<ContactRecord> records_;
   std::vector<Bond> bonds_;  // sorted by (a, b)
+  /// Overlaps that count as zero between pairs that are not bonded (or no longer have the
+  /// bond that stored them): pieces of one split, whose dilated surfaces overlap across
+  /// the new crack by the sum of their dilation radii, and pieces of a split body with the
+  /// parent's neighbours. Sorted by (a, b), a < b.
+  struct PairOffset {
+    std::uint32_t a, b;
+    double overlap;
+  };
+  std::vector<PairOffset> offsets_;
+  [[nodiscard]] double pair_offset(std::uint32_t a, std::uint32_t b) const;
   BondParams bond_params_;
   std::vector<BondResult> bond_results_;
   std::vector<BondBreak> breaks_;
