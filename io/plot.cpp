@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "io/result_dir.hpp"
+#include "io/xml_text.hpp"
 
 // Layout: a white background, the title on top, the data rectangle ("plot-area") with light
 // grid lines at the ticks, tick marks and labels outside it on the left and bottom, the axis
@@ -55,39 +56,10 @@ double px(double v) {
   return std::isfinite(v) ? v : 0.0;
 }
 
-/// Appends `text` with the XML special characters escaped, safe inside a quoted attribute.
-/// Control characters other than tab and newline, which XML 1.0 forbids, become spaces.
-void append_escaped(std::string& out, std::string_view text) {
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n') {
-          out += ' ';
-        } else {
-          out += c;
-        }
-    }
-  }
-}
 
 std::string escaped(std::string_view text) {
   std::string out;
-  append_escaped(out, text);
+  append_xml_escaped(out, text);
   return out;
 }
 

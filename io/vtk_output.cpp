@@ -15,6 +15,7 @@
 #include <string_view>
 #include <system_error>
 #include <utility>
+#include "io/xml_text.hpp"
 
 // File layout (what tests/test_vtk_output.cpp reads back):
 //  * One <Piece> of VTK XML PolyData, version 1.0, header_type UInt64. Every DataArray is
@@ -60,30 +61,6 @@ void append_int(std::string& out, Int value) {
   out.append(buf, res.ptr);
 }
 
-/// Appends `text` with the XML special characters escaped, safe inside a quoted attribute.
-void append_escaped(std::string& out, std::string_view text) {
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-}
 
 /// True if `text` has a C0 control character or DEL. XML 1.0 cannot carry most of them even
 /// escaped, and tab or newline in a name would be normalised away by XML parsers.
@@ -191,7 +168,7 @@ void write_piece(const fs::path& file, const Piece& piece) {
     xml += "        <DataArray type=\"";
     xml += a.type == ValueType::float64 ? "Float64" : "Int64";
     xml += "\" Name=\"";
-    append_escaped(xml, a.name);
+    append_xml_escaped(xml, a.name);
     xml += "\" NumberOfComponents=\"";
     append_int(xml, a.components);
     xml += "\" format=\"appended\" offset=\"";
@@ -471,7 +448,7 @@ void PvdSeries::add(double time, const fs::path& relative_file, int part) {
     xml += "\" group=\"\" part=\"";
     append_int(xml, e.part);
     xml += "\" file=\"";
-    append_escaped(xml, e.file);
+    append_xml_escaped(xml, e.file);
     xml += "\"/>\n";
   }
   xml += "  </Collection>\n</VTKFile>\n";
