@@ -1,0 +1,136 @@
+#include "physics/fracture_book.hpp"
+
+#include <stdexcept>
+
+namespace cleave::physics {
+
+FractureBook::FractureBook(double dilation_radius, double min_fragment_fraction)
+    : dilation_(dilation_radius), min_fraction_(min_fragment_fraction) {}
+
+void FractureBook::add_shape(std::uint32_t shape_index,
+                             std::shared_ptr<const geometry::ExactPolyhedron> shape) {
+  shapes_[shape_index] = {shape, make_rigid_shape(*shape, dilation_)};
+}
+
+void FractureBook::add_grain(const World& world, BodyId id, int grain_id,
+                             const geometry::CrystalOrientation& orientation) {
+  const std::uint32_t shape = world.info(id).shape;
+  const auto it = shapes_.find(shape);
+  if (it == shapes_.end()) throw std::logic_error("FractureBook: body's shape is not registered");
+  if (by_slot_.size() <= id.index) by_slot_.resize(id.index + 1);
+  Record& r = by_slot_[id.index];
+  r = Record{};
+  r.generation = id.generation;
+  r.used = true;
+  r.lineage.grain_id = grain_id;
+  r.shape = shape;
+  r.planes = std::make_shared<const std::vector<geometry::ExactPlane>>(
+      it->second.exact->cleavage_planes(orientation));
+  for (int k = 0; k < static_cast<int>(r.planes->size()); ++k) r.candidates.push_back(k);
+}
+
+const FractureBook::Record& FractureBook::record(BodyId id) const {
+  if (id.index >= by_slot_.size() || !by_slot_[id.index].used ||
+      by_slot_[id.index].generation != id.generation) {
+    throw std::out_of_range("FractureBook: body is not registered");
+  }
+  return by_slot_[id.index];
+}
+FractureBook::Record& FractureBook::record(BodyId id) {
+  return const_cast<Record&>(static_cast<const FractureBook&>(*this).record(id));
+}
+
+const std::vector<int>& FractureBook::candidates(BodyId id) const { return record(id).candidates; }
+const std::vector<geometry::ExactPlane>& FractureBook::planes(BodyId id) const {
+  return *record(id).planes;
+}
+const geometry::Lineage& FractureBook::lineage(BodyId id) const { return record(id).lineage; }
+const geometry::ExactPolyhedron& FractureBook::exact_shape(BodyId id) const {
+  return *shapes_.at(record(id).shape).exact;
+}
+
+std::pair<Eigen::Vector3d, Eigen::Vector3d> FractureBook::world_plane(const World& world, BodyId id,
+                                                                      int plane) const {
+  const Record& r = record(id);
+  const geometry::ExactPlane& p = r.planes->at(static_cast<std::size_t>(plane));
+  const RigidShape& shape = world.shape(world.info(id).shape);
+  const BodyState& s = world.state(id);
+  // Grain coordinates -> principal frame -> world.
+  const Eigen::Vector3d n = p.normal_approx();
+  const Eigen::Vector3d on = n * p.offset_approx();
+  return {s.q * (shape.axes.transpose() * n),
+          s.x + s.q * (shape.axes.transpose() * (on - shape.centroid))};
+}
+
+SplitEvent FractureBook::split(World& world, BodyId id, int plane) {
+  Record& r = record(id);
+  SplitEvent event;
+  event.time = world.time();
+  event.parent = r.lineage;
+  event.plane = plane;
+  const geometry::ExactPlane& cut = r.planes->at(static_cast<std::size_t>(plane));
+  const auto key = std::pair{r.shape, cut.to_string()};
+  auto found = cuts_.find(key);
+  if (found == cuts_.end()) {
+    // The exact cut, once per (shape, plane): CGAL-backed, so never in the step loop.
+    const geometry::SplitResult parts = shapes_.at(r.shape).exact->split(cut, min_fraction_);
+    std::vector<std::uint32_t> made;
+    if (parts.ok()) {
+      for (const auto* part : {&*parts.below, &*parts.above}) {
+        auto exact = std::make_shared<const geometry::ExactPolyhedron>(*part);
+        const std::uint32_t index = world.add_shape(make_rigid_shape(*exact, dilation_));
+        shapes_[index] = {exact, world.shape(index)};
+        made.push_back(index);
+      }
+    }
+    found = cuts_.emplace(key, std::move(made)).first;
+  }
+  if (found->second.empty()) {
+    std::erase(r.candidates, plane);
+    return event;
+  }
+  const auto [normal, point] = world_plane(world, id, plane);
+  event.normal = normal;
+  event.point = world.state(id).x;
+  const RigidShape parent_shape = world.shape(r.shape);
+  std::vector<Fragment> pieces;
+  for (std::uint32_t index : found->second) {
+    pieces.push_back(fragment_placement(parent_shape, world.shape(index), index));
+  }
+  const Record parent = r;  // r dies with the parent's slot
+  event.ids = world.split_body(id, pieces);
+  for (std::size_t k = 0; k < event.ids.size(); ++k) {
+    const BodyId child = event.ids[k];
+    if (by_slot_.size() <= child.index) by_slot_.resize(child.index + 1);
+    Record& c = by_slot_[child.index];
+    c = Record{};
+    c.generation = child.generation;
+    c.used = true;
+    c.lineage = parent.lineage;
+    c.lineage.path.push_back(static_cast<int>(k));
+    c.shape = found->second[k];
+    c.planes = parent.planes;
+    // The plane just used is spent; the others stay candidates while they cut the piece
+    // (a refused cut drops them later).
+    for (int p : parent.candidates) {
+      if (p != plane) c.candidates.push_back(p);
+    }
+    event.pieces.push_back(c.lineage);
+  }
+  return event;
+}
+
+std::vector<FractureBook::Entry> FractureBook::entries(const World& world) const {
+  std::vector<Entry> out;
+  for (const BodyId id : world.body_ids()) {
+    if (id.index >= by_slot_.size() || !by_slot_[id.index].used ||
+        by_slot_[id.index].generation != id.generation) {
+      continue;
+    }
+    const Record& r = by_slot_[id.index];
+    out.push_back({id, r.lineage, shapes_.at(r.shape).exact});
+  }
+  return out;
+}
+
+}  // namespace cleave::physics

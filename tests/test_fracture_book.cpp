@@ -1,0 +1,127 @@
+// The exact side of transgranular fracture: grains cut along their cleavage planes during
+// a run keep their exact volume (summed over the live pieces, compared as rationals), carry
+// their lineage, share the pieces' shapes, and drop planes that no longer cut them.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "physics/fracture_book.hpp"
+
+using namespace cleave;
+using namespace cleave::physics;
+
+namespace {
+
+constexpr double kSide = 0.5e-3, kThick = 1.0e-3, kDilation = 0.05e-3, kRho = 3100.0;
+
+struct Rig {
+  World world;
+  FractureBook book{kDilation, 0.01};
+  std::shared_ptr<const geometry::ExactPolyhedron> prism =
+      std::make_shared<const geometry::ExactPolyhedron>(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick));
+  std::uint32_t shape = 0;
+  Rig() : world(settings()) {
+    shape = world.add_shape(make_rigid_shape(*prism, kDilation));
+    book.add_shape(shape, prism);
+  }
+  static WorldSettings settings() {
+    WorldSettings ws;
+    ws.gravity.setZero();
+    ws.particle_particle.kn = 5000.0;
+    ws.particle_wall.kn = 5000.0;
+    ws.threads = 1;
+    return ws;
+  }
+  BodyId grain(int id, const Eigen::Vector3d& x, geometry::CrystalOrientation o) {
+    const BodyId b = world.add_body(shape, kRho, x, world.shape(shape).orientation_for(), {0.1, 0, 0},
+                                    {0, 0, 50}, id);
+    book.add_grain(world, b, id, o);
+    return b;
+  }
+};
+
+/// The exact volume of every live piece of grain `grain`, summed.
+geometry::ExactScalar grain_volume(const Rig& s, int grain) {
+  geometry::ExactScalar sum;
+  for (const auto& e : s.book.entries(s.world)) {
+    if (e.lineage.grain_id == grain) sum = sum + e.shape->volume();
+  }
+  return sum;
+}
+
+}  // namespace
+
+TEST(FractureBook, ThreeSlabGrainBreaksTwiceAndKeepsItsExactVolume) {
+  Rig s;
+  const geometry::CrystalOrientation o{geometry::CleavageFamily::a_11_20, 60};
+  const BodyId g = s.grain(5, {0, 0, 0}, o);
+  ASSERT_EQ(s.book.candidates(g).size(), 2u);  // <11-20>: two planes, three slabs
+  const geometry::ExactScalar whole = s.prism->volume();
+
+  const SplitEvent first = s.book.split(s.world, g, 0);
+  ASSERT_EQ(first.ids.size(), 2u);
+  EXPECT_EQ(first.parent.path_string(), "5");
+  EXPECT_EQ(first.pieces[0].path_string(), "5.0");
+  EXPECT_EQ(first.pieces[1].path_string(), "5.1");
+  EXPECT_TRUE(grain_volume(s, 5) == whole);
+  EXPECT_EQ(s.world.body_count(), 2u);
+
+  // Each piece keeps plane 1 as a candidate; it cuts exactly one of them (the other lies
+  // wholly on one side), which the book finds and drops.
+  int cut = 0;
+  for (const BodyId piece : first.ids) {
+    ASSERT_EQ(s.book.candidates(piece), std::vector<int>{1});
+    const SplitEvent second = s.book.split(s.world, piece, 1);
+    if (second.ids.empty()) {
+      EXPECT_TRUE(s.book.candidates(piece).empty());
+      continue;
+    }
+    ++cut;
+    for (const auto& l : second.pieces) EXPECT_EQ(l.path.size(), 2u);
+  }
+  EXPECT_EQ(cut, 1);
+  EXPECT_EQ(s.world.body_count(), 3u);
+  EXPECT_TRUE(grain_volume(s, 5) == whole);
+  // The three live pieces are the prism's three cleavage slabs, exactly.
+  const auto slabs = s.prism->cleavage_slabs(o);
+  ASSERT_EQ(slabs.size(), 3u);
+  for (const auto& e : s.book.entries(s.world)) {
+    bool same = false;
+    for (const auto& slab : slabs) same = same || (slab.volume() == e.shape->volume());
+    EXPECT_TRUE(same) << e.lineage.path_string();
+  }
+}
+
+TEST(FractureBook, GrainsCutAlongTheSamePlaneShareTheirPieces) {
+  Rig s;
+  const geometry::CrystalOrientation o{geometry::CleavageFamily::m_10_10, 120};
+  const BodyId a = s.grain(1, {0, 0, 0}, o);
+  const BodyId b = s.grain(2, {5e-3, 0, 0}, o);
+  s.book.split(s.world, a, 0);
+  const std::size_t shapes_after_one = s.book.entries(s.world).size();
+  EXPECT_EQ(shapes_after_one, 3u);  // two pieces of grain 1, grain 2 whole
+  const SplitEvent e = s.book.split(s.world, b, 0);
+  ASSERT_EQ(e.ids.size(), 2u);
+  // The second grain's pieces use the first grain's shapes: no new shape was made.
+  std::set<std::uint32_t> used;
+  for (const auto& entry : s.book.entries(s.world)) used.insert(s.world.info(entry.id).shape);
+  EXPECT_EQ(used.size(), 2u);
+  EXPECT_TRUE(grain_volume(s, 1) == s.prism->volume());
+  EXPECT_TRUE(grain_volume(s, 2) == s.prism->volume());
+}
+
+TEST(FractureBook, CrackPlaneInTheWorldFollowsTheGrain) {
+  // A <10-10> grain cut at 0 deg: the plane passes through the grain's centre; turned by
+  // 90 deg about z, its world normal turns with it.
+  Rig s;
+  const geometry::CrystalOrientation o{geometry::CleavageFamily::m_10_10, 0};
+  const BodyId g = s.grain(3, {1e-3, 2e-3, 0}, o);
+  const auto [n0, p0] = s.book.world_plane(s.world, g, 0);
+  EXPECT_NEAR(n0.norm(), 1.0, 1e-12);
+  // The centre lies on the plane (two equal slabs).
+  EXPECT_NEAR(n0.dot(s.world.state(g).x - p0), 0.0, 1e-12);
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  s.world.state(g).q = turn * s.world.state(g).q;
+  const auto [n1, p1] = s.book.world_plane(s.world, g, 0);
+  EXPECT_LT((n1 - turn * n0).norm(), 1e-12);
+}
