@@ -53,7 +53,7 @@ struct FaceGeometry {
   Eigen::Vector3d x_axis = Eigen::Vector3d::UnitX();  ///< in-plane unit axis (local x)
   Eigen::Vector3d y_axis = Eigen::Vector3d::UnitY();  ///< normal x x_axis (local y)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();   ///< frame origin (the centroid)
-  double area = 0.0;  ///< A
+  double area = 0.0;                                  ///< A
   double q_x = 0.0;   ///< Q_x = integral of y dA (zero about the centroid)
   double q_y = 0.0;   ///< Q_y = integral of x dA (zero about the centroid)
   double i_xx = 0.0;  ///< I_xx = integral of x^2 dA
@@ -70,8 +70,8 @@ struct FaceGeometry {
 /// the boundary, either sense; projected onto the plane through their mean with unit
 /// `normal`). The frame has `normal`, the unit projection of `x_axis` onto the plane and
 /// y = normal x x; its origin is the area centroid, so q_x = q_y = 0.
-FaceGeometry face_geometry(std::span<const Eigen::Vector3d> polygon,
-                           const Eigen::Vector3d& normal, const Eigen::Vector3d& x_axis);
+FaceGeometry face_geometry(std::span<const Eigen::Vector3d> polygon, const Eigen::Vector3d& normal,
+                           const Eigen::Vector3d& x_axis);
 
 /// As above, with the normal from Newell's formula (counter-clockwise vertices seen from
 /// outside give the outward normal) and the first edge as the x axis.
