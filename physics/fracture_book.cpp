@@ -29,6 +29,11 @@ void FractureBook::add_grain(const World& world, BodyId id, int grain_id,
   for (int k = 0; k < static_cast<int>(r.planes->size()); ++k) r.candidates.push_back(k);
 }
 
+bool FractureBook::knows(BodyId id) const {
+  return id.index < by_slot_.size() && by_slot_[id.index].used &&
+         by_slot_[id.index].generation == id.generation;
+}
+
 const FractureBook::Record& FractureBook::record(BodyId id) const {
   if (id.index >= by_slot_.size() || !by_slot_[id.index].used ||
       by_slot_[id.index].generation != id.generation) {

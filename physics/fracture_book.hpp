@@ -49,6 +49,8 @@ class FractureBook {
   void add_grain(const World& world, BodyId id, int grain_id,
                  const geometry::CrystalOrientation& orientation);
 
+  /// Whether body `id` is registered (bodies that are not, e.g. fixed rig parts, never split).
+  [[nodiscard]] bool knows(BodyId id) const;
   /// Indices (into `planes(id)`) of the cleavage planes that may still cut body `id`.
   [[nodiscard]] const std::vector<int>& candidates(BodyId id) const;
   /// The grain's cleavage planes, in grain coordinates.

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "physics/fracture_book.hpp"
+#include "physics/transgranular.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
@@ -124,4 +125,72 @@ TEST(FractureBook, CrackPlaneInTheWorldFollowsTheGrain) {
   s.world.state(g).q = turn * s.world.state(g).q;
   const auto [n1, p1] = s.book.world_plane(s.world, g, 0);
   EXPECT_LT((n1 - turn * n0).norm(), 1e-12);
+}
+
+TEST(Transgranular, GrainPulledAcrossItsCleavagePlaneSplitsThereWhenKIReachesKIc) {
+  // A <10-10> grain whose cleavage plane is x = 0 (through corners 0 and 3), bonded on its
+  // two x faces to neighbours that are pulled apart. Each bond pulls with F at its face
+  // centre, so the section x = 0 (area A_c = 2 a t) carries sigma = F / A_c and no shear:
+  // K_I = F / A_c sqrt(pi a_crack) (eqs 3.23-3.24). With the gate of eq. 3.22 open (mean
+  // stress > 0), the grain must not split while K_I < K_Ic and must split on that plane at
+  // the step F passes F* = K_Ic A_c / sqrt(pi a_crack).
+  Rig s;
+  geometry::CrystalOrientation o{geometry::CleavageFamily::m_10_10, 0};
+  int angle = -1;
+  for (const int a : {0, 60, 120}) {
+    Rig probe;
+    const BodyId g = probe.grain(0, {0, 0, 0}, {geometry::CleavageFamily::m_10_10, a});
+    if (std::abs(probe.book.world_plane(probe.world, g, 0).first.x()) > 1.0 - 1e-12) angle = a;
+  }
+  ASSERT_GE(angle, 0) << "no <10-10> plane along x";
+  o.angle_deg = angle;
+  const double pitch = std::sqrt(3.0) * kSide + 2 * kDilation - 1e-6;
+  const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(), {}, {}, 0);
+  s.book.add_grain(s.world, g, 0, o);
+  const BodyId left = s.world.add_body(s.shape, kRho, {-pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
+  const BodyId right = s.world.add_body(s.shape, kRho, {pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
+  const double area = M_PI * kDilation * kDilation;
+  const BondParams bond{5000.0 / area, 2000.0 / area, 1e9, 1e9};  // strong: the grain breaks first
+  ASSERT_EQ(s.world.initialise_bonds(bond, 0.0), 2u);
+  s.world.set_fixed(left, true);
+  s.world.set_fixed(right, true);
+  s.world.state(left).v = {-1e-3, 0, 0};
+  s.world.state(right).v = {1e-3, 0, 0};
+
+  FractureParams p;
+  p.sigma_f_hyd = 0.0;
+  p.crack_length = 0.1e-3;
+  const double a_c = 2 * kSide * kThick;
+  const double f_star = 2e-4;  // N: reached after 40 nm of opening per bond
+  p.k_ic = f_star / a_c * std::sqrt(M_PI * p.crack_length);
+
+  double previous = 0.0;
+  for (int step = 0; step < 20000; ++step) {
+    s.world.step();
+    const double f = s.world.bonds().front().state.normal;  // bond tension, N
+    const auto events = transgranular_step(s.world, s.book, p);
+    if (events.empty()) {
+      ASSERT_LT(f, f_star * (1 + 1e-6)) << "no split at F = " << f << " N, step " << step;
+      previous = f;
+      continue;
+    }
+    ASSERT_EQ(events.size(), 1u);
+    const auto& e = events.front();
+    EXPECT_GE(f, f_star * (1 - 1e-6));
+    EXPECT_LT(previous, f_star);
+    EXPECT_EQ(e.cause.plane, 0);
+    EXPECT_NEAR(e.cause.stresses.sigma, f / a_c, 1e-6 * f / a_c);
+    EXPECT_NEAR(e.cause.stresses.tau, 0.0, 1e-6 * f / a_c);
+    EXPECT_NEAR(std::abs(e.split.normal.x()), 1.0, 1e-12);
+    EXPECT_EQ(e.split.pieces.size(), 2u);
+    EXPECT_TRUE(grain_volume(s, 0) == s.prism->volume());
+    // Each piece took the bond on its side.
+    for (const Bond& b : s.world.bonds()) {
+      const bool has_piece = b.a == e.split.ids[0].index || b.b == e.split.ids[0].index ||
+                             b.a == e.split.ids[1].index || b.b == e.split.ids[1].index;
+      EXPECT_TRUE(has_piece);
+    }
+    return;
+  }
+  FAIL() << "the grain never split; last bond force " << previous << " N, F* = " << f_star;
 }
