@@ -13,7 +13,9 @@
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
 #include "io/world_setup.hpp"
+#include "physics/fracture_book.hpp"
 #include "physics/grain_stress.hpp"
+#include "physics/transgranular.hpp"
 #include "physics/world.hpp"
 
 namespace cleave::app {
@@ -150,6 +152,19 @@ class Runner {
     walls_ += "\n";
     loads_ += ",load_N,load_point_displacement_m\n";
     bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
+    if (scenario_.fracture.enabled) {
+      // Every grain may split along its cleavage planes (chapter 3): the book knows its
+      // exact shape (world shape 0 is the grains' prism, io::make_world) and orientation.
+      book_.emplace(scenario_.contact.dilation_radius, scenario_.split.min_fragment_fraction);
+      book_->add_shape(0, std::make_shared<const geometry::ExactPolyhedron>(specimen_.prism));
+      for (const physics::BodyId id : world_.body_ids()) {
+        const int grain = world_.info(id).grain_id;
+        book_->add_grain(world_, id, grain, specimen_.grains.at(static_cast<std::size_t>(grain)).orientation);
+      }
+      splits_ =
+          "time_s,step,stage,grain,parent,pieces,plane,nx,ny,nz,x_m,y_m,z_m,mean_stress_Pa,sigma_Pa,"
+          "tau_Pa,K_I_Pa_sqrt_m,K_II_Pa_sqrt_m,criterion\n";
+    }
   }
 
   DynamicsSummary run() {
@@ -180,6 +195,12 @@ class Runner {
     sum_.released_energy = pe0_ - world_.potential_energy();
     sum_.lowest_point = lowest_vertex(world_);
     sum_.bond_counts = world_.bond_counts();
+    if (book_) {
+      for (const auto& e : book_->entries(world_)) {
+        const auto& grain = specimen_.grains.at(static_cast<std::size_t>(e.lineage.grain_id));
+        sum_.final_pieces.push_back({e.lineage, e.shape, grain.site.centre, grain.orientation});
+      }
+    }
     for (const auto& st : sum_.stages) sum_.peak_load = std::max(sum_.peak_load, st.peak_load);
     const geometry::Outline& outline = specimen_.def.outline;
     if (outline.kind == geometry::Outline::Kind::disc && sum_.peak_load > 0.0) {
@@ -239,6 +260,9 @@ class Runner {
     for (std::uint64_t i = 1; i <= limit && !event; ++i) {
       world_.step();
       ++st.steps;
+      if (book_ && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
+        st.splits += split_grains();
+      }
       double overlap = 0.0;
       for (const auto& c : world_.contacts()) overlap = std::max(overlap, c.overlap);
       sum_.max_overlap = std::max(sum_.max_overlap, overlap);
@@ -286,6 +310,7 @@ class Runner {
         if (!world_.bonds().empty()) {
           line += fmt::format("  bonds {}/{} broken", world_.bond_counts().broken(), world_.bonds().size());
         }
+        if (book_) line += fmt::format("  splits {}", sum_.splits);
         if (!load_walls.empty()) line += fmt::format("  load {:.4g} N", load);
         line += fmt::format("  ETA {:.0f} s   ", eta);
         std::fputs(line.c_str(), stderr);
@@ -310,6 +335,7 @@ class Runner {
                             st.peak_displacement * 1e6);
       }
       if (!world_.bonds().empty()) line += fmt::format("; {} bonds broke", st.bonds_broken);
+      if (book_) line += fmt::format("; {} grains split", st.splits);
       std::fprintf(stderr, "%s\n", line.c_str());
       progress_shown_ = false;
     }
@@ -347,6 +373,24 @@ class Runner {
       displacement += travel[k] / members[k];
     }
     return {load, displacement};
+  }
+
+  /// The transgranular check of sec. 3.4 on every body; logs each split. Returns how many.
+  std::size_t split_grains() {
+    const auto events = physics::transgranular_step(world_, *book_, scenario_.fracture.params);
+    for (const auto& e : events) {
+      std::string pieces;
+      for (const auto& l : e.split.pieces) pieces += (pieces.empty() ? "" : " ") + l.path_string();
+      const auto& r = e.cause.result;
+      splits_ += fmt::format(
+          "{:.9g},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+          e.split.time, world_.steps(), stage_, e.split.parent.grain_id, e.split.parent.path_string(), pieces,
+          e.split.plane, e.split.normal.x(), e.split.normal.y(), e.split.normal.z(), e.split.point.x(),
+          e.split.point.y(), e.split.point.z(), r.mean_stress, e.cause.stresses.sigma, e.cause.stresses.tau,
+          r.k_i, r.k_ii, r.criterion);
+    }
+    sum_.splits += events.size();
+    return events.size();
   }
 
   bool settled() const {
@@ -441,6 +485,7 @@ class Runner {
     io::write_file_atomically(out_ / "energy.csv", energy_);
     io::write_file_atomically(out_ / "walls.csv", walls_);
     io::write_file_atomically(out_ / "load_displacement.csv", loads_);
+    if (book_) io::write_file_atomically(out_ / "splits.csv", splits_);
     if (!scenario_.bond.enabled) return;
     io::write_file_atomically(out_ / "bonds.csv", bond_counts_);
     std::string breaks =
@@ -471,7 +516,8 @@ class Runner {
   io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_;
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;
-  std::string energy_, walls_, loads_, bond_counts_;
+  std::string energy_, walls_, loads_, bond_counts_, splits_;
+  std::optional<physics::FractureBook> book_;
   std::string stage_;
   std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)
   std::vector<char> touched_;

@@ -28,6 +28,7 @@ struct StageSummary {
   double peak_load = 0.0;      ///< largest load on its load walls, N
   double peak_displacement = 0.0;  ///< load-point displacement at that peak, m
   std::size_t bonds_broken = 0;
+  std::size_t splits = 0;      ///< grains or fragments split (transgranular cracks)
   std::string plot;            ///< load-displacement picture written for it (file name)
 };
 
@@ -45,6 +46,10 @@ struct DynamicsSummary {
   std::size_t bonds = 0;             ///< bonds made at bond initialisation
   physics::BondCounts bond_counts;
   double peak_load = 0.0;            ///< largest load of any stage, N
+  std::size_t splits = 0;            ///< transgranular cracks (grain splits)
+  /// With [fracture]: every live piece at the end (exact shape in its grain's frame,
+  /// placed at the grain's lattice centre), for geometry.exact and the volume check.
+  std::vector<geometry::Piece> final_pieces;
   /// Disc specimens: the Brazilian tensile strength 2P/(pi D t) of the peak load (sec. 2.5.4).
   std::optional<double> brazilian_strength;
 };

@@ -124,8 +124,9 @@ ExactStore parse_exact_store(const std::string& text, const std::string& source)
       if (p.shape < 0 || p.shape >= static_cast<int>(store.shapes.size())) {
         throw fail(fmt::format("shape {} is not defined above", p.shape));
       }
-      if ((kind == "grain") != p.lineage.path.empty()) {
-        throw fail("a grain has a plain id, a fragment a path like 17.0");
+      // A fragment with a plain id is a grain that stayed whole (a run's final pieces).
+      if (kind == "grain" && !p.lineage.path.empty()) {
+        throw fail("a grain has a plain id; a path like 17.0 names a fragment");
       }
       (kind == "grain" ? store.grains : store.fragments).push_back(std::move(p));
     } else {

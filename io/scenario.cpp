@@ -57,6 +57,9 @@
 ///                              # platen: u, size; cylinder: length, radius (length unit)
 ///   [bond]                     # optional, sec. 2.3.3: kbn, kbs (N/m^3, eq. 2.9; kbn > 0,
 ///                              # kbs >= 0), tbn, tbs (Pa, > 0, eq. 2.14); needs a bond stage
+///   [fracture]                 # optional, chapter 3 (needs [dynamics]): sigma_f_hyd (Pa,
+///                              # eq. 3.22), k_ic (Pa sqrt(m), > 0), c (> 0, default 0.816),
+///                              # crack_length (length unit, > 0), check_every (>= 1, default 1)
 ///   [[stage]]                  # any number, run in file order (needs [dynamics]):
 ///   name = "loading"           # required, unique
 ///   kind = "motion"            # optional: "motion" (default) | "bond"
@@ -243,6 +246,11 @@ class TableReader {
   [[noreturn]] void fail(const toml::node& node, std::string_view key,
                          const std::string& message) const {
     fail(node.source(), key, message);
+  }
+  /// An error about the whole table: positioned at its header, naming the table.
+  [[noreturn]] void fail_table(const std::string& message) const {
+    const toml::source_region& where = table_->source();
+    throw ScenarioError(source_, line_of(where), column_of(where), name_, message);
   }
   /// An error about a key that is not there: positioned at the table's header.
   [[noreturn]] void fail_absent(std::string_view key, const std::string& message) const {
@@ -738,6 +746,21 @@ void read_bond_table(const TableReader& t, BondDef& b) {
   b.params.tbs = t.number("tbs", Range::positive()).value;
 }
 
+constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",
+                                              "check_every"};
+
+void read_fracture_table(const TableReader& t, double unit, bool dynamics, FractureDef& f) {
+  t.reject_unknown(kFractureKeys);
+  if (t.table() == nullptr) return;
+  if (!dynamics) t.fail_table("[fracture] needs a [dynamics] table");
+  f.enabled = true;
+  f.params.sigma_f_hyd = t.number("sigma_f_hyd", Range{}).value;
+  f.params.k_ic = t.number("k_ic", Range::positive()).value;
+  f.params.c = t.number("c", Range::positive(), 0.816).value;
+  f.params.crack_length = t.number("crack_length", Range::positive()).value * unit;
+  f.check_every = static_cast<int>(t.integer("check_every", 1, 1));
+}
+
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
                                                  "steps", "time",      "until",
                                                  "load_drop", "load_walls", "frames"};
@@ -839,7 +862,8 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
 
 constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
                                         "split",    "output",   "material", "contact",
-                                        "dynamics", "wall",     "bond",     "stage"};
+                                        "dynamics", "wall",     "bond",     "stage",
+                                        "fracture"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -928,6 +952,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
     }
   }
   read_bond_table(reader("bond"), s.bond);
+  read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
       const toml::node& first = *stages->get(0);

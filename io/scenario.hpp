@@ -15,6 +15,7 @@
 #include "io/mesh_io.hpp"
 #include "physics/bond_law.hpp"
 #include "physics/contact_law.hpp"
+#include "physics/fracture_criterion.hpp"
 #include "physics/neighbour_search.hpp"
 #include "physics/wall.hpp"
 
@@ -88,6 +89,13 @@ struct BondDef {
   physics::BondParams params;  ///< k_bn, k_bs in N/m^3; t_bn, t_bs in Pa
 };
 
+/// [fracture]: transgranular fracture during a run (chapter 3, eqs 3.22-3.25).
+struct FractureDef {
+  bool enabled = false;
+  physics::FractureParams params;  ///< sigma_f_hyd Pa, k_ic Pa sqrt(m), c, crack_length m
+  int check_every = 1;             ///< steps between two checks
+};
+
 /// One [[stage]] of a staged run (sec. 2.5.2: compaction, bond initialisation, loading).
 struct StageDef {
   enum class Kind { motion, bond };
@@ -124,6 +132,7 @@ struct Scenario {
   ContactDef contact;
   DynamicsDef dynamics;
   BondDef bond;
+  FractureDef fracture;
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
 };

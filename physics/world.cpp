@@ -410,6 +410,7 @@ void World::evaluate_and_apply(int nt) {
   // the previous step's history, and writes its own slot.
   const std::size_t n = pending_.size();
   forces_.resize(n);
+  overlaps_.resize(n);
   next_history_.resize(n);
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
 #pragma omp parallel num_threads(nt) if (nt > 1)
@@ -485,6 +486,7 @@ void World::evaluate_contact(std::size_t k, std::size_t& cursor, std::size_t& bo
   }
   const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
   forces_[k] = contact_force(params, kin, h, settings_.dt);
+  overlaps_[k] = kin.overlap;
   next_history_[k] = {p.key, h};
 }
 
@@ -507,7 +509,7 @@ void World::sum_forces() {
       sa.f -= f.force;
       sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
     }
-    records_.push_back({a, b, wall, p.contact.point, p.contact.normal, p.contact.penetration, f.force});
+    records_.push_back({a, b, wall, p.contact.point, p.contact.normal, overlaps_[k], f.force});
   }
   std::swap(history_, next_history_);
 }

@@ -109,7 +109,7 @@ struct ContactRecord {
   bool wall = false;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< from A towards B
-  double overlap = 0.0;
+  double overlap = 0.0;  ///< beyond the overlap stored at bonding or a split (raw otherwise)
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B
 };
 
@@ -241,6 +241,7 @@ class World {
   std::vector<Pending> pending_;
   std::vector<std::vector<Pending>> thread_pending_;
   std::vector<ContactForce> forces_;
+  std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
   std::vector<ContactRecord> records_;
   std::vector<Bond> bonds_;  // sorted by (a, b)
   /// Overlaps that count as zero between pairs that are not bonded (or no longer have the
