@@ -184,13 +184,75 @@ TEST(Transgranular, GrainPulledAcrossItsCleavagePlaneSplitsThereWhenKIReachesKIc
     EXPECT_NEAR(std::abs(e.split.normal.x()), 1.0, 1e-12);
     EXPECT_EQ(e.split.pieces.size(), 2u);
     EXPECT_TRUE(grain_volume(s, 0) == s.prism->volume());
-    // Each piece took the bond on its side.
+    // Each piece took the bond on its side: the bond point lies on the surface of both its
+    // bodies, within the dilation radius (outside the face, by at most the radius).
+    s.world.step();
     for (const Bond& b : s.world.bonds()) {
       const bool has_piece = b.a == e.split.ids[0].index || b.b == e.split.ids[0].index ||
                              b.a == e.split.ids[1].index || b.b == e.split.ids[1].index;
       EXPECT_TRUE(has_piece);
+      for (const std::uint32_t slot : {b.a, b.b}) {
+        const BodyId body = s.world.id_at(slot);
+        const BodyState& st = s.world.state(body);
+        const Eigen::Vector3d local = st.q.conjugate() * (b.point - st.x);
+        double out = -1.0;
+        for (const auto& face : s.world.shape(s.world.info(body).shape).primitives.faces) {
+          out = std::max(out, face.normal.dot(local) - face.offset);
+        }
+        EXPECT_GE(out, -1e-9) << "bond point inside body " << slot;
+        EXPECT_LE(out, kDilation + 1e-9) << "bond point off body " << slot;
+      }
     }
     return;
   }
   FAIL() << "the grain never split; last bond force " << previous << " N, F* = " << f_star;
+}
+
+TEST(Transgranular, GrainSqueezedBetweenPlatensSplitsOnThePredictedPlaneNotBefore) {
+  // A <11-20> grain (two cleavage planes) lying flat, squeezed between two platens closing
+  // along y. Every step the criterion is evaluated for its planes (assess, eqs 3.22-3.25);
+  // the grain must split at the first step where some plane fails, on the plane with the
+  // largest left side of eq. 3.25, and never before. (Squeezed on its corners at y = +-a,
+  // the grain at 60 deg has no plane the criterion fails on within the run: it must then
+  // not split at all; the other two orientations split.)
+  int splits = 0;
+  for (const int angle : {0, 60, 120}) {
+    Rig s;
+    const geometry::CrystalOrientation o{geometry::CleavageFamily::a_11_20, angle};
+    const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(), {}, {}, 0);
+    s.book.add_grain(s.world, g, 0, o);
+    // Corners at y = +-0.5 mm; the platens start touching the dilated corners.
+    const double reach = kSide + kDilation;
+    s.world.add_wall(Wall::platen("bottom", {0, -reach, 0}, {0, 1, 0}, {1, 0, 0}, 2e-3, 2e-3));
+    s.world.add_wall(Wall::platen("top", {0, reach, 0}, {0, -1, 0}, {1, 0, 0}, 2e-3, 2e-3));
+    s.world.wall(0).velocity = {0, 1e-3, 0};
+    s.world.wall(1).velocity = {0, -1e-3, 0};
+    FractureParams p;
+    p.sigma_f_hyd = -1e12;  // gate open: the test is about eq. 3.25
+    p.crack_length = 0.1e-3;
+    p.k_ic = 30.0;
+    bool split = false;
+    for (int step = 0; step < 20000 && !split; ++step) {
+      s.world.step();
+      const BodyId id = s.world.body_ids().front();
+      const auto found = assess(s.world, s.book, id, p, s.world.body_stresses());
+      const CrackAssessment* worst = nullptr;
+      for (const auto& a : found) {
+        if (a.result.fails && (worst == nullptr || a.result.criterion > worst->result.criterion)) worst = &a;
+      }
+      const auto events = transgranular_step(s.world, s.book, p);
+      if (worst == nullptr) {
+        ASSERT_TRUE(events.empty()) << "angle " << angle << ": split before the criterion held";
+        continue;
+      }
+      ASSERT_EQ(events.size(), 1u) << "angle " << angle << ": no split once the criterion held";
+      EXPECT_EQ(events.front().cause.plane, worst->plane) << angle;
+      EXPECT_EQ(events.front().split.plane, worst->plane) << angle;
+      EXPECT_GE(events.front().cause.result.criterion, 1.0);
+      EXPECT_TRUE(grain_volume(s, 0) == s.prism->volume());
+      split = true;
+    }
+    splits += split;
+  }
+  EXPECT_EQ(splits, 2);
 }
