@@ -80,27 +80,39 @@ std::vector<Eigen::Vector3d> section(const PosedFaces& faces, const CrackPlane& 
 
 }  // namespace
 
-std::vector<CrackAssessment> assess(const World& world, const FractureBook& book, BodyId id,
-                                    const FractureParams& params,
-                                    const std::vector<Eigen::Matrix3d>& stresses) {
+namespace {
+
+/// Every contact and bond force of the last force evaluation, by body slot.
+std::vector<std::vector<PointForce>> forces_by_body(const World& world) {
+  std::vector<std::vector<PointForce>> out;
+  auto add = [&](std::uint32_t slot, const Eigen::Vector3d& point, const Eigen::Vector3d& force) {
+    if (out.size() <= slot) out.resize(slot + 1);
+    out[slot].push_back({point, force});
+  };
+  for (const ContactRecord& c : world.contacts()) {
+    add(c.b, c.point, c.force);
+    if (!c.wall) add(c.a, c.point, -c.force);
+  }
+  for (const Bond& b : world.bonds()) {
+    if (!b.intact()) continue;
+    add(b.b, b.point, b.force);
+    add(b.a, b.point, -b.force);
+  }
+  return out;
+}
+
+std::vector<CrackAssessment> assess_with(const World& world, const FractureBook& book, BodyId id,
+                                         const FractureParams& params, const Eigen::Matrix3d& sigma,
+                                         const std::vector<PointForce>& acting) {
   std::vector<CrackAssessment> out;
   if (!book.knows(id)) return out;
-  const Eigen::Matrix3d& sigma = stresses.at(id.index);
   // Eq. 3.22 first: below the hydrostatic gate no plane is worth the work.
   if (!(sigma.trace() / 3.0 >= params.sigma_f_hyd)) return out;
   const std::vector<int>& candidates = book.candidates(id);
   if (candidates.empty()) return out;
 
   PosedFaces faces = pose_faces(world, id);
-  for (const ContactRecord& c : world.contacts()) {
-    if (c.b == id.index) faces.forces[face_of(faces, c.point)].push_back({c.point, c.force});
-    if (!c.wall && c.a == id.index) faces.forces[face_of(faces, c.point)].push_back({c.point, -c.force});
-  }
-  for (const Bond& b : world.bonds()) {
-    if (!b.intact()) continue;
-    if (b.b == id.index) faces.forces[face_of(faces, b.point)].push_back({b.point, b.force});
-    if (b.a == id.index) faces.forces[face_of(faces, b.point)].push_back({b.point, -b.force});
-  }
+  for (const PointForce& f : acting) faces.forces[face_of(faces, f.point)].push_back(f);
   // Eq. 3.15 on every face.
   std::vector<FaceGeometry> geometry;
   std::vector<FaceTractions> tractions;
@@ -131,15 +143,29 @@ std::vector<CrackAssessment> assess(const World& world, const FractureBook& book
   return out;
 }
 
+}  // namespace
+
+std::vector<CrackAssessment> assess(const World& world, const FractureBook& book, BodyId id,
+                                    const FractureParams& params,
+                                    const std::vector<Eigen::Matrix3d>& stresses) {
+  const auto forces = forces_by_body(world);
+  static const std::vector<PointForce> none;
+  return assess_with(world, book, id, params, stresses.at(id.index),
+                     id.index < forces.size() ? forces[id.index] : none);
+}
+
 std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& book,
                                                    const FractureParams& params) {
   std::vector<TransgranularEvent> events;
   if (world.body_count() == 0) return events;
   const std::vector<Eigen::Matrix3d> stresses = world.body_stresses();
+  const auto forces = forces_by_body(world);
+  static const std::vector<PointForce> none;
   // Decide on the state of this step for every body, then cut.
   std::vector<CrackAssessment> failing;
   for (const BodyId id : world.body_ids()) {
-    const std::vector<CrackAssessment> found = assess(world, book, id, params, stresses);
+    const std::vector<CrackAssessment> found = assess_with(
+        world, book, id, params, stresses[id.index], id.index < forces.size() ? forces[id.index] : none);
     const CrackAssessment* worst = nullptr;
     for (const auto& a : found) {
       if (a.result.fails && (worst == nullptr || a.result.criterion > worst->result.criterion)) worst = &a;
