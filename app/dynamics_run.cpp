@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "io/mesh_io.hpp"
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
@@ -459,8 +460,29 @@ class Runner {
       io::write_vtp(out_ / dir / ("bonds_" + stem + ".vtp"), bond_frame(world_));
       bonds_pvd_.add(world_.time(), dir / ("bonds_" + stem + ".vtp"));
     }
+    if (scenario_.output.frame_meshes) write_frame_meshes(stem);
     ++sum_.frames;
     last_frame_step_ = world_.steps();
+  }
+
+  /// Every body as a mesh in its world pose, named by its lineage (grain_0017.1.0).
+  void write_frame_meshes(const std::string& stem) {
+    std::vector<geometry::PolygonMesh> meshes;
+    for (const physics::BodyId id : world_.body_ids()) {
+      const physics::BodyState& s = world_.state(id);
+      const auto& prim = world_.shape(world_.info(id).shape).primitives;
+      geometry::PolygonMesh mesh;
+      if (book_ && book_->knows(id)) {
+        mesh.name = book_->lineage(id).name();
+      } else {
+        mesh.name = geometry::Lineage{world_.info(id).grain_id, {}}.name();
+      }
+      for (const auto& v : prim.vertices) mesh.vertices.push_back(s.x + s.q * v);
+      for (const auto& f : prim.faces) mesh.faces.push_back(f.vertices);
+      meshes.push_back(std::move(mesh));
+    }
+    io::write_meshes(meshes, out_ / "frame_meshes", "frame_" + stem, scenario_.output.mesh_format,
+                     scenario_.output.mesh_layout);
   }
 
   void write_plot(const StageDef& stage, const StageSummary& st, const std::vector<double>& x,

@@ -101,6 +101,7 @@ int run_command(const RunOptions& options) {
     fs::create_directories(out);
     fs::remove(out / io::kManifestName);
     fs::remove_all(out / "meshes");
+    fs::remove_all(out / "frame_meshes");
   } catch (const fs::filesystem_error& e) {
     fmt::print(stderr, "cleave: error: {}: {}\n", out.string(), e.what());
     return 1;

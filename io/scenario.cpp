@@ -40,6 +40,7 @@
 ///   [output]                   # optional table
 ///   mesh_format = "obj"        # optional: "stl" (binary) | "stl_ascii" | "obj", default "obj"
 ///   mesh_layout = "scene"      # optional: "scene" | "per_fragment", default "scene"
+///   frame_meshes = false       # optional: with [dynamics], every frame's bodies as meshes too
 ///
 ///   [material]                 # optional: density = 3100 (kg/m^3, > 0)
 ///   [contact]                  # required by [dynamics]
@@ -342,6 +343,14 @@ class TableReader {
     return i->get();
   }
 
+  /// The boolean at `key`; absent: `fallback`.
+  [[nodiscard]] bool boolean(std::string_view key, bool fallback) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return fallback;
+    const auto* b = node->as_boolean();
+    if (b == nullptr) fail(*node, key, fmt::format("expected true or false, found {}", type_name(*node)));
+    return b->get();
+  }
   /// The string at `key`; absent: `fallback`, or an error when there is none.
   [[nodiscard]] std::string string(std::string_view key,
                                    std::optional<std::string> fallback = std::nullopt) const {
@@ -578,7 +587,7 @@ void read_split_table(const TableReader& t, SplitDef& split) {
           .value;
 }
 
-constexpr std::string_view kOutputKeys[] = {"mesh_format", "mesh_layout"};
+constexpr std::string_view kOutputKeys[] = {"mesh_format", "mesh_layout", "frame_meshes"};
 
 void read_output_table(const TableReader& t, OutputDef& output) {
   t.reject_unknown(kOutputKeys);
@@ -592,6 +601,7 @@ void read_output_table(const TableReader& t, OutputDef& output) {
   }
   output.mesh_format = t.choose("mesh_format", formats, std::optional(OutputDef{}.mesh_format));
   output.mesh_layout = t.choose("mesh_layout", layouts, std::optional(OutputDef{}.mesh_layout));
+  output.frame_meshes = t.boolean("frame_meshes", false);
 }
 
 // ---- [material], [contact], [dynamics], [[wall]] ------------------------------------------

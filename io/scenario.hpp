@@ -47,6 +47,9 @@ struct SplitDef {
 struct OutputDef {
   MeshFormat mesh_format = MeshFormat::obj;
   MeshLayout mesh_layout = MeshLayout::scene;
+  /// With [dynamics]: every frame's bodies (grains and fragments, named by lineage) are
+  /// written as meshes too, frame_meshes/frame_NNNNNN.*, in their world pose.
+  bool frame_meshes = false;
 };
 
 /// [material]
