@@ -30,6 +30,24 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// A body's shape in its world pose.
+geometry::PolygonMesh world_mesh(const physics::World& world, physics::BodyId id) {
+  const physics::BodyState& s = world.state(id);
+  const auto& prim = world.shape(world.info(id).shape).primitives;
+  geometry::PolygonMesh mesh;
+  const Eigen::Matrix3d R = s.q.toRotationMatrix();
+  for (const auto& v : prim.vertices) mesh.vertices.push_back(s.x + R * v);
+  for (const auto& f : prim.faces) mesh.faces.push_back(f.vertices);
+  return mesh;
+}
+
+/// The largest contact overlap of the last force evaluation, m.
+double max_overlap(const physics::World& world) {
+  double overlap = 0.0;
+  for (const auto& c : world.contacts()) overlap = std::max(overlap, c.overlap);
+  return overlap;
+}
+
 /// The body frame: every body's world mesh and its fields.
 io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& specimen) {
   io::BodyFrame frame;
@@ -40,12 +58,7 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
   for (const physics::BodyId id : world.body_ids()) {
     const physics::BodyState& s = world.state(id);
     const physics::BodyInfo& b = world.info(id);
-    const auto& prim = world.shape(b.shape).primitives;
-    geometry::PolygonMesh mesh;
-    const Eigen::Matrix3d R = s.q.toRotationMatrix();
-    for (const auto& v : prim.vertices) mesh.vertices.push_back(s.x + R * v);
-    for (const auto& f : prim.faces) mesh.faces.push_back(f.vertices);
-    frame.meshes.push_back(std::move(mesh));
+    frame.meshes.push_back(world_mesh(world, id));
     ids["body_id"].push_back(id.index);
     ids["grain_id"].push_back(b.grain_id);
     const auto& o = specimen.grains.at(static_cast<std::size_t>(b.grain_id)).orientation;
@@ -230,7 +243,7 @@ class Runner {
                      stage.bond_distance * 1e3);
         progress_shown_ = false;
       }
-      record();
+      record(max_overlap(world_), std::nullopt);
       write_frame();
       sum_.stages.push_back(st);
       return;
@@ -264,8 +277,7 @@ class Runner {
       if (book_ && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
         st.splits += split_grains();
       }
-      double overlap = 0.0;
-      for (const auto& c : world_.contacts()) overlap = std::max(overlap, c.overlap);
+      const double overlap = max_overlap(world_);
       sum_.max_overlap = std::max(sum_.max_overlap, overlap);
       const auto [load, closure] = machine_reading(load_walls, stage_origin);
       if (!load_walls.empty() && load > st.peak_load) {
@@ -293,7 +305,7 @@ class Runner {
           break;
       }
       if (i % log_every == 0 || i == limit || event) {
-        record(&load_walls, &stage_origin, load, closure);
+        record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
         if (!load_walls.empty()) {
           plot_x.push_back(closure);
           plot_y.push_back(load);
@@ -424,11 +436,9 @@ class Runner {
   }
   physics::Wall& wall(const std::string& name) { return world_.wall(wall_index(name)); }
 
-  void record(const std::vector<std::size_t>* load_walls = nullptr,
-              const std::vector<Eigen::Vector3d>* stage_origin = nullptr, double load = 0.0,
-              double closure = 0.0) {
-    double overlap = 0.0;
-    for (const auto& c : world_.contacts()) overlap = std::max(overlap, c.overlap);
+  /// One row of every history; `reading` is the stage's (load, load-point displacement)
+  /// when it has load walls.
+  void record(double overlap, std::optional<std::pair<double, double>> reading) {
     energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), world_.kinetic_energy(),
                            world_.potential_energy(), world_.contacts().size(), overlap, stage_);
     walls_ += fmt::format("{:.9g}", world_.time());
@@ -440,8 +450,7 @@ class Runner {
       loads_ += fmt::format(",{:.9g},{:.9g}", r.displacement, r.force);
     }
     walls_ += "\n";
-    const bool measured = load_walls != nullptr && stage_origin != nullptr && !load_walls->empty();
-    loads_ += measured ? fmt::format(",{:.9g},{:.9g}\n", load, closure) : ",,\n";
+    loads_ += reading ? fmt::format(",{:.9g},{:.9g}\n", reading->first, reading->second) : ",,\n";
     if (!world_.bonds().empty()) {
       const physics::BondCounts c = world_.bond_counts();
       bond_counts_ += fmt::format("{:.9g},{},{},{},{},{},{}\n", world_.time(), stage_, c.intact,
@@ -469,16 +478,9 @@ class Runner {
   void write_frame_meshes(const std::string& stem) {
     std::vector<geometry::PolygonMesh> meshes;
     for (const physics::BodyId id : world_.body_ids()) {
-      const physics::BodyState& s = world_.state(id);
-      const auto& prim = world_.shape(world_.info(id).shape).primitives;
-      geometry::PolygonMesh mesh;
-      if (book_ && book_->knows(id)) {
-        mesh.name = book_->lineage(id).name();
-      } else {
-        mesh.name = geometry::Lineage{world_.info(id).grain_id, {}}.name();
-      }
-      for (const auto& v : prim.vertices) mesh.vertices.push_back(s.x + s.q * v);
-      for (const auto& f : prim.faces) mesh.faces.push_back(f.vertices);
+      geometry::PolygonMesh mesh = world_mesh(world_, id);
+      mesh.name = book_ && book_->knows(id) ? book_->lineage(id).name()
+                                            : geometry::Lineage{world_.info(id).grain_id, {}}.name();
       meshes.push_back(std::move(mesh));
     }
     io::write_meshes(meshes, out_ / "frame_meshes", "frame_" + stem, scenario_.output.mesh_format,

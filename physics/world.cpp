@@ -114,8 +114,7 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     if (o.a == old_slot) remember(o.b, o.overlap);
     if (o.b == old_slot) remember(o.a, o.overlap);
   }
-  std::erase_if(bonds_, [old_slot](const Bond& bd) { return bd.a == old_slot || bd.b == old_slot; });
-  remove_body(parent);
+  remove_body(parent);  // drops the parent's bonds, offsets and contact history
   std::vector<BodyId> ids;
   for (const Fragment& f : pieces) {
     if (f.shape >= shapes_.size()) throw std::out_of_range("split_body: no shape " + std::to_string(f.shape));
