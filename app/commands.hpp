@@ -34,4 +34,16 @@ struct CheckVolumeOptions {
 /// Exit 0 when every grain's fragments sum exactly to its volume, 1 otherwise.
 int check_volume_command(const CheckVolumeOptions& options);
 
+struct ValidateOptions {
+  std::filesystem::path scenario;
+  std::filesystem::path out;  ///< empty: results/<scenario name>
+  bool quiet = false;
+};
+
+/// Runs a validation scenario (DCB, ENF or MMB on the cubic lattice, seed 002 sec. 7) and
+/// writes measured and closed-form load-deflection curves, the errors per stage and a plot.
+/// Exit 0 when every checked stage (and the peak) is within its tolerance, 1 when one is not,
+/// 2 on bad input or a failed run.
+int validate_command(const ValidateOptions& options);
+
 }  // namespace cleave::app

@@ -40,9 +40,20 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   volume_cmd->add_flag("--summary", check.summary_only, "Print the summary only, not every grain");
 
+  ValidateOptions validate;
+  CLI::App* validate_cmd = app.add_subcommand(
+      "validate",
+      "Run a fracture test of scenarios/validation/ (DCB, ENF, MMB) against its closed form");
+  validate_cmd->add_option("scenario", validate.scenario, "Validation scenario file (TOML)")
+      ->required();
+  validate_cmd->add_option("--out,-o", validate.out,
+                           "Result folder (default: results/<scenario name>)");
+  validate_cmd->add_flag("--quiet,-q", validate.quiet, "Print only errors");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run_cmd->parsed()) return run_command(run);
   if (volume_cmd->parsed()) return check_volume_command(check);
+  if (validate_cmd->parsed()) return validate_command(validate);
   return 2;
 }

@@ -57,7 +57,9 @@
 ///                              # point, normal, velocity (length unit/s), load_axis;
 ///                              # platen: u, size; cylinder: length, radius (length unit)
 ///   [bond]                     # optional, sec. 2.3.3: kbn, kbs (N/m^3, eq. 2.9; kbn > 0,
-///                              # kbs >= 0), tbn, tbs (Pa, > 0, eq. 2.14); needs a bond stage
+///                              # kbs >= 0), tbn, tbs (Pa, > 0, eq. 2.14); needs a bond stage;
+///                              # law = "bonded_particle" (default) | "cohesive" (seed 002):
+///                              # cohesive takes sigma_c (Pa) and g_c (N/m) instead of tbn, tbs
 ///   [fracture]                 # optional, chapter 3 (needs [dynamics]): sigma_f_hyd (Pa,
 ///                              # eq. 3.22), k_ic (Pa sqrt(m), > 0), c (> 0, default 0.816),
 ///                              # crack_length (length unit, > 0), check_every (>= 1, default 1)
@@ -84,6 +86,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "io/toml_reader.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -100,293 +104,9 @@ namespace cleave::io {
 
 namespace {
 
+using namespace toml_reader;
 using geometry::KeepRule;
 using geometry::Outline;
-
-std::string format_error(const std::string& file, int line, int column, const std::string& key,
-                         const std::string& message) {
-  std::string out = file;
-  if (line > 0) out += fmt::format(":{}:{}", line, column);
-  out += ": ";
-  if (!key.empty()) out += fmt::format("key '{}': ", key);
-  out += message;
-  return out;
-}
-
-int line_of(const toml::source_region& where) {
-  return static_cast<int>(where.begin.line);
-}
-int column_of(const toml::source_region& where) {
-  return static_cast<int>(where.begin.column);
-}
-
-/// Where a key of a table is written: its name when toml++ recorded it, else its value.
-const toml::source_region& key_source(const toml::key& key, const toml::node& value) {
-  return key.source().begin.line > 0 ? key.source() : value.source();
-}
-
-bool before(const toml::source_region& a, const toml::source_region& b) {
-  return std::pair(a.begin.line, a.begin.column) < std::pair(b.begin.line, b.begin.column);
-}
-
-/// "a string", "an integer", ... for "expected X, found Y" messages.
-std::string_view type_name(const toml::node& node) {
-  switch (node.type()) {
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a float";
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::date:
-      return "a date";
-    case toml::node_type::time:
-      return "a time";
-    case toml::node_type::date_time:
-      return "a date-time";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::table:
-      return "a table";
-    default:
-      return "nothing";
-  }
-}
-
-/// "'a', 'b', 'c'"
-template <class Range>
-std::string quoted_list(const Range& names) {
-  std::string out;
-  for (const auto& name : names) {
-    if (!out.empty()) out += ", ";
-    out += fmt::format("'{}'", name);
-  }
-  return out;
-}
-
-bool contains(std::span<const std::string_view> names, std::string_view name) {
-  for (std::string_view n : names) {
-    if (n == name) return true;
-  }
-  return false;
-}
-
-/// A key of a table and its value.
-struct Entry {
-  const toml::key* key = nullptr;
-  const toml::node* node = nullptr;
-
-  [[nodiscard]] const toml::source_region& where() const { return key_source(*key, *node); }
-};
-
-/// The entry of `table` written first in the file among those satisfying `pred(key, node)`;
-/// an empty Entry when there is none.
-template <class Pred>
-Entry first_in_file(const toml::table& table, Pred pred) {
-  Entry found;
-  for (const auto& [key, node] : table) {
-    if (!pred(key.str(), node)) continue;
-    if (found.key == nullptr || before(key_source(key, node), found.where())) found = {&key, &node};
-  }
-  return found;
-}
-
-/// An interval a number must lie in.
-struct Range {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool lo_open = false;
-  bool hi_open = false;
-
-  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, true}; }
-  static Range non_negative() {
-    return {0.0, std::numeric_limits<double>::infinity(), false, true};
-  }
-
-  [[nodiscard]] bool holds(double v) const {
-    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
-  }
-  /// "> 0", ">= 0" or "in [0, 0.5)"
-  [[nodiscard]] std::string describe() const {
-    if (std::isinf(hi)) return fmt::format("{} {}", lo_open ? ">" : ">=", lo);
-    return fmt::format("in {}{}, {}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
-  }
-};
-
-/// A number read from the file (in the file's units), with the node it came from for
-/// follow-up checks. `node` is null when the key was absent and `value` is its default.
-struct Number {
-  double value = 0.0;
-  const toml::node* node = nullptr;
-};
-
-/// One accepted spelling of an enumerated value.
-template <class T>
-struct Choice {
-  std::string name;
-  T value;
-};
-
-/// Reads the keys of one table, naming the file, position and "table.key" in every error.
-/// A reader of an absent optional table finds no keys, so every value takes its default.
-class TableReader {
- public:
-  TableReader(const std::string& source, std::string name, const toml::table* table)
-      : source_(source), name_(std::move(name)), table_(table) {}
-
-  [[nodiscard]] const toml::table* table() const { return table_; }
-  [[nodiscard]] const std::string& name() const { return name_; }
-
-  [[noreturn]] void fail(const toml::source_region& where, std::string_view key,
-                         const std::string& message) const {
-    throw ScenarioError(source_, line_of(where), column_of(where), name_ + "." + std::string(key),
-                        message);
-  }
-  [[noreturn]] void fail(const toml::node& node, std::string_view key,
-                         const std::string& message) const {
-    fail(node.source(), key, message);
-  }
-  /// An error about the whole table: positioned at its header, naming the table.
-  [[noreturn]] void fail_table(const std::string& message) const {
-    const toml::source_region& where = table_->source();
-    throw ScenarioError(source_, line_of(where), column_of(where), name_, message);
-  }
-  /// An error about a key that is not there: positioned at the table's header.
-  [[noreturn]] void fail_absent(std::string_view key, const std::string& message) const {
-    if (table_ != nullptr) fail(table_->source(), key, message);
-    throw ScenarioError(source_, 1, 1, name_ + "." + std::string(key), message);
-  }
-
-  /// Rejects the first key (in file order) not among `accepted`, listing the accepted keys.
-  void reject_unknown(std::span<const std::string_view> accepted) const {
-    if (table_ == nullptr) return;
-    const Entry bad = first_in_file(
-        *table_, [&](std::string_view key, const toml::node&) { return !contains(accepted, key); });
-    if (bad.key == nullptr) return;
-    fail(bad.where(), bad.key->str(),
-         fmt::format("unknown key in [{}]; accepted keys: {}", name_, quoted_list(accepted)));
-  }
-
-  [[nodiscard]] const toml::node* find(std::string_view key) const {
-    return table_ != nullptr ? table_->get(key) : nullptr;
-  }
-
-  /// The number at `key` (an integer or a float), finite and within `range`. Absent: the
-  /// fallback, or an error when there is none.
-  [[nodiscard]] Number number(std::string_view key, const Range& range,
-                              std::optional<double> fallback = std::nullopt) const {
-    const toml::node* node = find(key);
-    if (node == nullptr) {
-      if (!fallback) fail_absent(key, "missing required key");
-      return {*fallback, nullptr};
-    }
-    return {checked_number(*node, key, range, ""), node};
-  }
-
-  /// A number element or value: type, finiteness and range, `what` prefixing the message.
-  [[nodiscard]] double checked_number(const toml::node& node, std::string_view key,
-                                      const Range& range, const std::string& what) const {
-    double value = 0.0;
-    if (const auto* i = node.as_integer()) {
-      value = static_cast<double>(i->get());
-    } else if (const auto* f = node.as_floating_point()) {
-      value = f->get();
-    } else {
-      fail(node, key,
-           fmt::format("{}expected a number (integer or float), found {}", what, type_name(node)));
-    }
-    if (!std::isfinite(value)) {
-      fail(node, key, fmt::format("{}expected a finite number, found {}", what, value));
-    }
-    if (!range.holds(value)) {
-      fail(node, key, fmt::format("{}must be {}, found {}", what, range.describe(), value));
-    }
-    return value;
-  }
-
-  /// An array of exactly `count` numbers, each within `range`.
-  [[nodiscard]] std::vector<double> numbers(std::string_view key, std::size_t count,
-                                            const Range& range) const {
-    const toml::node* node = find(key);
-    if (node == nullptr) fail_absent(key, "missing required key");
-    const auto* array = node->as_array();
-    if (array == nullptr) {
-      fail(*node, key,
-           fmt::format("expected an array of {} numbers, found {}", count, type_name(*node)));
-    }
-    if (array->size() != count) {
-      fail(*node, key,
-           fmt::format("expected an array of {} numbers, found {} elements", count, array->size()));
-    }
-    std::vector<double> values;
-    for (std::size_t i = 0; i < count; ++i) {
-      values.push_back(
-          checked_number(*array->get(i), key, range, fmt::format("element {}: ", i + 1)));
-    }
-    return values;
-  }
-
-  /// The integer at `key`, at least `min`; absent: `fallback`.
-  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t min,
-                                     std::int64_t fallback) const {
-    const toml::node* node = find(key);
-    if (node == nullptr) return fallback;
-    const auto* i = node->as_integer();
-    if (i == nullptr) {
-      fail(*node, key, fmt::format("expected an integer, found {}", type_name(*node)));
-    }
-    if (i->get() < min) {
-      fail(*node, key, fmt::format("must be >= {}, found {}", min, i->get()));
-    }
-    return i->get();
-  }
-
-  /// The boolean at `key`; absent: `fallback`.
-  [[nodiscard]] bool boolean(std::string_view key, bool fallback) const {
-    const toml::node* node = find(key);
-    if (node == nullptr) return fallback;
-    const auto* b = node->as_boolean();
-    if (b == nullptr) fail(*node, key, fmt::format("expected true or false, found {}", type_name(*node)));
-    return b->get();
-  }
-  /// The string at `key`; absent: `fallback`, or an error when there is none.
-  [[nodiscard]] std::string string(std::string_view key,
-                                   std::optional<std::string> fallback = std::nullopt) const {
-    const toml::node* node = find(key);
-    if (node == nullptr) {
-      if (!fallback) fail_absent(key, "missing required key");
-      return *fallback;
-    }
-    const auto* s = node->as_string();
-    if (s == nullptr) {
-      fail(*node, key, fmt::format("expected a string, found {}", type_name(*node)));
-    }
-    return s->get();
-  }
-
-  /// The string at `key` looked up among `choices`; absent: `fallback`, or an error when
-  /// there is none. Unknown spellings are errors listing the accepted ones.
-  template <class T>
-  [[nodiscard]] T choose(std::string_view key, const std::vector<Choice<T>>& choices,
-                         std::optional<T> fallback = std::nullopt) const {
-    const toml::node* node = find(key);
-    if (node == nullptr && fallback) return *fallback;
-    const std::string text = string(key);
-    for (const auto& choice : choices) {
-      if (choice.name == text) return choice.value;
-    }
-    std::vector<std::string> names;
-    for (const auto& choice : choices) names.push_back(choice.name);
-    fail(*node, key, fmt::format("unknown value '{}'; accepted: {}", text, quoted_list(names)));
-  }
-
- private:
-  const std::string& source_;
-  std::string name_;
-  const toml::table* table_;
-};
 
 // ---- [scenario] ---------------------------------------------------------------------------
 
@@ -744,7 +464,7 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
   return w;
 }
 
-constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs"};
+constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "sigma_c", "g_c"};
 
 void read_bond_table(const TableReader& t, BondDef& b) {
   t.reject_unknown(kBondKeys);
@@ -752,8 +472,26 @@ void read_bond_table(const TableReader& t, BondDef& b) {
   b.enabled = true;
   b.params.kbn = t.number("kbn", Range::positive()).value;
   b.params.kbs = t.number("kbs", Range::non_negative()).value;
-  b.params.tbn = t.number("tbn", Range::positive()).value;
-  b.params.tbs = t.number("tbs", Range::positive()).value;
+  b.params.law = t.choose<physics::BondLaw>(
+      "law", {{"bonded_particle", physics::BondLaw::bonded_particle},
+              {"cohesive", physics::BondLaw::cohesive}},
+      physics::BondLaw::bonded_particle);
+  // Each law's own keys; those of the other law are errors.
+  const bool cohesive = b.params.law == physics::BondLaw::cohesive;
+  for (std::string_view key : {"tbn", "tbs", "sigma_c", "g_c"}) {
+    const bool own = (key == "tbn" || key == "tbs") != cohesive;
+    if (!own && t.find(key) != nullptr)
+      t.fail(*t.find(key), key,
+             cohesive ? "the cohesive law has no bond strengths tbn/tbs; it takes sigma_c and g_c"
+                      : "sigma_c and g_c belong to law = \"cohesive\"");
+  }
+  if (cohesive) {
+    b.params.sigma_c = t.number("sigma_c", Range::positive()).value;
+    b.params.g_c = t.number("g_c", Range::positive()).value;
+  } else {
+    b.params.tbn = t.number("tbn", Range::positive()).value;
+    b.params.tbs = t.number("tbs", Range::positive()).value;
+  }
 }
 
 constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",

@@ -1,6 +1,7 @@
 #include "physics/bond_law.hpp"
 #include "physics/tangent.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cleave::physics {
@@ -28,6 +29,28 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
   b.shear = into_plane(b.shear, n) - Kbs * dt * vs;
   b.bending = into_plane(b.bending, n) - Kbr * dt * wr;
   b.torsion -= Kbt * dt * wt;
+  if (p.law == BondLaw::cohesive) {
+    const double A = s.area();
+    const double dn = b.normal / Kbn;
+    const double shear = b.shear.norm();
+    const double ds = Kbs > 0.0 ? shear / Kbs : 0.0;
+    const CohesiveParams cp{Kbn, Kbs, A, p.sigma_c, p.g_c};
+    const CohesiveLimits limits = cohesive_limits(cp);
+    const CohesiveTraction t = cohesive_traction(cp, limits, dn, ds, b.cohesive);
+    if (b.cohesive.phase == LinkPhase::contact) {
+      out.failure = std::max(dn, 0.0) >= ds ? BondFailure::tension : BondFailure::shear;
+      out.at_failure = b;
+      b = BondState{};
+      b.broken = true;
+      b.cohesive.phase = LinkPhase::contact;
+      return out;
+    }
+    // Eqs 27-29: tractions times the area; tension pulls B back, shear opposes the slip.
+    out.force = -A * t.tn * n;
+    if (shear > 0.0) out.force += (A * t.ts / shear) * b.shear;
+    out.moment = (1.0 - damage(limits, b.cohesive)) * (b.bending + b.torsion * n);
+    return out;
+  }
   // Limits (eq. 2.15) and failure (eq. 2.16), checked in this order.
   const double r = s.radius;
   if (b.normal > p.tbn * s.area()) {

@@ -16,14 +16,29 @@
 
 #include <Eigen/Dense>
 
+#include "physics/cohesive_law.hpp"
+
 namespace cleave::physics {
+
+/// Which law a bond follows once it is loaded.
+enum class BondLaw {
+  /// The bonded-particle law of the dissertation (eqs 2.9-2.16): brittle, breaks at a limit.
+  bonded_particle,
+  /// The cohesive crack law of Chen et al. 2020 (seed 002, eqs 14-33): the same springs until
+  /// the circular initiation criterion (eq. 32), then linear softening that dissipates G_c per
+  /// unit bond area before the bond lets go (lambda = 1, eq. 16).
+  cohesive,
+};
 
 /// Eqs 2.9 and 2.14: continuum stiffnesses (N/m^3: stress per opening) and strengths (Pa).
 struct BondParams {
   double kbn = 0.0;  ///< bond normal stiffness k_bn
   double kbs = 0.0;  ///< bond shear stiffness k_bs
-  double tbn = 0.0;  ///< bond normal ("tensile") strength t_bn
-  double tbs = 0.0;  ///< bond shear strength t_bs
+  double tbn = 0.0;  ///< bond normal ("tensile") strength t_bn (bonded-particle law)
+  double tbs = 0.0;  ///< bond shear strength t_bs (bonded-particle law)
+  BondLaw law = BondLaw::bonded_particle;
+  double sigma_c = 0.0;  ///< cohesive law: strength (Pa), T_n0 = T_s0 = sigma_c
+  double g_c = 0.0;      ///< cohesive law: critical energy release rate (N/m), eq. 18
 };
 
 /// The bond's section (eqs 2.10, 2.11, 2.15): radius r, A = pi r^2, I = pi r^4 / 4, J = 2 I.
@@ -40,6 +55,7 @@ struct BondState {
   Eigen::Vector3d shear = Eigen::Vector3d::Zero();    ///< F_bs
   Eigen::Vector3d bending = Eigen::Vector3d::Zero();  ///< M_br
   double torsion = 0.0;                               ///< M_bt about the normal
+  CohesiveState cohesive;  ///< the cohesive law's phase and history (eqs 21, 33)
   bool broken = false;
 };
 
@@ -59,6 +75,15 @@ const char* to_string(BondFailure mode);
 /// `velocity` (B's material point minus A's at the bond) and relative spin `spin`
 /// (w_B - w_A): eqs 2.12-2.13 increment the state, eq. 2.16 checks the limits of eq. 2.15.
 /// A bond that breaks returns no force and stays broken.
+///
+/// With the cohesive law, the springs of eqs 2.12-2.13 measure the separations, delta_n =
+/// F_bn / K_bn and delta_s = |F_bs| / K_bs, which go through cohesive_traction with the
+/// spring stiffnesses K_bn, K_bs and the bond area (a bond's traction is its force per area,
+/// so eq. 2.9's k_bn is eq. 7's k_n / A). Readings: the bending and torsion moments of eq.
+/// 2.13 (which the seed's point-contact model has no counterpart for) are carried while
+/// connective and scaled by (1 - d) once cohesive; the limits of eq. 2.15 do not apply; a bond
+/// whose lambda reaches 1 breaks, logged as tension or shear by the larger of <delta_n> and
+/// delta_s at that moment.
 BondResult bond_force(const BondParams& p, const BondSection& section, const Eigen::Vector3d& n,
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
                       BondState& state, double dt);

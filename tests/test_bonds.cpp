@@ -345,3 +345,88 @@ TEST(BondedSpecimen, BitIdenticalForOneAndTwoThreadsUntilAndAfterBondsBreak) {
     EXPECT_EQ(std::memcmp(one.state(id).L.data(), two.state(id).L.data(), sizeof(double) * 3), 0);
   }
 }
+
+namespace {
+
+/// Table 2.5's springs with the cohesive law of seed 002: sigma_c = 1000 Pa, and G_c such
+/// that the softening branch is 10 times as long as the elastic one (dc = 11 dn0).
+BondParams cohesive_params() {
+  BondParams p = table_2_5();
+  p.law = BondLaw::cohesive;
+  p.sigma_c = 1000.0;
+  p.g_c = 5.0 * p.sigma_c * (p.sigma_c / p.kbn);
+  return p;
+}
+
+/// Two prisms bonded with the cohesive law; B driven along `dir` by `total` in `steps`
+/// steps. Returns the work the drive did against the bond, and whether it broke.
+struct CohesiveDrive {
+  double work = 0.0;
+  std::size_t broken_at_step = 0;
+};
+CohesiveDrive drive_apart(const Eigen::Vector3d& dir, double total, int steps) {
+  World world = make_world(1e-7);
+  const auto ids = row(world, 2, 2e-6);
+  world.initialise_bonds(cohesive_params(), 0.0);
+  world.set_fixed(ids[0], true);
+  world.set_fixed(ids[1], true);
+  const double T = steps * 1e-7;
+  world.state(ids[1]).v = dir * (total / T);
+  CohesiveDrive out;
+  Eigen::Vector3d before = world.bonds().front().force;
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    const Eigen::Vector3d after = world.bonds().front().force;
+    // The drive holds B against the bond force: trapezoid rule over the step's travel.
+    out.work -= 0.5 * (before + after).dot(dir * (total / steps));
+    before = after;
+    if (out.broken_at_step == 0 && !world.bonds().front().intact()) out.broken_at_step = i + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(CohesiveGrainBond, OpeningToDecohesionDissipatesGcPerBondAreaPlusTheElasticPart) {
+  const BondParams p = cohesive_params();
+  const double A = BondSection{kDilation}.area();
+  const double d0 = p.sigma_c / p.kbn, dc = d0 + 2.0 * p.g_c / p.sigma_c;
+  // Eq. 18 (softening: G_c) plus the elastic loading up to initiation (sigma_c d0 / 2).
+  const double expected = A * (p.g_c + 0.5 * p.sigma_c * d0);
+  const CohesiveDrive d = drive_apart(Eigen::Vector3d::UnitX(), 1.2 * dc, 4800);
+  ASSERT_GT(d.broken_at_step, 0u);
+  // It lets go where lambda = 1 (eq. 16): at an opening of dc, within one step.
+  EXPECT_NEAR(d.broken_at_step * 1.2 * dc / 4800, dc, 1.2 * dc / 4800 + 1e-15);
+  EXPECT_NEAR(d.work, expected, 2e-3 * expected);
+}
+
+TEST(CohesiveGrainBond, SlidingToDecohesionDissipatesTheSameGc) {
+  const BondParams p = cohesive_params();
+  const double A = BondSection{kDilation}.area();
+  const double d0 = std::min(p.sigma_c / p.kbn, p.sigma_c / p.kbs);  // eq. 32
+  const double dc = d0 + 2.0 * p.g_c / p.sigma_c;
+  // Elastic shear up to the circular criterion, then a softening branch worth G_c.
+  const double expected = A * (p.g_c + 0.5 * p.kbs * d0 * d0);
+  const CohesiveDrive d = drive_apart(Eigen::Vector3d::UnitY(), 1.2 * dc, 4800);
+  ASSERT_GT(d.broken_at_step, 0u);
+  EXPECT_NEAR(d.broken_at_step * 1.2 * dc / 4800, dc, 1.2 * dc / 4800 + 1e-15);
+  EXPECT_NEAR(d.work, expected, 2e-3 * expected);
+}
+
+TEST(CohesiveGrainBond, StopsShortOfDecohesionIntactAndSoftened) {
+  const BondParams p = cohesive_params();
+  const double d0 = p.sigma_c / p.kbn, dc = d0 + 2.0 * p.g_c / p.sigma_c;
+  World world = make_world(1e-7);
+  const auto ids = row(world, 2, 2e-6);
+  world.initialise_bonds(p, 0.0);
+  world.set_fixed(ids[0], true);
+  world.set_fixed(ids[1], true);
+  world.state(ids[1]).v = Eigen::Vector3d::UnitX() * (0.5 * (d0 + dc) / (1000 * 1e-7));
+  for (int i = 0; i < 1000; ++i) world.step();
+  const Bond& b = world.bonds().front();
+  ASSERT_TRUE(b.intact());
+  EXPECT_EQ(b.state.cohesive.phase, LinkPhase::cohesive);
+  // Halfway down the softening line the traction is sigma_c / 2 (eq. 15).
+  const double A = BondSection{kDilation}.area();
+  EXPECT_NEAR(-b.force.x(), 0.5 * p.sigma_c * A, 1e-3 * p.sigma_c * A);
+}

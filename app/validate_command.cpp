@@ -1,0 +1,241 @@
+// `cleave validate`: runs a DCB, ENF or MMB test of scenarios/validation/ on the cubic lattice
+// and compares its load-deflection curve with the closed forms of corrected beam theory.
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "cleave_version.hpp"
+#include "commands.hpp"
+#include "io/plot.hpp"
+#include "io/result_dir.hpp"
+#include "io/scenario.hpp"
+#include "io/validation_scenario.hpp"
+#include "physics/beam_test_rig.hpp"
+
+namespace cleave::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* test_name(physics::BeamTestKind k) {
+  switch (k) {
+    case physics::BeamTestKind::dcb: return "DCB (mode I)";
+    case physics::BeamTestKind::enf: return "ENF (mode II)";
+    case physics::BeamTestKind::mmb: return "MMB (mixed mode)";
+  }
+  return "?";
+}
+
+}  // namespace
+
+int validate_command(const ValidateOptions& options) {
+  io::ValidationScenario v;
+  try {
+    v = io::load_validation_scenario(options.scenario);
+  } catch (const io::ScenarioError& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    return 2;
+  }
+  const fs::path out = options.out.empty() ? fs::path("results") / v.name : options.out;
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) {
+    fmt::print(stderr, "cleave: error: cannot create the result folder {}: {}\n", out.string(),
+               ec.message());
+    return 2;
+  }
+  auto say = [&](const std::string& s) {
+    if (!options.quiet) fmt::print("{}\n", s);
+  };
+  io::Manifest manifest;
+  manifest.facts["cleave_version"] = CLEAVE_VERSION;
+  manifest.facts["scenario"] = fs::absolute(options.scenario).string();
+  try {
+    if (v.threads > 0) omp_set_num_threads(v.threads);
+    physics::BeamTestRig rig(v.rig);
+    const physics::BeamTest& test = rig.analytic();
+    const auto& lat = rig.lattice();
+    const double rate = v.rig.kind == physics::BeamTestKind::dcb ? 2.0 * v.rig.velocity
+                                                                  : v.rig.velocity;
+    // The steps it takes at full speed, plus the ramp's lost half.
+    const double run_time = v.deflection / rate + 0.5 * v.rig.ramp_time;
+    const auto expected_steps = static_cast<std::uint64_t>(std::ceil(run_time / rig.time_step()));
+    const std::uint64_t every = std::max<std::uint64_t>(1, expected_steps / v.records);
+    say(fmt::format("cleave validate: {} - {}", v.name, test_name(v.rig.kind)));
+    say(fmt::format("  lattice    {} x {} x {} cubes of {:g} mm ({} bodies), {} links; weak "
+                    "mid-plane, notch a0 = {:g} mm",
+                    lat.def().nx, lat.def().ny, lat.def().nz, 2e3 * v.rig.radius, lat.size(),
+                    lat.links().size(), v.rig.initial_crack * 1e3));
+    say(fmt::format("  closed form L = {:g} mm, h = {:g} mm, B' = B - 2r = {:g} mm, chi_I = {:.4f}, "
+                    "chi_II = {:.4f}{}",
+                    test.L * 1e3, test.h * 1e3, (test.B - 2 * test.r) * 1e3,
+                    physics::chi_I(test.E, test.nu), physics::chi_II(test.E, test.nu),
+                    v.rig.kind == physics::BeamTestKind::mmb
+                        ? fmt::format(", lever arm C = {:.3f} mm (beta = {:g})", test.C * 1e3,
+                                      v.rig.mode_mix)
+                        : std::string()));
+    say(fmt::format("  time step  {:.4g} s ({:g} of critical); about {} steps to Delta = {:g} mm",
+                    rig.time_step(), v.rig.dt_safety, expected_steps, v.deflection * 1e3));
+
+    std::vector<physics::BeamReading> curve;
+    curve.push_back(rig.reading());
+    const auto start = std::chrono::steady_clock::now();
+    auto last_report = start;
+    const std::uint64_t limit = 3 * expected_steps + 1000;
+    double max_ratio = 0.0;
+    while (true) {
+      rig.step();
+      if (rig.steps() % every != 0) continue;
+      physics::BeamReading r = rig.reading();
+      if (!std::isfinite(r.load) || !std::isfinite(r.delta))
+        throw std::runtime_error(fmt::format(
+            "the lattice blew up at step {} (non-finite load); lower dynamics.dt_safety", r.step));
+      curve.push_back(r);
+      if (r.external_work > 0.0 && r.delta > 0.05 * v.deflection)
+        max_ratio = std::max(max_ratio, r.kinetic / r.external_work);
+      const auto now = std::chrono::steady_clock::now();
+      if (!options.quiet && now - last_report > std::chrono::seconds(10)) {
+        last_report = now;
+        const double secs = std::chrono::duration<double>(now - start).count();
+        const double frac = std::min(1.0, r.delta / v.deflection);
+        fmt::print(stderr,
+                   "  step {:>9}  Delta {:.4f} mm  P {:.4g} N  crack {:.2f} mm  {:.0f} steps/s  "
+                   "{:.0f}%  ETA {:.0f} s\n",
+                   r.step, r.delta * 1e3, r.load, r.crack * 1e3, r.step / secs, 100 * frac,
+                   frac > 0 ? secs * (1 - frac) / frac : 0.0);
+      }
+      if (r.delta >= v.deflection) break;
+      if (r.step > limit)
+        throw std::runtime_error(fmt::format(
+            "Delta reached only {:.4g} mm of {:.4g} mm after {} steps", r.delta * 1e3,
+            v.deflection * 1e3, r.step));
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                            .count();
+    const physics::BeamReading& fin = curve.back();
+
+    // Measured curve.
+    std::string csv =
+        "step,time_s,delta_mm,load_N,crack_mm,process_zone_mm,kinetic_J,external_work_J\n";
+    for (const auto& r : curve)
+      csv += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.step, r.time,
+                         r.delta * 1e3, r.load, r.crack * 1e3, r.process_zone * 1e3, r.kinetic,
+                         r.external_work);
+    io::write_file_atomically(out / "measured.csv", csv);
+    // Closed form.
+    const auto analytic = physics::analytic_curve(test, v.deflection, 200);
+    std::string acsv = "stage,delta_mm,load_N,crack_mm\n";
+    for (const auto& p : analytic)
+      acsv += fmt::format("{},{:.9g},{:.9g},{:.9g}\n", p.stage, p.delta * 1e3, p.load,
+                          p.crack * 1e3);
+    io::write_file_atomically(out / "analytic.csv", acsv);
+
+    // Errors per stage and the peak.
+    bool pass = true;
+    std::string ecsv = "stage,from_mm,to_mm,points,mean_rel_error,max_rel_error,tolerance,pass\n";
+    say(fmt::format("  done       {} steps in {:.1f} s ({:.0f} steps/s); Delta = {:.4f} mm, "
+                    "crack a = {:.2f} mm; kinetic/external work <= {:.2e} after 5% of the run",
+                    fin.step, wall, fin.step / wall, fin.delta * 1e3, fin.crack * 1e3, max_ratio));
+    for (int stage : v.stages) {
+      const physics::StageErrors e = physics::compare_with_closed_form(test, curve, stage, v.margin);
+      const bool ok = e.points > 0 && e.max_error <= v.tolerance;
+      pass = pass && ok;
+      ecsv += fmt::format("{},{:.6g},{:.6g},{},{:.6f},{:.6f},{:g},{}\n", stage, e.from * 1e3,
+                          e.to * 1e3, e.points, e.mean_error, e.max_error, v.tolerance,
+                          ok ? "yes" : "no");
+      say(fmt::format("  stage {}    Delta {:.4f}-{:.4f} mm, {} points: load error mean {:.2f}%, "
+                      "max {:.2f}% (tolerance {:g}%) {}",
+                      stage, e.from * 1e3, std::min(e.to, fin.delta) * 1e3, e.points,
+                      100 * e.mean_error, 100 * e.max_error, 100 * v.tolerance,
+                      ok ? "PASS" : "FAIL"));
+      manifest.facts[fmt::format("stage{}_max_error", stage)] = fmt::format("{:.6f}", e.max_error);
+      manifest.facts[fmt::format("stage{}_mean_error", stage)] = fmt::format("{:.6f}", e.mean_error);
+    }
+    double peak = 0.0, peak_delta = 0.0;
+    for (const auto& r : curve)
+      if (r.load > peak) {
+        peak = r.load;
+        peak_delta = r.delta;
+      }
+    double apeak = 0.0, apeak_delta = 0.0;
+    for (const auto& p : analytic)
+      if (p.stage <= 2 && p.load > apeak) {
+        apeak = p.load;
+        apeak_delta = p.delta;
+      }
+    const double peak_error = std::abs(peak - apeak) / apeak;
+    const bool peak_ok = v.peak_tolerance <= 0.0 || peak_error <= v.peak_tolerance;
+    pass = pass && peak_ok;
+    ecsv += fmt::format("peak,{:.6g},{:.6g},1,{:.6f},{:.6f},{:g},{}\n", peak_delta * 1e3,
+                        apeak_delta * 1e3, peak_error, peak_error, v.peak_tolerance,
+                        v.peak_tolerance <= 0.0 ? "not checked" : (peak_ok ? "yes" : "no"));
+    say(fmt::format("  peak       {:.4g} N at {:.4f} mm; closed form {:.4g} N at {:.4f} mm: "
+                    "{:.2f}%{}",
+                    peak, peak_delta * 1e3, apeak, apeak_delta * 1e3, 100 * peak_error,
+                    v.peak_tolerance <= 0.0
+                        ? ""
+                        : fmt::format(" (tolerance {:g}%) {}", 100 * v.peak_tolerance,
+                                      peak_ok ? "PASS" : "FAIL")));
+    io::write_file_atomically(out / "errors.csv", ecsv);
+
+    // The picture: measured against closed form, stage by stage.
+    io::Plot plot;
+    plot.title = fmt::format("{}: {} - measured and corrected beam theory", v.name,
+                             test_name(v.rig.kind));
+    plot.x_label = v.rig.kind == physics::BeamTestKind::enf ? "load-point deflection Delta (mm)"
+                                                            : "opening at the loaded end Delta (mm)";
+    plot.y_label = "load P (N)";
+    io::PlotSeries measured{"cleave (lattice, cohesive weak plane)", {}, {}, "", false, false, 2.0};
+    for (const auto& r : curve) {
+      measured.x.push_back(r.delta * 1e3);
+      measured.y.push_back(r.load);
+    }
+    plot.series.push_back(measured);
+    for (int stage = 1; stage <= 4; ++stage) {
+      io::PlotSeries s{fmt::format("closed form, stage {}", stage), {}, {}, "", false, true, 1.5};
+      for (const auto& p : analytic)
+        if (p.stage == stage) {
+          s.x.push_back(p.delta * 1e3);
+          s.y.push_back(p.load);
+        }
+      if (s.x.size() > 1) plot.series.push_back(s);
+    }
+    plot.markers.push_back({peak_delta * 1e3, peak, fmt::format("peak {:.3g} N", peak)});
+    io::write_plot_svg(out / "load_deflection.svg", plot);
+
+    manifest.status = "finished";
+    manifest.facts["test"] = test_name(v.rig.kind);
+    manifest.facts["bodies"] = std::to_string(lat.size());
+    manifest.facts["links"] = std::to_string(lat.links().size());
+    manifest.facts["steps"] = std::to_string(fin.step);
+    manifest.facts["time_step_s"] = fmt::format("{:.9g}", rig.time_step());
+    manifest.facts["wall_seconds"] = fmt::format("{:.3f}", wall);
+    manifest.facts["steps_per_second"] = fmt::format("{:.1f}", fin.step / wall);
+    manifest.facts["peak_load_N"] = fmt::format("{:.9g}", peak);
+    manifest.facts["closed_form_peak_N"] = fmt::format("{:.9g}", apeak);
+    manifest.facts["kinetic_over_work_max"] = fmt::format("{:.3e}", max_ratio);
+    manifest.facts["validation"] = pass ? "pass" : "fail";
+    io::write_manifest(out, manifest);
+    say(fmt::format("  result     {} -> {} (measured.csv, analytic.csv, errors.csv, "
+                    "load_deflection.svg)",
+                    pass ? "PASS" : "FAIL", out.string()));
+    return pass ? 0 : 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    manifest.status = "failed";
+    manifest.reason = e.what();
+    try {
+      io::write_manifest(out, manifest);
+    } catch (const std::exception&) {
+    }
+    return 2;
+  }
+}
+
+}  // namespace cleave::app

@@ -1,0 +1,184 @@
+#include "io/validation_scenario.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "io/toml_reader.hpp"
+
+namespace cleave::io {
+
+namespace {
+
+using namespace toml_reader;
+
+constexpr std::string_view kTables[] = {"scenario", "specimen", "material",
+                                        "loading",  "dynamics", "validation"};
+constexpr std::string_view kRequired[] = {"specimen", "material", "loading", "validation"};
+
+constexpr std::string_view kScenarioKeys[] = {"name", "description", "length_unit"};
+constexpr std::string_view kSpecimenKeys[] = {"test",          "length",          "breadth",
+                                              "height",        "initial_crack",   "particle_radius",
+                                              "mode_mix"};
+constexpr std::string_view kMaterialKeys[] = {
+    "young", "poisson", "density", "cohesive_strength", "fracture_energy",
+    "g_Ic",  "g_IIc",   "contact_penalty", "friction"};
+constexpr std::string_view kLoadingKeys[] = {"velocity", "ramp_time", "deflection"};
+constexpr std::string_view kDynamicsKeys[] = {"dt_safety", "global_damping", "threads",
+                                              "records"};
+constexpr std::string_view kValidationKeys[] = {"stages", "tolerance", "peak_tolerance",
+                                                "margin"};
+
+void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
+  t.reject_unknown(kSpecimenKeys);
+  physics::BeamRigDef& rig = v.rig;
+  rig.kind = t.choose<physics::BeamTestKind>("test", {{"dcb", physics::BeamTestKind::dcb},
+                                                      {"enf", physics::BeamTestKind::enf},
+                                                      {"mmb", physics::BeamTestKind::mmb}});
+  rig.length = unit * t.number("length", Range::positive()).value;
+  rig.breadth = unit * t.number("breadth", Range::positive()).value;
+  rig.height = unit * t.number("height", Range::positive()).value;
+  const Number a0 = t.number("initial_crack", Range::positive());
+  rig.initial_crack = unit * a0.value;
+  rig.radius = unit * t.number("particle_radius", Range::positive()).value;
+  // Each extent must hold a whole number of cubes of side 2r.
+  for (std::string_view key : {"length", "breadth", "height"}) {
+    const double extent = unit * t.number(key, Range::positive()).value;
+    const double count = extent / (2.0 * rig.radius);
+    if (std::abs(count - std::round(count)) > 1e-6 * count || std::round(count) < 1.0) {
+      t.fail(*t.find(key), key,
+             fmt::format("must be a whole number of particle diameters 2r = {} {}", 2.0 * rig.radius / unit,
+                         unit == 1e-3 ? "mm" : "length units"));
+    }
+  }
+  const double layers = std::round(rig.height / (2.0 * rig.radius));
+  if (static_cast<long>(layers) % 2 != 0)
+    t.fail(*t.find("height"), "height",
+           "must hold an even number of particle layers (the weak plane lies between the halves)");
+  if (rig.kind != physics::BeamTestKind::dcb &&
+      static_cast<long>(std::round(rig.length / (2.0 * rig.radius))) % 2 == 0)
+    t.fail(*t.find("length"), "length",
+           "ENF and MMB need an odd number of particles along the length (one at mid-span)");
+  const double reach = rig.kind == physics::BeamTestKind::dcb ? rig.length : 0.5 * rig.length;
+  if (rig.initial_crack >= reach - 2.0 * rig.radius)
+    t.fail(*a0.node, "initial_crack",
+           rig.kind == physics::BeamTestKind::dcb ? "must be shorter than the beam"
+                                                  : "must end before mid-span");
+  if (rig.kind == physics::BeamTestKind::mmb) {
+    rig.mode_mix = t.number("mode_mix", Range{0.0, 1.0, true, true}).value;
+  } else if (const toml::node* node = t.find("mode_mix")) {
+    t.fail(*node, "mode_mix", "only an MMB test has a mode mix");
+  }
+}
+
+void read_material(const TableReader& t, ValidationScenario& v) {
+  t.reject_unknown(kMaterialKeys);
+  physics::LatticeMaterial& m = v.rig.material;
+  m.young = t.number("young", Range::positive()).value;
+  m.poisson = t.number("poisson", Range{0.0, 0.25, false, true}).value;
+  m.density = t.number("density", Range::positive()).value;
+  m.sigma_c = t.number("cohesive_strength", Range::positive()).value;
+  m.g_c = t.number("fracture_energy", Range::positive()).value;
+  v.rig.g_Ic = t.number("g_Ic", Range::positive(), m.g_c).value;
+  v.rig.g_IIc = t.number("g_IIc", Range::positive(), m.g_c).value;
+  m.kappa = t.number("contact_penalty", Range::positive(), 1.0).value;
+  m.friction = t.number("friction", Range::non_negative(), 0.0).value;
+}
+
+void read_loading(const TableReader& t, double unit, ValidationScenario& v) {
+  t.reject_unknown(kLoadingKeys);
+  v.rig.velocity = t.number("velocity", Range::positive()).value;
+  v.rig.ramp_time = t.number("ramp_time", Range::non_negative()).value;
+  v.deflection = unit * t.number("deflection", Range::positive()).value;
+}
+
+void read_dynamics(const TableReader& t, ValidationScenario& v) {
+  t.reject_unknown(kDynamicsKeys);
+  v.rig.dt_safety = t.number("dt_safety", Range{0.0, 1.0, true, false}, 0.9).value;
+  v.rig.global_damping = t.number("global_damping", Range::non_negative(), 0.0).value;
+  v.threads = static_cast<int>(t.integer("threads", 0, 0));
+  v.records = static_cast<int>(t.integer("records", 2, 400));
+}
+
+void read_validation(const TableReader& t, ValidationScenario& v) {
+  t.reject_unknown(kValidationKeys);
+  const toml::node* node = t.find("stages");
+  if (node == nullptr) t.fail_absent("stages", "missing required key");
+  const auto* array = node->as_array();
+  if (array == nullptr || array->empty())
+    t.fail(*node, "stages", "expected a non-empty array of stage numbers (1-4)");
+  const int last = v.rig.kind == physics::BeamTestKind::enf ? 4 : 3;
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& e = *array->get(i);
+    const auto* n = e.as_integer();
+    if (n == nullptr || n->get() < 1 || n->get() > last)
+      t.fail(e, "stages", fmt::format("element {}: expected a stage number 1-{}", i + 1, last));
+    v.stages.push_back(static_cast<int>(n->get()));
+  }
+  v.tolerance = t.number("tolerance", Range::positive()).value;
+  v.peak_tolerance = t.number("peak_tolerance", Range::positive(), 0.0).value;
+  v.margin = t.number("margin", Range{0.0, 0.5, false, true}, 0.1).value;
+}
+
+}  // namespace
+
+ValidationScenario parse_validation_scenario(const std::string& text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    throw ScenarioError(source, line_of(e.source()), column_of(e.source()), "",
+                        fmt::format("TOML syntax error: {}", e.description()));
+  }
+  const Entry unknown = first_in_file(
+      root, [](std::string_view key, const toml::node&) { return !contains(kTables, key); });
+  if (unknown.key != nullptr)
+    throw ScenarioError(source, line_of(unknown.where()), column_of(unknown.where()),
+                        std::string(unknown.key->str()),
+                        fmt::format("unknown table; a validation scenario holds the tables {}",
+                                    quoted_list(kTables)));
+  for (std::string_view name : kTables) {
+    const toml::node* node = root.get(name);
+    if (node != nullptr && !node->is_table())
+      throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
+                          std::string(name),
+                          fmt::format("expected a table, found {}", type_name(*node)));
+    if (node == nullptr && contains(kRequired, name))
+      throw ScenarioError(source, 1, 1, std::string(name),
+                          fmt::format("missing required table [{}]", name));
+  }
+  const auto reader = [&](std::string_view name) {
+    return TableReader(source, std::string(name), root.get_as<toml::table>(name));
+  };
+  ValidationScenario v;
+  v.source = source;
+  double unit = 1e-3;
+  {
+    const TableReader t = reader("scenario");
+    t.reject_unknown(kScenarioKeys);
+    v.name = t.string("name", std::filesystem::path(source).stem().string());
+    v.description = t.string("description", "");
+    unit = t.choose<double>("length_unit", {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}}, 1e-3);
+  }
+  read_specimen(reader("specimen"), unit, v);
+  read_material(reader("material"), v);
+  read_loading(reader("loading"), unit, v);
+  read_dynamics(reader("dynamics"), v);
+  read_validation(reader("validation"), v);
+  return v;
+}
+
+ValidationScenario load_validation_scenario(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw ScenarioError(name, 0, 0, "", "file does not exist");
+  if (std::filesystem::is_directory(status))
+    throw ScenarioError(name, 0, 0, "", "cannot be read: it is a directory");
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in) throw ScenarioError(name, 0, 0, "", "file cannot be read");
+  return parse_validation_scenario(text.str(), name);
+}
+
+}  // namespace cleave::io

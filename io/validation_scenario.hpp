@@ -1,0 +1,53 @@
+#pragma once
+/// \file
+/// Validation scenarios (scenarios/validation/*.toml): a DCB, ENF or MMB fracture test of
+/// Chen et al. 2020 (seed 002, sec. 7) on the cubic lattice, and what its measured
+/// load-deflection curve must meet against the closed forms. Same TOML conventions and errors
+/// as io/scenario.hpp (ScenarioError with file, line, column and key).
+///
+///   [scenario]        name, description (optional); length_unit = "mm" (default; "m", "um")
+///   [specimen]        test = "dcb" | "enf" | "mmb" (required)
+///                     length (DCB: L; ENF, MMB: 2L), breadth (B), height (2h),
+///                     initial_crack (a0), particle_radius (r): length unit, > 0, required;
+///                     each of length, breadth, height a whole number of diameters 2r
+///                     mode_mix = 0.5 (MMB only, required there: beta = G_II/G_T in (0, 1))
+///   [material]        young (Pa), poisson ([0, 0.25)), density (kg/m^3),
+///                     cohesive_strength (Pa), fracture_energy (G_c of the weak plane, N/m):
+///                     required; g_Ic, g_IIc (N/m, for the closed forms; default
+///                     fracture_energy); contact_penalty (kappa, default 1);
+///                     friction (crack faces, default 0)
+///   [loading]         velocity (v0, m/s), ramp_time (t0, s, >= 0), deflection (length unit:
+///                     the run ends when Delta reaches it): required
+///   [dynamics]        dt_safety ((0, 1], default 0.9), global_damping (1/s, >= 0, default 0),
+///                     threads (>= 0, default 0: all), records (rows of the curve, default 400)
+///   [validation]      stages = [1, 2] (stages to check, each 1-4, required),
+///                     tolerance (relative, > 0, required), peak_tolerance (relative, default:
+///                     not checked), margin ([0, 0.5), default 0.1: the part of each stage's
+///                     deflection range left out at either end, where the cohesive zone blurs
+///                     the sharp corners of LEFM)
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "physics/beam_test_rig.hpp"
+
+namespace cleave::io {
+
+struct ValidationScenario {
+  std::string source;  ///< file name, for messages
+  std::string name, description;
+  physics::BeamRigDef rig;
+  double deflection = 0.0;  ///< m: the run ends when Delta reaches it
+  int threads = 0;
+  int records = 400;
+  std::vector<int> stages;       ///< stages whose loads are checked
+  double tolerance = 0.0;        ///< largest accepted relative load error in those stages
+  double peak_tolerance = 0.0;   ///< 0: the peak load is not checked
+  double margin = 0.1;
+};
+
+ValidationScenario parse_validation_scenario(const std::string& text, const std::string& source);
+ValidationScenario load_validation_scenario(const std::filesystem::path& file);
+
+}  // namespace cleave::io

@@ -1,0 +1,177 @@
+// The connective lattice of seed 002 (sec. 2): eq. 3's springs reproduce the isotropic solid
+// under homogeneous strain (Cauchy-Born), a cohesive link dissipates G_c times its area, cube
+// faces touch by Hertz's law over their common patch, and the run is deterministic.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+
+#include "io/validation_scenario.hpp"
+#include "physics/beam_test_rig.hpp"
+#include "physics/cubic_lattice.hpp"
+
+using namespace cleave::physics;
+
+namespace {
+
+LatticeMaterial paper_material() {
+  LatticeMaterial m;
+  m.young = 120e9;
+  m.poisson = 0.2;
+  m.density = 2500.0;
+  m.sigma_c = 70e6;
+  m.g_c = 260.0;
+  return m;
+}
+
+/// Drives every body of `lat` along v(x0) = eps x0 / T for `steps` steps (all prescribed,
+/// spins held: the Cauchy-Born state of a symmetric strain has no rotation), so the lattice
+/// ends strained by eps, shear springs included.
+void strain(CubicLattice& lat, const Eigen::Matrix3d& eps, int steps, double dt) {
+  const double T = steps * dt;
+  for (int b = 0; b < lat.size(); ++b) {
+    lat.prescribe(b, 15u);
+    const Eigen::Vector3d v = eps * lat.rest_positions()[b] / T;
+    for (int a = 0; a < 3; ++a) lat.set_velocity(b, a, v[a]);
+  }
+  for (int i = 0; i < steps; ++i) lat.step(dt);
+}
+
+/// The strain energy density of the isotropic solid, lambda (tr e)^2 / 2 + mu e:e.
+double isotropic_energy_density(const Eigen::Matrix3d& e, double E, double nu) {
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  return 0.5 * lambda * e.trace() * e.trace() + mu * (e.array() * e.array()).sum();
+}
+
+}  // namespace
+
+TEST(LatticeSprings, Eq3StiffnessesAndEffectiveAreas) {
+  const double E = 120e9, nu = 0.2, r = 0.125e-3;
+  const LatticeSprings s = lattice_springs(E, nu, r);
+  EXPECT_DOUBLE_EQ(s.kn1, 2 * E * r / (5 * (1 - 2 * nu)));
+  EXPECT_DOUBLE_EQ(s.kn2, s.kn1);
+  EXPECT_DOUBLE_EQ(s.ks1, 2 * E * r * (1 - 4 * nu) / (5 * (1 - 2 * nu) * (1 + nu)));
+  EXPECT_DOUBLE_EQ(s.ks2, s.ks1);
+  EXPECT_DOUBLE_EQ(s.area1, M_PI * r * r / 4);
+  EXPECT_DOUBLE_EQ(s.area2, 2 * M_PI * r * r / 9);
+}
+
+class CauchyBorn : public ::testing::TestWithParam<int> {};
+
+TEST_P(CauchyBorn, ABulkBodyStoresTheIsotropicStrainEnergyOfItsCell) {
+  // Eq. 3 is derived so that the springs of the cubic cell store the strain energy of the
+  // isotropic solid (E, nu) under any homogeneous strain: check a bulk body's share.
+  const double E = 120e9, nu = 0.2, r = 0.125e-3;
+  Eigen::Matrix3d eps = Eigen::Matrix3d::Zero();
+  switch (GetParam()) {
+    case 0:
+      eps(0, 0) = 1e-5;
+      break;  // uniaxial strain
+    case 1:
+      eps(0, 1) = eps(1, 0) = 1e-5;
+      break;  // simple shear (xy)
+    case 2:
+      eps.diagonal() << 1e-5, -0.3e-5, 0.6e-5;
+      break;  // triaxial
+    case 3:
+      eps << 1e-5, 0.4e-5, -0.2e-5, 0.4e-5, -0.5e-5, 0.3e-5, -0.2e-5, 0.3e-5, 0.8e-5;
+      break;
+  }
+  CubicLatticeDef def;
+  def.nx = def.ny = def.nz = 5;
+  def.radius = r;
+  def.material = paper_material();
+  CubicLattice lat(def);
+  strain(lat, eps, 200, 1e-9);
+  const int centre = lat.index(2, 2, 2);
+  const double cell = std::pow(2 * r, 3);
+  const double expected = isotropic_energy_density(eps, E, nu) * cell;
+  EXPECT_NEAR(lat.body_elastic_energy(centre), expected, 1e-4 * expected);
+  // And the bulk is in equilibrium: a homogeneous strain leaves no net force on it.
+  EXPECT_LT(lat.forces()[centre].norm(), 1e-6 * lattice_springs(E, nu, r).kn1 * 1e-5 * r);
+}
+
+INSTANTIATE_TEST_SUITE_P(Strains, CauchyBorn, ::testing::Values(0, 1, 2, 3));
+
+TEST(CohesiveLatticeLink, PullingTwoCubesApartDissipatesGcTimesTheEffectiveArea) {
+  // Two cubes stacked across the weak plane, one first-neighbour link between them (eq. 3,
+  // A = pi r^2 / 4). The work to open it to decohesion is A (G_c + sigma_c dn0 / 2).
+  CubicLatticeDef def;
+  def.nx = def.ny = 1;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.material.g_c = 2.0;  // a short softening branch: fewer steps
+  def.weak_layer = 1;
+  CubicLattice lat(def);
+  ASSERT_EQ(lat.links().size(), 1u);
+  const LatticeSprings s = lat.springs();
+  const double dn0 = s.area1 * def.material.sigma_c / s.kn1;
+  const double dc = dn0 + 2 * def.material.g_c / def.material.sigma_c;
+  lat.prescribe(0, 7u);
+  lat.prescribe(1, 7u);
+  const int steps = 20000;
+  const double dt = 1e-9, v = 1.1 * dc / (steps * dt);
+  lat.set_velocity(1, 2, v);
+  double work = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    const double before = lat.forces()[1].z();
+    lat.step(dt);
+    work -= 0.5 * (before + lat.forces()[1].z()) * v * dt;
+  }
+  EXPECT_EQ(lat.links()[0].state.phase, LinkPhase::contact);
+  const double expected = s.area1 * (def.material.g_c + 0.5 * def.material.sigma_c * dn0);
+  EXPECT_NEAR(work, expected, 2e-3 * expected);
+  EXPECT_NEAR(lat.external_work(), expected, 2e-3 * expected);
+}
+
+TEST(CubeFaceContact, HertzLawOverTheFacesCommonPatch) {
+  // Two cubes across a notch (the link starts decohered): pressed together by delta, the
+  // force is eq. 34 with r* = r/2 (equal cubes); shifted sideways by half a side, half of
+  // each face touches and the force halves; frictionless, no tangential force.
+  CubicLatticeDef def;
+  def.nx = 2;
+  def.ny = 1;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.weak_layer = 1;
+  def.notch_x = 1.0;  // everything across the plane starts in contact
+  CubicLattice lat(def);
+  const double r = def.radius, delta = 1e-7;
+  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9), r_star = r / 2;
+  const double hertz = 4.0 / 3.0 * E_star * std::sqrt(r_star) * std::pow(delta, 1.5);
+  for (int b = 0; b < lat.size(); ++b) lat.prescribe(b, 15u);
+  // Upper layer down by delta over 100 steps.
+  const int top0 = lat.index(0, 0, 1), top1 = lat.index(1, 0, 1);
+  for (int b : {top0, top1}) lat.set_velocity(b, 2, -delta / (100 * 1e-9));
+  for (int i = 0; i < 100; ++i) lat.step(1e-9);
+  EXPECT_NEAR(lat.forces()[top0].z(), hertz, 1e-6 * hertz);
+  EXPECT_NEAR(lat.forces()[top0].x(), 0.0, 1e-9 * hertz);
+  // Slide the upper layer by r along x: each upper cube now half over each lower one.
+  for (int b : {top0, top1}) {
+    lat.set_velocity(b, 2, 0.0);
+    lat.set_velocity(b, 0, r / (100 * 1e-9));
+  }
+  for (int i = 0; i < 100; ++i) lat.step(1e-9);
+  // top1 now covers half of lower cube 1 only (nothing beyond the edge): half the force.
+  EXPECT_NEAR(lat.forces()[top1].z(), 0.5 * hertz, 1e-6 * hertz);
+  // top0 straddles lower cubes 0 and 1: two halves.
+  EXPECT_NEAR(lat.forces()[top0].z(), hertz, 1e-6 * hertz);
+  EXPECT_NEAR(lat.forces()[top0].x(), 0.0, 1e-9 * hertz);
+}
+
+TEST(CubicLattice, BitIdenticalForOneAndTwoThreads) {
+  // A coarse DCB loaded through crack initiation: the same state hash for 1 and 2 threads.
+  const auto v = cleave::io::load_validation_scenario(std::string(CLEAVE_SOURCE_DIR) +
+                                                      "/scenarios/validation/dcb_coarse.toml");
+  auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    BeamTestRig rig(v.rig);
+    for (int i = 0; i < 3000; ++i) rig.step();
+    return rig.lattice().state_hash();
+  };
+  const auto one = run(1), two = run(2);
+  omp_set_num_threads(2);
+  EXPECT_EQ(one, two);
+}
