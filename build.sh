@@ -15,7 +15,7 @@ packages=(
   cmake ninja-build g++ git pkg-config ccache lld
   libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev
   libassimp-dev libopenvdb-dev libboost-iostreams-dev libtbb-dev
-  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

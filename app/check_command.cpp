@@ -15,7 +15,7 @@ int check_volume_command(const CheckVolumeOptions& options) {
   io::ExactStore store;
   try {
     const io::Manifest manifest = io::read_manifest(options.dir);
-    if (manifest.status != "finished") {
+    if (manifest.status != io::run_status::finished) {
       fmt::print(stderr, "cleave: error: {} holds an unfinished run (status '{}'{}{})\n",
                  options.dir.string(), manifest.status, manifest.reason.empty() ? "" : ": ",
                  manifest.reason);

@@ -16,6 +16,7 @@
 #include "io/world_setup.hpp"
 #include "physics/fracture_book.hpp"
 #include "physics/grain_stress.hpp"
+#include "physics/step_guard.hpp"
 #include "physics/transgranular.hpp"
 #include "physics/world.hpp"
 
@@ -143,12 +144,14 @@ WallReading read_wall(const physics::Wall& w, const Eigen::Vector3d& origin0) {
 class Runner {
  public:
   Runner(const io::Scenario& scenario, const geometry::Specimen& specimen, fs::path out,
-         bool quiet, std::uint64_t max_steps)
+         bool quiet, std::uint64_t max_steps, const RunHooks& hooks)
       : scenario_(scenario),
         specimen_(specimen),
         out_(std::move(out)),
         quiet_(quiet),
         max_steps_(max_steps),
+        hooks_(hooks),
+        guard_(hooks.max_move_fraction),
         world_(io::make_world(scenario, specimen)),
         bodies_pvd_(out_ / "bodies.pvd"),
         contacts_pvd_(out_ / "contacts.pvd"),
@@ -196,12 +199,14 @@ class Runner {
       }
       run_stage(plain, true);
     } else {
-      for (const StageDef& stage : scenario_.stages) {
-        if (stopped_) break;
-        run_stage(stage, false);
+      for (std::size_t k = 0; k < scenario_.stages.size() && !stopped_; ++k) {
+        stage_index_ = k;
+        run_stage(scenario_.stages[k], false);
       }
     }
-    if (world_.steps() != last_frame_step_) write_frame();
+    // A blown-up state with non-finite values makes no frame; the last good one stays.
+    const bool garbage = sum_.ending == RunEnding::blew_up && !finite_state();
+    if (world_.steps() != last_frame_step_ && !garbage) write_frame();
     write_tables();
     sum_.steps = world_.steps();
     sum_.time = world_.time();
@@ -271,9 +276,26 @@ class Runner {
     const auto stage_t0 = std::chrono::steady_clock::now();
     auto last_print = std::chrono::steady_clock::time_point{};
     bool event = false;
-    for (std::uint64_t i = 1; i <= limit && !event; ++i) {
-      world_.step();
+    bool halt = false;  // interrupted or blew up: the run ends after this step
+    for (std::uint64_t i = 1; i <= limit && !event && !halt; ++i) {
+      guard_.before_step(world_);
+      bool completed = true;
+      try {
+        world_.step();
+      } catch (const std::exception&) {
+        // A non-finite state can stop the step part-way (the neighbour search refuses it):
+        // that is a blow-up to report as such; anything else is an error of its own.
+        if (!guard_.check(world_, false)) throw;
+        completed = false;
+      }
       ++st.steps;
+      if (const auto blow_up = guard_.check(world_, completed)) {
+        sum_.ending = RunEnding::blew_up;
+        sum_.failure = physics::describe(*blow_up, stable_dt_);
+        record(max_overlap(world_), std::nullopt);
+        halt = stopped_ = true;
+        break;
+      }
       if (book_ && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
         st.splits += split_grains();
       }
@@ -312,7 +334,20 @@ class Runner {
         }
       }
       if (frame_every && (i % frame_every == 0)) write_frame();
-      if (!quiet_ && (seconds_since(last_print) > 1.0 || i == limit || event)) {
+      const RunPoint point{world_, stage.name, stage_index_, st.steps};
+      if (hooks_.on_checkpoint && hooks_.checkpoint_every > 0 &&
+          world_.steps() % hooks_.checkpoint_every == 0) {
+        hooks_.on_checkpoint(point);
+      }
+      if (hooks_.stop_requested && hooks_.stop_requested()) {
+        sum_.ending = RunEnding::interrupted;
+        if (i % log_every != 0 && i != limit && !event) {
+          record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
+        }
+        if (hooks_.on_interrupt) hooks_.on_interrupt(point);
+        halt = stopped_ = true;
+      }
+      if (!quiet_ && (seconds_since(last_print) > 1.0 || i == limit || event || halt)) {
         last_print = std::chrono::steady_clock::now();
         const double elapsed = seconds_since(stage_t0);
         const double eta = elapsed / static_cast<double>(i) * static_cast<double>(limit - i);
@@ -333,7 +368,9 @@ class Runner {
     st.end = world_.time();
     st.bonds_broken = world_.bond_breaks().size() - breaks0;
     st.ended_by = event ? (plain ? "settled" : io::to_string(stage.until)) : "limit";
-    st.event_missed = !event && stage.until != StageDef::Until::limit;
+    if (sum_.ending == RunEnding::interrupted) st.ended_by = "interrupted";
+    if (sum_.ending == RunEnding::blew_up) st.ended_by = "blew_up";
+    st.event_missed = !event && !halt && stage.until != StageDef::Until::limit;
     if (plain) sum_.settled = event;
     if (!load_walls.empty() && plot_x.size() >= 2) {
       st.plot = fmt::format("load_displacement_{}.svg", stage.name);
@@ -404,6 +441,15 @@ class Runner {
     }
     sum_.splits += events.size();
     return events.size();
+  }
+
+  /// Every live body's state is finite.
+  bool finite_state() const {
+    for (const physics::BodyId id : world_.body_ids()) {
+      const physics::BodyState& s = world_.state(id);
+      if (!s.x.allFinite() || !s.q.coeffs().allFinite() || !s.v.allFinite() || !s.L.allFinite()) return false;
+    }
+    return true;
   }
 
   bool settled() const {
@@ -535,8 +581,12 @@ class Runner {
   fs::path out_;
   bool quiet_;
   std::uint64_t max_steps_;
+  RunHooks hooks_;
+  physics::StepGuard guard_;
+  std::size_t stage_index_ = 0;
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   physics::World world_;
+  double stable_dt_ = io::stable_time_step(scenario_, specimen_);  // for blow-up messages
   io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_;
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;
@@ -554,8 +604,9 @@ class Runner {
 }  // namespace
 
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
-                             const fs::path& out, bool quiet, std::uint64_t max_steps) {
-  Runner runner(scenario, specimen, out, quiet, max_steps);
+                             const fs::path& out, bool quiet, std::uint64_t max_steps,
+                             const RunHooks& hooks) {
+  Runner runner(scenario, specimen, out, quiet, max_steps, hooks);
   return runner.run();
 }
 

@@ -6,6 +6,7 @@
 /// initialisation, loading). It writes ParaView frames and the histories users plot.
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,7 +33,42 @@ struct StageSummary {
   std::string plot;            ///< load-displacement picture written for it (file name)
 };
 
+/// How a dynamic run ended.
+enum class RunEnding {
+  completed,    ///< every stage ran (or --max-steps was reached)
+  interrupted,  ///< RunHooks::stop_requested said stop (SIGINT/SIGTERM)
+  blew_up,      ///< the step guard found a non-finite state or a body moving too far
+};
+
+/// Where a run is, for the hooks: the world and the stage it is in.
+struct RunPoint {
+  const physics::World& world;
+  const std::string& stage;     ///< its name
+  std::size_t stage_index;      ///< in scenario.stages (0 for a plain run)
+  std::uint64_t stage_steps;    ///< steps taken in the stage so far
+};
+
+/// What the caller of run_dynamics plugs into its step loop. Every member may be empty.
+struct RunHooks {
+  /// Polled after every step; true stops the run cleanly after that step (its outputs
+  /// are written and the summary says interrupted). `cleave run` asks run_control.hpp.
+  std::function<bool()> stop_requested;
+  /// Called once when stop_requested stopped the run, before the outputs are written: the
+  /// place a checkpoint writer plugs in to save the state for a restart.
+  std::function<void(const RunPoint&)> on_interrupt;
+  /// Called every `checkpoint_every` steps (0: never), after the step and its fracture
+  /// check: the place periodic checkpoints plug in. None is written today.
+  std::function<void(const RunPoint&)> on_checkpoint;
+  std::uint64_t checkpoint_every = 0;
+  /// The step guard's limit on a body's movement in one step, as a fraction of its
+  /// bounding radius (physics/step_guard.hpp).
+  double max_move_fraction = 0.1;
+};
+
 struct DynamicsSummary {
+  RunEnding ending = RunEnding::completed;
+  /// With blew_up: the message (step, body, suggested dt); physics::describe.
+  std::string failure;
   std::uint64_t steps = 0;
   double time = 0.0;
   double kinetic_energy = 0.0;
@@ -59,9 +95,11 @@ struct DynamicsSummary {
 /// bonds.pvd, energy.csv, walls.csv, load_displacement.csv, bonds.csv, bond_breaks.csv and
 /// a load-displacement picture (SVG) per loading stage. Throws io::ScenarioError when the
 /// time step is above the stable limit (io::check_time_step). `max_steps` > 0 caps the
-/// total number of steps.
+/// total number of steps. A run stopped by `hooks.stop_requested` or by the step guard
+/// (a blow-up) still writes its frames and tables up to where it stopped; the summary's
+/// `ending` says which.
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const std::filesystem::path& out, bool quiet,
-                             std::uint64_t max_steps = 0);
+                             std::uint64_t max_steps = 0, const RunHooks& hooks = {});
 
 }  // namespace cleave::app

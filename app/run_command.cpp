@@ -5,15 +5,19 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <optional>
 
 #include "cleave_version.hpp"
 #include "commands.hpp"
 #include "io/exact_store.hpp"
 #include "io/mesh_io.hpp"
+#include "io/provenance.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
+#include "io/scenario_writer.hpp"
 #include "io/world_setup.hpp"
 #include "dynamics_run.hpp"
+#include "run_control.hpp"
 #include "specimen_picture.hpp"
 
 namespace cleave::app {
@@ -77,6 +81,7 @@ std::string describe_outline(const geometry::Outline& o) {
 }  // namespace
 
 int run_command(const RunOptions& options) {
+  install_stop_handlers();
   const Stopwatch total;
   auto say = [&](const std::string& line) {
     if (!options.quiet) fmt::print("{}\n", line);
@@ -100,6 +105,7 @@ int run_command(const RunOptions& options) {
   try {
     fs::create_directories(out);
     fs::remove(out / io::kManifestName);
+    fs::remove(out / io::kChecksumsName);
     fs::remove_all(out / "meshes");
     fs::remove_all(out / "frame_meshes");
   } catch (const fs::filesystem_error& e) {
@@ -107,10 +113,41 @@ int run_command(const RunOptions& options) {
     return 1;
   }
 
-  io::Manifest manifest;
+  // run.toml says "running" from here on; close() gives the final status and the files.
+  io::ResultRecord record(out);
+  io::Manifest& manifest = record.manifest;
   manifest.facts["cleave_version"] = CLEAVE_VERSION;
   manifest.facts["scenario"] = scenario.source;
   manifest.facts["scenario_name"] = scenario.name;
+  manifest.provenance = io::library_versions();
+  manifest.provenance["cleave_version"] = CLEAVE_VERSION;
+  manifest.provenance["command"] = "run";
+  manifest.provenance["scenario"] = scenario.source;
+  manifest.provenance["scenario_as_run"] = io::kScenarioAsRunName;
+  manifest.provenance["seed"] = std::to_string(scenario.specimen.seed);
+  manifest.provenance["started_utc"] = io::utc_now();
+  if (options.max_steps > 0) manifest.provenance["max_steps"] = std::to_string(options.max_steps);
+  // A run stopped by SIGINT/SIGTERM between two phases: what is written stays, marked so.
+  auto interrupted = [&]() {
+    const int sig = stop_signal();
+    const std::string reason = fmt::format("stopped by {}", signal_name(sig));
+    fmt::print(stderr, "cleave: {}; the result folder {} holds what was done so far (status "
+                       "interrupted)\n", reason, out.string());
+    manifest.provenance["ended_utc"] = io::utc_now();
+    record.close_quietly(io::run_status::interrupted, reason);
+    return exit_code_for_signal(sig);
+  };
+  try {
+    const std::string input = io::read_file(options.scenario);
+    manifest.provenance["scenario_sha256"] = io::sha256_hex(input);
+    record.start();
+    io::write_file_atomically(out / "scenario.toml", input);
+    io::write_file_atomically(out / io::kScenarioAsRunName, io::scenario_to_toml(scenario));
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    record.close_quietly(io::run_status::failed, e.what());
+    return 1;
+  }
   try {
     say(fmt::format("cleave {} | scenario {} ({})", CLEAVE_VERSION, scenario.name, scenario.source));
     Stopwatch step;
@@ -130,12 +167,12 @@ int run_command(const RunOptions& options) {
         io::check_time_step(scenario, specimen);
       } catch (const io::ScenarioError& e) {
         fmt::print(stderr, "cleave: error: {}\n", e.what());
-        manifest.status = "failed";
-        manifest.reason = e.what();
-        io::write_manifest(out, manifest);
+        record.close_quietly(io::run_status::failed, e.what());
         return 2;
       }
     }
+
+    if (stop_signal() != 0) return interrupted();
 
     step = Stopwatch();
     const std::vector<Piece> pieces =
@@ -149,6 +186,8 @@ int run_command(const RunOptions& options) {
                         : fmt::format("; {} cuts skipped: a part would be below the minimum "
                                       "fragment fraction {:g}",
                                       planned - pieces.size(), scenario.split.min_fragment_fraction)));
+
+    if (stop_signal() != 0) return interrupted();
 
     step = Stopwatch();
     std::vector<geometry::PolygonMesh> meshes;
@@ -165,13 +204,18 @@ int run_command(const RunOptions& options) {
     io::write_file_atomically(out / "specimen.csv", specimen_csv(specimen));
     io::write_file_atomically(out / "fragments.csv", fragments_csv(pieces));
     io::write_file_atomically(out / "specimen.svg", specimen_picture_svg(specimen, pieces));
-    io::write_file_atomically(out / "scenario.toml", io::read_file(options.scenario));
-    say(fmt::format("  tables     specimen.csv, fragments.csv, geometry.exact, specimen.svg ({:.2f} s)",
-                    step.seconds()));
+    say(fmt::format("  tables     specimen.csv, fragments.csv, geometry.exact, specimen.svg, "
+                    "scenario.toml, {} ({:.2f} s)",
+                    io::kScenarioAsRunName, step.seconds()));
+    if (stop_signal() != 0) return interrupted();
 
+    std::optional<DynamicsSummary> dynamics;
     if (scenario.dynamics.enabled) {
-      const DynamicsSummary d =
-          run_dynamics(scenario, specimen, out, options.quiet, options.max_steps);
+      RunHooks hooks;
+      hooks.stop_requested = [] { return stop_signal() != 0; };
+      // hooks.on_interrupt / on_checkpoint: where a checkpoint writer will plug in.
+      dynamics = run_dynamics(scenario, specimen, out, options.quiet, options.max_steps, hooks);
+      const DynamicsSummary& d = *dynamics;
       std::string files = "bodies.pvd, contacts.pvd";
       if (scenario.bond.enabled) files += ", bonds.pvd";
       files += ", energy.csv, walls.csv, load_displacement.csv";
@@ -249,26 +293,31 @@ int run_command(const RunOptions& options) {
       manifest.facts["released_energy_J"] = fmt::format("{:.9g}", d.released_energy);
       manifest.facts["max_overlap_m"] = fmt::format("{:.9g}", d.max_overlap);
       manifest.facts["lowest_point_m"] = fmt::format("{:.9g}", d.lowest_point);
+      manifest.facts["dynamics_ending"] = d.ending == RunEnding::completed     ? "completed"
+                                          : d.ending == RunEnding::interrupted ? "interrupted"
+                                                                               : "blew_up";
     }
-    manifest.status = "finished";
     manifest.facts["grains"] = std::to_string(specimen.grains.size());
     manifest.facts["fragments"] = std::to_string(pieces.size());  // cleavage slabs at the start
     manifest.facts["mesh_format"] = io::to_string(scenario.output.mesh_format);
     manifest.facts["mesh_layout"] = io::to_string(scenario.output.mesh_layout);
     manifest.facts["length_unit_of_outputs"] = "m";
     manifest.facts["wall_seconds"] = fmt::format("{:.3f}", total.seconds());
-    io::write_manifest(out, manifest);
+    manifest.provenance["ended_utc"] = io::utc_now();
+    if (dynamics && dynamics->ending == RunEnding::blew_up) {
+      fmt::print(stderr, "cleave: error: {}\n", dynamics->failure);
+      record.close_quietly(io::run_status::failed, dynamics->failure);
+      return 1;
+    }
+    if (dynamics && dynamics->ending == RunEnding::interrupted) return interrupted();
+    record.close(io::run_status::finished);
     say(fmt::format("done in {:.2f} s -> {}  (check it: cleave check volume {})", total.seconds(),
                     out.string(), out.string()));
     return 0;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
-    manifest.status = "failed";
-    manifest.reason = e.what();
-    try {
-      io::write_manifest(out, manifest);
-    } catch (const std::exception&) {
-    }
+    manifest.provenance["ended_utc"] = io::utc_now();
+    record.close_quietly(io::run_status::failed, e.what());
     return 1;
   }
 }

@@ -12,10 +12,12 @@
 #include "cleave_version.hpp"
 #include "commands.hpp"
 #include "io/plot.hpp"
+#include "io/provenance.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
 #include "io/validation_scenario.hpp"
 #include "physics/beam_test_rig.hpp"
+#include "run_control.hpp"
 
 namespace cleave::app {
 
@@ -32,9 +34,20 @@ const char* test_name(physics::BeamTestKind k) {
   return "?";
 }
 
+/// The measured load-deflection curve as CSV.
+std::string measured_csv(const std::vector<physics::BeamReading>& curve) {
+  std::string csv = "step,time_s,delta_mm,load_N,crack_mm,process_zone_mm,kinetic_J,external_work_J\n";
+  for (const auto& r : curve)
+    csv += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.step, r.time,
+                       r.delta * 1e3, r.load, r.crack * 1e3, r.process_zone * 1e3, r.kinetic,
+                       r.external_work);
+  return csv;
+}
+
 }  // namespace
 
 int validate_command(const ValidateOptions& options) {
+  install_stop_handlers();
   io::ValidationScenario v;
   try {
     v = io::load_validation_scenario(options.scenario);
@@ -53,9 +66,29 @@ int validate_command(const ValidateOptions& options) {
   auto say = [&](const std::string& s) {
     if (!options.quiet) fmt::print("{}\n", s);
   };
-  io::Manifest manifest;
+  // run.toml says "running" from here on; close() gives the final status and the files.
+  io::ResultRecord record(out);
+  io::Manifest& manifest = record.manifest;
   manifest.facts["cleave_version"] = CLEAVE_VERSION;
   manifest.facts["scenario"] = fs::absolute(options.scenario).string();
+  manifest.provenance = io::library_versions();
+  manifest.provenance["cleave_version"] = CLEAVE_VERSION;
+  manifest.provenance["command"] = "validate";
+  manifest.provenance["scenario"] = options.scenario.string();
+  // The cubic lattice is regular and its run deterministic: nothing is drawn at random.
+  manifest.provenance["seed"] = "none";
+  manifest.provenance["started_utc"] = io::utc_now();
+  try {
+    fs::remove(out / io::kChecksumsName);
+    const std::string input = io::read_file(options.scenario);
+    manifest.provenance["scenario_sha256"] = io::sha256_hex(input);
+    record.start();
+    io::write_file_atomically(out / "scenario.toml", input);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    record.close_quietly(io::run_status::failed, e.what());
+    return 2;
+  }
   try {
     if (v.threads > 0) omp_set_num_threads(v.threads);
     physics::BeamTestRig rig(v.rig);
@@ -90,6 +123,14 @@ int validate_command(const ValidateOptions& options) {
     const std::uint64_t limit = 3 * expected_steps + 1000;
     double max_ratio = 0.0;
     while (true) {
+      if (const int sig = stop_signal()) {
+        const std::string reason = fmt::format("stopped by {} at step {}", signal_name(sig), rig.steps());
+        fmt::print(stderr, "cleave: {}; the result folder {} is marked interrupted\n", reason, out.string());
+        io::write_file_atomically(out / "measured.csv", measured_csv(curve));
+        manifest.provenance["ended_utc"] = io::utc_now();
+        record.close_quietly(io::run_status::interrupted, reason);
+        return exit_code_for_signal(sig);
+      }
       rig.step();
       if (rig.steps() % every != 0) continue;
       physics::BeamReading r = rig.reading();
@@ -121,13 +162,7 @@ int validate_command(const ValidateOptions& options) {
     const physics::BeamReading& fin = curve.back();
 
     // Measured curve.
-    std::string csv =
-        "step,time_s,delta_mm,load_N,crack_mm,process_zone_mm,kinetic_J,external_work_J\n";
-    for (const auto& r : curve)
-      csv += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.step, r.time,
-                         r.delta * 1e3, r.load, r.crack * 1e3, r.process_zone * 1e3, r.kinetic,
-                         r.external_work);
-    io::write_file_atomically(out / "measured.csv", csv);
+    io::write_file_atomically(out / "measured.csv", measured_csv(curve));
     // Closed form.
     const auto analytic = physics::analytic_curve(test, v.deflection, 200);
     std::string acsv = "stage,delta_mm,load_N,crack_mm\n";
@@ -209,7 +244,6 @@ int validate_command(const ValidateOptions& options) {
     plot.markers.push_back({peak_delta * 1e3, peak, fmt::format("peak {:.3g} N", peak)});
     io::write_plot_svg(out / "load_deflection.svg", plot);
 
-    manifest.status = "finished";
     manifest.facts["test"] = test_name(v.rig.kind);
     manifest.facts["bodies"] = std::to_string(lat.size());
     manifest.facts["links"] = std::to_string(lat.links().size());
@@ -221,19 +255,16 @@ int validate_command(const ValidateOptions& options) {
     manifest.facts["closed_form_peak_N"] = fmt::format("{:.9g}", apeak);
     manifest.facts["kinetic_over_work_max"] = fmt::format("{:.3e}", max_ratio);
     manifest.facts["validation"] = pass ? "pass" : "fail";
-    io::write_manifest(out, manifest);
+    manifest.provenance["ended_utc"] = io::utc_now();
+    record.close(io::run_status::finished);
     say(fmt::format("  result     {} -> {} (measured.csv, analytic.csv, errors.csv, "
                     "load_deflection.svg)",
                     pass ? "PASS" : "FAIL", out.string()));
     return pass ? 0 : 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
-    manifest.status = "failed";
-    manifest.reason = e.what();
-    try {
-      io::write_manifest(out, manifest);
-    } catch (const std::exception&) {
-    }
+    manifest.provenance["ended_utc"] = io::utc_now();
+    record.close_quietly(io::run_status::failed, e.what());
     return 2;
   }
 }

@@ -1,0 +1,323 @@
+#include "io/scenario_writer.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+
+namespace cleave::io {
+
+namespace {
+
+/// A double as a TOML float with the shortest digits that read back the same value.
+std::string num(double x) {
+  std::string s = fmt::format("{}", x);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // "3100" -> "3100.0"
+  return s;
+}
+
+/// A TOML basic string: quoted, with backslash, quote and control characters escaped.
+std::string str(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string vec(const Eigen::Vector3d& v) {
+  return fmt::format("[{}, {}, {}]", num(v.x()), num(v.y()), num(v.z()));
+}
+
+std::string boolean(bool b) { return b ? "true" : "false"; }
+
+const char* outline_name(geometry::Outline::Kind k) {
+  switch (k) {
+    case geometry::Outline::Kind::box: return "box";
+    case geometry::Outline::Kind::disc: return "disc";
+    case geometry::Outline::Kind::beam: return "beam";
+  }
+  return "?";
+}
+
+const char* wall_kind(physics::Wall::Kind k) {
+  switch (k) {
+    case physics::Wall::Kind::plane: return "plane";
+    case physics::Wall::Kind::platen: return "platen";
+    case physics::Wall::Kind::cylinder: return "cylinder";
+  }
+  return "?";
+}
+
+/// The key/value lines of one contact parameter set.
+void contact_params(std::string& out, const char* table, const physics::ContactParams& p) {
+  out += fmt::format("\n[contact.{}]\nkn = {}\nks = {}\nkr = {}\nkt = {}\nc_res = {}\nmu_s = {}\n"
+                     "mu_r = {}\ndamping = {}\n",
+                     table, num(p.kn), num(p.ks), num(p.kr), num(p.kt), num(p.c_res), num(p.mu_s),
+                     num(p.mu_r), num(p.damping_ratio));
+}
+
+}  // namespace
+
+std::string scenario_to_toml(const Scenario& s) {
+  std::string out =
+      "# The scenario as run by cleave: every default filled in, lengths in metres.\n"
+      "# `cleave run` reads it as it is.\n";
+  out += fmt::format("\n[scenario]\nname = {}\ndescription = {}\nlength_unit = \"m\"\n",
+                     str(s.name), str(s.description));
+
+  const geometry::SpecimenDef& d = s.specimen;
+  const geometry::Outline& o = d.outline;
+  out += fmt::format("\n[specimen]\nshape = \"{}\"\n", outline_name(o.kind));
+  switch (o.kind) {
+    case geometry::Outline::Kind::box:
+      out += fmt::format("size = {}\n", vec(o.size));
+      break;
+    case geometry::Outline::Kind::disc:
+      out += fmt::format("diameter = {}\nthickness = {}\n", num(o.size.x()), num(o.size.z()));
+      break;
+    case geometry::Outline::Kind::beam:
+      out += fmt::format("length = {}\nheight = {}\nthickness = {}\nnotch_width = {}\nnotch_depth = {}\n",
+                         num(o.size.x()), num(o.size.y()), num(o.size.z()), num(o.notch_width),
+                         num(o.notch_depth));
+      break;
+  }
+  out += fmt::format("keep = \"{}\"\n",
+                     d.keep == geometry::KeepRule::cell_inside ? "cell_inside" : "centre_inside");
+  out += fmt::format("\n[grain]\nr = {}\nr_bar = {}\nt = {}\nt_bar = {}\n", num(d.r), num(d.r_bar),
+                     num(d.t), num(d.t_bar));
+  out += fmt::format("\n[orientation]\nseed = {}\nfamily_mix = {}\nangles = [{}]\n", d.seed,
+                     num(d.family_mix), fmt::join(d.angles, ", "));
+  out += fmt::format("\n[split]\nmin_fragment_fraction = {}\n", num(s.split.min_fragment_fraction));
+  out += fmt::format("\n[output]\nmesh_format = \"{}\"\nmesh_layout = \"{}\"\nframe_meshes = {}\n",
+                     to_string(s.output.mesh_format), to_string(s.output.mesh_layout),
+                     boolean(s.output.frame_meshes));
+  out += fmt::format("\n[material]\ndensity = {}\n", num(s.material.density));
+
+  // [contact] is optional without [dynamics]; when given, its dilation radius is > 0.
+  if (s.contact.dilation_radius > 0.0) {
+    out += fmt::format("\n[contact]\ndilation_radius = {}\n", num(s.contact.dilation_radius));
+    contact_params(out, "particle_particle", s.contact.particle_particle);
+    contact_params(out, "particle_wall", s.contact.particle_wall);
+  }
+
+  const DynamicsDef& dyn = s.dynamics;
+  if (dyn.enabled) {
+    out += fmt::format("\n[dynamics]\ndt = {}\n", num(dyn.dt));
+    if (s.stages.empty()) out += fmt::format("duration = {}\n", num(dyn.duration));
+    out += fmt::format(
+        "gravity = {}\nlift = {}\nframes = {}\nsettle_ratio = {}\ndt_safety = {}\nsearch = \"{}\"\n"
+        "threads = {}\nlocal_damping = {}\n",
+        vec(dyn.gravity), num(dyn.lift), dyn.frames, num(dyn.settle_ratio), num(dyn.dt_safety),
+        dyn.search == physics::SearchMethod::basic ? "basic" : "bounding_box", dyn.threads,
+        num(dyn.local_damping));
+  }
+
+  for (const physics::Wall& w : s.walls) {
+    out += fmt::format("\n[[wall]]\nname = {}\nkind = \"{}\"\npoint = {}\nnormal = {}\n", str(w.name),
+                       wall_kind(w.kind), vec(w.origin), vec(w.normal));
+    if (w.kind == physics::Wall::Kind::platen) {
+      // size is read as full lengths and halved: doubling is exact.
+      out += fmt::format("u = {}\nsize = [{}, {}]\n", vec(w.u), num(2.0 * w.half_u), num(2.0 * w.half_v));
+    }
+    if (w.kind == physics::Wall::Kind::cylinder) {
+      out += fmt::format("length = {}\nradius = {}\n", num(w.length), num(w.radius));
+    }
+    out += fmt::format("velocity = {}\n", vec(w.velocity));
+    // Planes and platens read along their normal unless told otherwise; cylinders read
+    // magnitudes (zero axis) unless told otherwise.
+    const bool default_axis = w.kind == physics::Wall::Kind::cylinder ? w.load_axis.isZero(0.0)
+                                                                      : w.load_axis == w.normal;
+    if (!default_axis) out += fmt::format("load_axis = {}\n", vec(w.load_axis));
+  }
+
+  if (s.bond.enabled) {
+    const physics::BondParams& b = s.bond.params;
+    out += fmt::format("\n[bond]\nkbn = {}\nkbs = {}\n", num(b.kbn), num(b.kbs));
+    if (b.law == physics::BondLaw::cohesive) {
+      out += fmt::format("law = \"cohesive\"\nsigma_c = {}\ng_c = {}\n", num(b.sigma_c), num(b.g_c));
+    } else {
+      out += fmt::format("law = \"bonded_particle\"\ntbn = {}\ntbs = {}\n", num(b.tbn), num(b.tbs));
+    }
+  }
+
+  if (s.fracture.enabled) {
+    const physics::FractureParams& f = s.fracture.params;
+    out += fmt::format("\n[fracture]\nsigma_f_hyd = {}\nk_ic = {}\nc = {}\ncrack_length = {}\ncheck_every = {}\n",
+                       num(f.sigma_f_hyd), num(f.k_ic), num(f.c), num(f.crack_length),
+                       s.fracture.check_every);
+  }
+
+  for (const StageDef& st : s.stages) {
+    out += fmt::format("\n[[stage]]\nname = {}\n", str(st.name));
+    if (st.kind == StageDef::Kind::bond) {
+      out += fmt::format("kind = \"bond\"\ndistance = {}\n", num(st.bond_distance));
+      continue;
+    }
+    out += "kind = \"motion\"\n";
+    std::string velocities;
+    for (const auto& [name, v] : st.wall_velocity) {
+      velocities += fmt::format("{}{} = {}", velocities.empty() ? "" : ", ", str(name), vec(v));
+    }
+    out += fmt::format("wall_velocity = {{ {} }}\n", velocities);
+    if (st.steps > 0) {
+      out += fmt::format("steps = {}\n", st.steps);
+    } else {
+      out += fmt::format("time = {}\n", num(st.time));
+    }
+    out += fmt::format("until = \"{}\"\n", to_string(st.until));
+    if (st.until == StageDef::Until::load_drop) out += fmt::format("load_drop = {}\n", num(st.load_drop));
+    std::string walls;
+    for (const auto& name : st.load_walls) walls += (walls.empty() ? "" : ", ") + str(name);
+    out += fmt::format("load_walls = [{}]\nframes = {}\n", walls, st.frames);
+  }
+  return out;
+}
+
+// ---- comparison -----------------------------------------------------------------------------
+
+namespace {
+
+/// Collects the keys where two scenarios differ.
+class Diff {
+ public:
+  std::vector<std::string> keys;
+
+  template <class T>
+  void same(const std::string& key, const T& a, const T& b) {
+    if (!(a == b)) keys.push_back(key);
+  }
+  /// Numbers: bit-for-bit the same value (NaN never occurs in a parsed scenario).
+  void same(const std::string& key, double a, double b) {
+    if (!(a == b)) keys.push_back(key);
+  }
+  void same(const std::string& key, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    if (a != b) keys.push_back(key);
+  }
+  /// Unit vectors normalised on reading: within a few ulp.
+  void direction(const std::string& key, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    if (!((a - b).lpNorm<Eigen::Infinity>() <= 4e-16)) keys.push_back(key);
+  }
+  void contact(const std::string& key, const physics::ContactParams& a, const physics::ContactParams& b) {
+    same(key + ".kn", a.kn, b.kn);
+    same(key + ".ks", a.ks, b.ks);
+    same(key + ".kr", a.kr, b.kr);
+    same(key + ".kt", a.kt, b.kt);
+    same(key + ".c_res", a.c_res, b.c_res);
+    same(key + ".mu_s", a.mu_s, b.mu_s);
+    same(key + ".mu_r", a.mu_r, b.mu_r);
+    same(key + ".damping", a.damping_ratio, b.damping_ratio);
+  }
+};
+
+}  // namespace
+
+std::vector<std::string> scenario_differences(const Scenario& a, const Scenario& b) {
+  Diff d;
+  d.same("scenario.name", a.name, b.name);
+  d.same("scenario.description", a.description, b.description);
+
+  const geometry::SpecimenDef &sa = a.specimen, &sb = b.specimen;
+  d.same("specimen.shape", sa.outline.kind, sb.outline.kind);
+  d.same("specimen.size", sa.outline.size, sb.outline.size);
+  d.same("specimen.notch_width", sa.outline.notch_width, sb.outline.notch_width);
+  d.same("specimen.notch_depth", sa.outline.notch_depth, sb.outline.notch_depth);
+  d.same("specimen.keep", sa.keep, sb.keep);
+  d.same("grain.r", sa.r, sb.r);
+  d.same("grain.r_bar", sa.r_bar, sb.r_bar);
+  d.same("grain.t", sa.t, sb.t);
+  d.same("grain.t_bar", sa.t_bar, sb.t_bar);
+  d.same("orientation.seed", sa.seed, sb.seed);
+  d.same("orientation.family_mix", sa.family_mix, sb.family_mix);
+  d.same("orientation.angles", sa.angles, sb.angles);
+  d.same("split.min_fragment_fraction", a.split.min_fragment_fraction, b.split.min_fragment_fraction);
+  d.same("output.mesh_format", a.output.mesh_format, b.output.mesh_format);
+  d.same("output.mesh_layout", a.output.mesh_layout, b.output.mesh_layout);
+  d.same("output.frame_meshes", a.output.frame_meshes, b.output.frame_meshes);
+  d.same("material.density", a.material.density, b.material.density);
+  d.same("contact.dilation_radius", a.contact.dilation_radius, b.contact.dilation_radius);
+  d.contact("contact.particle_particle", a.contact.particle_particle, b.contact.particle_particle);
+  d.contact("contact.particle_wall", a.contact.particle_wall, b.contact.particle_wall);
+
+  const DynamicsDef &da = a.dynamics, &db = b.dynamics;
+  d.same("dynamics", da.enabled, db.enabled);
+  d.same("dynamics.dt", da.dt, db.dt);
+  d.same("dynamics.duration", da.duration, db.duration);
+  d.same("dynamics.gravity", da.gravity, db.gravity);
+  d.same("dynamics.lift", da.lift, db.lift);
+  d.same("dynamics.frames", da.frames, db.frames);
+  d.same("dynamics.settle_ratio", da.settle_ratio, db.settle_ratio);
+  d.same("dynamics.dt_safety", da.dt_safety, db.dt_safety);
+  d.same("dynamics.search", da.search, db.search);
+  d.same("dynamics.threads", da.threads, db.threads);
+  d.same("dynamics.local_damping", da.local_damping, db.local_damping);
+
+  d.same("bond", a.bond.enabled, b.bond.enabled);
+  d.same("bond.kbn", a.bond.params.kbn, b.bond.params.kbn);
+  d.same("bond.kbs", a.bond.params.kbs, b.bond.params.kbs);
+  d.same("bond.tbn", a.bond.params.tbn, b.bond.params.tbn);
+  d.same("bond.tbs", a.bond.params.tbs, b.bond.params.tbs);
+  d.same("bond.law", a.bond.params.law, b.bond.params.law);
+  d.same("bond.sigma_c", a.bond.params.sigma_c, b.bond.params.sigma_c);
+  d.same("bond.g_c", a.bond.params.g_c, b.bond.params.g_c);
+
+  d.same("fracture", a.fracture.enabled, b.fracture.enabled);
+  d.same("fracture.sigma_f_hyd", a.fracture.params.sigma_f_hyd, b.fracture.params.sigma_f_hyd);
+  d.same("fracture.k_ic", a.fracture.params.k_ic, b.fracture.params.k_ic);
+  d.same("fracture.c", a.fracture.params.c, b.fracture.params.c);
+  d.same("fracture.crack_length", a.fracture.params.crack_length, b.fracture.params.crack_length);
+  d.same("fracture.check_every", a.fracture.check_every, b.fracture.check_every);
+
+  d.same("wall (count)", a.walls.size(), b.walls.size());
+  for (std::size_t i = 0; i < std::min(a.walls.size(), b.walls.size()); ++i) {
+    const physics::Wall &wa = a.walls[i], &wb = b.walls[i];
+    const std::string k = fmt::format("wall[{}].", i + 1);
+    d.same(k + "name", wa.name, wb.name);
+    d.same(k + "kind", wa.kind, wb.kind);
+    d.same(k + "point", wa.origin, wb.origin);
+    d.direction(k + "normal", wa.normal, wb.normal);
+    d.direction(k + "u", wa.u, wb.u);
+    d.same(k + "size", std::pair(wa.half_u, wa.half_v), std::pair(wb.half_u, wb.half_v));
+    d.same(k + "length", wa.length, wb.length);
+    d.same(k + "radius", wa.radius, wb.radius);
+    d.same(k + "velocity", wa.velocity, wb.velocity);
+    d.direction(k + "load_axis", wa.load_axis, wb.load_axis);
+  }
+
+  d.same("stage (count)", a.stages.size(), b.stages.size());
+  for (std::size_t i = 0; i < std::min(a.stages.size(), b.stages.size()); ++i) {
+    const StageDef &ta = a.stages[i], &tb = b.stages[i];
+    const std::string k = fmt::format("stage[{}].", i + 1);
+    d.same(k + "name", ta.name, tb.name);
+    d.same(k + "kind", ta.kind, tb.kind);
+    d.same(k + "wall_velocity (count)", ta.wall_velocity.size(), tb.wall_velocity.size());
+    for (std::size_t j = 0; j < std::min(ta.wall_velocity.size(), tb.wall_velocity.size()); ++j) {
+      d.same(k + "wall_velocity." + ta.wall_velocity[j].first, ta.wall_velocity[j].first,
+             tb.wall_velocity[j].first);
+      d.same(k + "wall_velocity." + ta.wall_velocity[j].first, ta.wall_velocity[j].second,
+             tb.wall_velocity[j].second);
+    }
+    d.same(k + "steps", ta.steps, tb.steps);
+    d.same(k + "time", ta.time, tb.time);
+    d.same(k + "until", ta.until, tb.until);
+    d.same(k + "load_drop", ta.load_drop, tb.load_drop);
+    d.same(k + "load_walls", ta.load_walls, tb.load_walls);
+    d.same(k + "frames", ta.frames, tb.frames);
+    d.same(k + "distance", ta.bond_distance, tb.bond_distance);
+  }
+  return d.keys;
+}
+
+}  // namespace cleave::io

@@ -1,0 +1,277 @@
+// A result folder tells the truth about its run: `running` while it goes, then `finished`,
+// `interrupted` (SIGTERM) or `failed` (a blow-up, with the step, the body and a time step),
+// and its provenance: versions, seed, the scenario as run and the SHA-256 of every file.
+#include <gtest/gtest.h>
+
+#include <openssl/evp.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "io/result_dir.hpp"
+#include "io/scenario.hpp"
+#include "io/scenario_writer.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+using cleave::io::Manifest;
+using cleave::io::read_manifest;
+
+namespace {
+
+/// SHA-256 of a file straight from OpenSSL's EVP interface, not through io::sha256_file.
+std::string openssl_sha256(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string bytes = ss.str();
+  std::array<unsigned char, EVP_MAX_MD_SIZE> md{};
+  unsigned int n = 0;
+  EVP_Digest(bytes.data(), bytes.size(), md.data(), &n, EVP_sha256(), nullptr);
+  std::string hex;
+  char buf[3];
+  for (unsigned int i = 0; i < n; ++i) {
+    std::snprintf(buf, sizeof buf, "%02x", md[i]);
+    hex += buf;
+  }
+  return hex;
+}
+
+/// A dropping specimen as in scenarios/demo_drop.toml, smaller: `dynamics` is spliced in.
+std::string drop_scenario(const std::string& dynamics) {
+  return R"(
+[scenario]
+name = "drop"
+[specimen]
+shape = "box"
+size = [4.0, 4.0, 1.0]
+[grain]
+r = 1.0
+r_bar = 0.9
+t = 1.0
+t_bar = 0.85
+[orientation]
+seed = 7
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5000.0
+ks = 2000.0
+c_res = 2.0
+mu_s = 0.3
+[contact.particle_wall]
+kn = 10000.0
+ks = 2000.0
+c_res = 10.0
+mu_s = 0.3
+[dynamics]
+dt = 1.2e-6
+lift = 20.0
+)" + dynamics + R"(
+[[wall]]
+name = "floor"
+kind = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+)";
+}
+
+class RunStatus : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           (std::string("cleave_status_") + info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  /// Starts `cleave run SCENARIO --out OUT --quiet` with its output in dir_/log.txt.
+  pid_t spawn_run(const fs::path& scenario, const fs::path& out) {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    const std::string log = (dir_ / "log.txt").string();
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    std::vector<std::string> args = {CLEAVE_BINARY, "run", scenario.string(), "--out", out.string(), "--quiet"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, CLEAVE_BINARY, &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    EXPECT_EQ(rc, 0);
+    return pid;
+  }
+  /// Waits for the process; its exit code, or -signal when a signal ended it.
+  static int wait_for(pid_t pid) {
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  }
+  std::string log() const {
+    std::ifstream in(dir_ / "log.txt");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  int run(const fs::path& scenario, const fs::path& out) { return wait_for(spawn_run(scenario, out)); }
+
+  /// Every file of the folder (but the manifest and SHA256SUMS) is listed with the hash
+  /// OpenSSL computes for it now, and nothing else is listed.
+  void expect_files_hashed(const fs::path& out, const Manifest& m) {
+    std::set<std::string> on_disk;
+    for (const auto& e : fs::recursive_directory_iterator(out)) {
+      const std::string rel = e.path().lexically_relative(out).generic_string();
+      if (e.is_regular_file() && rel != "run.toml" && rel != "SHA256SUMS") on_disk.insert(rel);
+    }
+    std::set<std::string> listed;
+    for (const auto& f : m.files) {
+      listed.insert(f.path);
+      ASSERT_TRUE(fs::exists(out / f.path)) << f.path;
+      EXPECT_EQ(f.sha256, openssl_sha256(out / f.path)) << f.path;
+      EXPECT_EQ(f.bytes, fs::file_size(out / f.path)) << f.path;
+    }
+    EXPECT_EQ(listed, on_disk);
+  }
+
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(RunStatus, AFinishedRunRecordsItsProvenanceAndHashesEveryFile) {
+  const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run(scenario, out), 0) << log();
+  const Manifest m = read_manifest(out);
+  EXPECT_EQ(m.status, "finished");
+  EXPECT_TRUE(m.reason.empty());
+  for (const char* key : {"cleave_version", "cgal_version", "assimp_version", "openvdb_version",
+                          "eigen_version", "seed", "scenario", "scenario_sha256", "scenario_as_run",
+                          "started_utc", "ended_utc"}) {
+    EXPECT_TRUE(m.provenance.count(key)) << key;
+  }
+  const std::regex version(R"(\d+\.\d+(\.\d+)?)");
+  for (const char* key : {"cgal_version", "assimp_version", "openvdb_version", "eigen_version"}) {
+    EXPECT_TRUE(std::regex_match(m.provenance.at(key), version)) << key << " = " << m.provenance.at(key);
+  }
+  EXPECT_EQ(m.provenance.at("cgal_version").substr(0, 2), "5.");   // Debian 12: 5.5
+  EXPECT_EQ(m.provenance.at("eigen_version").substr(0, 4), "3.4.");
+  EXPECT_EQ(m.provenance.at("seed"), "7");
+  EXPECT_EQ(m.provenance.at("scenario_sha256"), openssl_sha256(scenario));
+  EXPECT_EQ(m.facts.at("dynamics_ending"), "completed");
+
+  // The scenario as run reads back as the scenario that was run.
+  ASSERT_TRUE(fs::exists(out / "scenario_as_run.toml"));
+  const auto original = cleave::io::load_scenario(scenario);
+  const auto as_run = cleave::io::load_scenario(out / "scenario_as_run.toml");
+  EXPECT_TRUE(cleave::io::scenario_differences(original, as_run).empty());
+  EXPECT_EQ(as_run.specimen.seed, 7u);
+
+  // Every file the run wrote, hashed.
+  expect_files_hashed(out, m);
+}
+
+TEST_F(RunStatus, TheFileListLeavesOutFilesOfAnEarlierRun) {
+  const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out / "frames");
+  std::ofstream(out / "frames" / "bodies_000099.vtp") << "stale";
+  fs::last_write_time(out / "frames" / "bodies_000099.vtp",
+                      fs::file_time_type::clock::now() - std::chrono::hours(2));
+  ASSERT_EQ(run(scenario, out), 0) << log();
+  const Manifest m = read_manifest(out);
+  bool frames = false;
+  for (const auto& f : m.files) {
+    EXPECT_NE(f.path, "frames/bodies_000099.vtp");
+    frames = frames || f.path == "frames/bodies_000000.vtp";
+  }
+  EXPECT_TRUE(frames);
+  fs::remove(out / "frames" / "bodies_000099.vtp");
+  expect_files_hashed(out, m);
+}
+
+TEST_F(RunStatus, SigtermStopsTheRunCleanlyWithStatusInterrupted) {
+  // Long enough (millions of steps) that only the signal can end it within the test.
+  const fs::path scenario = write("long.toml", drop_scenario("duration = 10.0\nframes = 1000000\n"));
+  const fs::path out = dir_ / "out";
+  const pid_t pid = spawn_run(scenario, out);
+  ASSERT_GT(pid, 0);
+  // Wait until the manifest says running and the step loop has begun (its first frame).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  bool stepping = false;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(out / "run.toml") && read_manifest(out).status == "running" &&
+        fs::exists(out / "frames" / "bodies_000001.vtp")) {
+      stepping = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!stepping) {
+    kill(pid, SIGKILL);
+    wait_for(pid);
+    FAIL() << "the run never reached its step loop: " << log();
+  }
+  ASSERT_EQ(kill(pid, SIGTERM), 0);
+  const int code = wait_for(pid);
+  EXPECT_EQ(code, 128 + SIGTERM) << log();
+  const Manifest m = read_manifest(out);
+  EXPECT_EQ(m.status, "interrupted");
+  EXPECT_NE(m.reason.find("SIGTERM"), std::string::npos) << m.reason;
+  EXPECT_EQ(m.facts.at("dynamics_ending"), "interrupted");
+  const auto steps = std::stoull(m.facts.at("dynamics_steps"));
+  EXPECT_GT(steps, 0u);
+  EXPECT_LT(steps, 8000000u);  // 10 s at 1.2 us: it stopped long before the end
+  // What it had is written and hashed: the histories up to the stop and the frames.
+  for (const char* f : {"energy.csv", "walls.csv", "bodies.pvd", "scenario_as_run.toml"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  expect_files_hashed(out, m);
+  EXPECT_EQ(m.provenance.at("seed"), "7");
+}
+
+TEST_F(RunStatus, ABlowUpFailsWithStepBodyAndSuggestedTimeStep) {
+  // Gravity a hundred million times too strong: in its first step, from rest, every grain
+  // falls g dt^2 / 2 (velocity Verlet), 0.72 mm, most of its own size.
+  const double g = 1e9, dt = 1.2e-6;
+  const fs::path scenario =
+      write("boom.toml", drop_scenario("duration = 1e-3\ngravity = [0.0, 0.0, -1e9]\n"));
+  const fs::path out = dir_ / "out";
+  EXPECT_EQ(run(scenario, out), 1) << log();
+  const Manifest m = read_manifest(out);
+  EXPECT_EQ(m.status, "failed");
+  EXPECT_EQ(m.facts.at("dynamics_ending"), "blew_up");
+  EXPECT_NE(m.reason.find("step 1 "), std::string::npos) << m.reason;
+  EXPECT_NE(m.reason.find("body 0 "), std::string::npos) << m.reason;  // the first, in slot order
+  // The suggested step shrinks dt by limit / displacement; the limit is a tenth of the
+  // bounding radius of the dilated prism: corner at sqrt(r_bar^2 + (t_bar/2)^2), plus dilation.
+  const double radius = std::hypot(0.9e-3, 0.425e-3) + 0.05e-3;
+  const double expected = dt * (0.1 * radius) / (0.5 * g * dt * dt);
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(m.reason, match, std::regex(R"(suggested dt <= ([0-9.e+-]+) s)"))) << m.reason;
+  EXPECT_NEAR(std::stod(match[1]), expected, 0.01 * expected) << m.reason;
+  EXPECT_NE(log().find("blew up"), std::string::npos) << log();
+  // The failed folder is still a truthful record of what was written.
+  expect_files_hashed(out, m);
+}
