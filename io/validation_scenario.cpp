@@ -18,7 +18,7 @@ constexpr std::string_view kRequired[] = {"specimen", "material", "loading", "va
 constexpr std::string_view kScenarioKeys[] = {"name", "description", "length_unit"};
 constexpr std::string_view kSpecimenKeys[] = {"test",          "length",          "breadth",
                                               "height",        "initial_crack",   "particle_radius",
-                                              "mode_mix"};
+                                              "mode_mix",      "bending_springs"};
 constexpr std::string_view kMaterialKeys[] = {
     "young", "poisson", "density", "cohesive_strength", "fracture_energy",
     "g_Ic",  "g_IIc",   "contact_penalty", "friction"};
@@ -63,6 +63,7 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
     t.fail(*a0.node, "initial_crack",
            rig.kind == physics::BeamTestKind::dcb ? "must be shorter than the beam"
                                                   : "must end before mid-span");
+  rig.link_bending = t.number("bending_springs", Range::non_negative(), 1.0).value;
   if (rig.kind == physics::BeamTestKind::mmb) {
     rig.mode_mix = t.number("mode_mix", Range{0.0, 1.0, true, true}).value;
   } else if (const toml::node* node = t.find("mode_mix")) {

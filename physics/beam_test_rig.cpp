@@ -39,6 +39,7 @@ CubicLatticeDef beam_lattice(const BeamRigDef& def) {
   // The load line (DCB, MMB) or support (ENF) is the first column, centred at x = r.
   ld.notch_x = def.radius + def.initial_crack;
   ld.global_damping = def.global_damping;
+  ld.link_bending = def.link_bending;
   return ld;
 }
 

@@ -128,6 +128,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
               }
               l.breakable = weak && std::min(iz, jz) == def.weak_layer - 1 &&
                             std::max(iz, jz) == def.weak_layer;
+              if (order == 1 && !l.breakable)
+                l.kb = def.link_bending * mat.young * 8.0 * r * r * r / 12.0;
               if (l.breakable && 0.5 * (x0_[i].x() + x0_[j].x()) < def.notch_x)
                 l.state.phase = LinkPhase::contact;
               links_.push_back(l);
@@ -162,6 +164,7 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     }
   link_force_.assign(links_.size(), Eigen::Vector3d::Zero());
   link_moment_.assign(links_.size(), Eigen::Vector3d::Zero());
+  link_couple_.assign(links_.size(), Eigen::Vector3d::Zero());
 
   if (weak) {
     const int upper = nx_ * ny_;
@@ -206,7 +209,7 @@ double CubicLattice::critical_time_step() const {
       Eigen::Matrix3d cross;
       cross << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
       const Eigen::Matrix3d tr = ks * arm * cross;
-      const Eigen::Matrix3d rr = ks * arm * arm * (Eigen::Matrix3d::Identity() - nn);
+      const Eigen::Matrix3d rr = (ks * arm * arm + l.kb) * (Eigen::Matrix3d::Identity() - nn);
       sum_t += 2.0 * (tt.cwiseAbs().rowwise().sum().array() / mass_ +
                       tr.cwiseAbs().rowwise().sum().array() / mi);
       sum_r += 2.0 * (rr.cwiseAbs().rowwise().sum().array() / inertia_ +
@@ -277,6 +280,7 @@ void CubicLattice::compute_forces(double dt) {
     if (l.state.phase == LinkPhase::contact) {
       link_force_[k].setZero();
       link_moment_[k].setZero();
+      link_couple_[k].setZero();
       continue;
     }
     const Eigen::Vector3d d = x_[l.j] - x_[l.i];
@@ -309,6 +313,14 @@ void CubicLattice::compute_forces(double dt) {
       if (ds > 0.0) fj -= (p.area * t.ts / ds) * l.shear;
     }
     link_force_[k] = fj;
+    if (l.kb > 0.0) {
+      const Eigen::Vector3d wrel = w_[l.j] - w_[l.i];
+      l.bend = turn_into_plane(l.bend, n) + dt * (wrel - wrel.dot(n) * n);
+      double scale = 1.0;
+      if (l.breakable && l.state.phase == LinkPhase::cohesive)
+        scale = 1.0 - damage(l.kind == 1 ? limits1_ : limits2_, l.state);
+      link_couple_[k] = -scale * l.kb * l.bend;
+    }
     link_moment_[k] = (-half).cross(fj);  // eq. 6 on j; the same on i (r_i = -r_j, f_i = -f_j)
   }
   const int n = size();
@@ -322,6 +334,10 @@ void CubicLattice::compute_forces(double dt) {
       else
         f -= link_force_[k];
       m += link_moment_[k];
+      if (incident_[e] & 1)
+        m += link_couple_[k];
+      else
+        m -= link_couple_[k];
     }
     f_[b] = f;
     m_[b] = m;
@@ -431,7 +447,7 @@ LatticeEnergy CubicLattice::energy() const {
     const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
     const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
     const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * l.shear.squaredNorm();
+    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * l.shear.squaredNorm() + 0.5 * l.kb * l.bend.squaredNorm();
   }
   return e;
 }
@@ -445,7 +461,7 @@ double CubicLattice::body_elastic_energy(int b) const {
     const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
     const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
     const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e += 0.25 * kn * dn * dn + 0.25 * ks * l.shear.squaredNorm();
+    e += 0.25 * kn * dn * dn + 0.25 * ks * l.shear.squaredNorm() + 0.25 * l.kb * l.bend.squaredNorm();
   }
   return e;
 }
@@ -482,6 +498,7 @@ std::uint64_t CubicLattice::state_hash() const {
   }
   for (const LatticeLink& l : links_) {
     hash_bytes(h, l.shear.data(), sizeof(double) * 3);
+    hash_bytes(h, l.bend.data(), sizeof(double) * 3);
     hash_bytes(h, &l.state.lambda_max, sizeof(double));
     const auto phase = static_cast<std::uint8_t>(l.state.phase);
     hash_bytes(h, &phase, 1);

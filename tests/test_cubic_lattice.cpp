@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "io/validation_scenario.hpp"
 #include "physics/beam_test_rig.hpp"
@@ -174,4 +175,72 @@ TEST(CubicLattice, BitIdenticalForOneAndTwoThreads) {
   const auto one = run(1), two = run(2);
   omp_set_num_threads(2);
   EXPECT_EQ(one, two);
+}
+
+namespace {
+
+/// Tip stiffness P / delta of a cantilever `cells` layers thick, clamped at its first column
+/// and pushed sideways (z) at its last, once the damped lattice has come to rest.
+double cantilever_stiffness(int layers, double link_bending) {
+  CubicLatticeDef def;
+  def.radius = 0.125e-3;
+  def.nx = 33;
+  def.ny = 2;
+  def.nz = layers;
+  def.material = paper_material();
+  def.link_bending = link_bending;
+  def.global_damping = 3e6;  // about critical for the first mode
+  CubicLattice lat(def);
+  const double dt = 0.8 * lat.critical_time_step();
+  const double v = 0.05;  // m/s
+  const int push = 1500, settle = 6000;
+  std::vector<int> tip;
+  for (int iz = 0; iz < def.nz; ++iz)
+    for (int iy = 0; iy < def.ny; ++iy) {
+      lat.prescribe(lat.index(0, iy, iz), 15u);
+      const int t = lat.index(def.nx - 1, iy, iz);
+      lat.prescribe(t, 4u);
+      lat.set_velocity(t, 2, v);
+      tip.push_back(t);
+    }
+  for (int i = 0; i < push; ++i) lat.step(dt);
+  for (int t : tip) lat.set_velocity(t, 2, 0.0);
+  for (int i = 0; i < settle; ++i) lat.step(dt);
+  double load = 0.0;
+  for (int t : tip) load -= lat.forces()[t].z();
+  return load / (v * push * dt);
+}
+
+/// Timoshenko's cantilever: delta = P L^3 / (3 E I) + P L / (k G A), k = 5/6.
+double timoshenko_stiffness(int layers) {
+  const double E = 120e9, nu = 0.2, G = E / (2 * (1 + nu)), a = 0.25e-3;
+  const double L = 32 * a, B = 2 * a, h = layers * a;
+  const double I = B * h * h * h / 12.0, A = B * h;
+  return 1.0 / (L * L * L / (3 * E * I) + L / (5.0 / 6.0 * G * A));
+}
+
+}  // namespace
+
+TEST(CantileverBending, FourLayersMatchTimoshenkoWithBendingSprings) {
+  // The DCB arms of sec. 7 are four cells thick: their stage-I slope is this stiffness.
+  const double ratio = cantilever_stiffness(4, 1.0) / timoshenko_stiffness(4);
+  std::printf("  4 layers, bending springs: stiffness / Timoshenko = %.4f\n", ratio);
+  EXPECT_NEAR(ratio, 1.0, 0.04);
+}
+
+TEST(CantileverBending, PointSpringsAloneAreTooSoftAtFourLayers) {
+  // The paper's lattice without bending springs: the midpoint rule loses each cell's own
+  // bending energy, E (2r)^5 kappa^2 / 24, so the beam is clearly softer than theory.
+  const double ratio = cantilever_stiffness(4, 0.0) / timoshenko_stiffness(4);
+  std::printf("  4 layers, point springs only: stiffness / Timoshenko = %.4f\n", ratio);
+  EXPECT_LT(ratio, 0.95);
+  EXPECT_GT(ratio, 0.7);
+}
+
+TEST(CantileverBending, ConvergesToTimoshenkoAsTheBeamGetsThicker) {
+  const double r4 = cantilever_stiffness(4, 1.0) / timoshenko_stiffness(4);
+  const double r8 = cantilever_stiffness(8, 1.0) / timoshenko_stiffness(8);
+  std::printf("  stiffness / Timoshenko: 4 layers %.4f, 8 layers %.4f\n", r4, r8);
+  EXPECT_LT(std::abs(r8 - 1.0), 0.03);
+  EXPECT_LE(std::abs(r8 - 1.0), std::abs(r4 - 1.0) + 0.005);
 }
