@@ -171,9 +171,12 @@ class Runner {
     bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
     if (scenario_.fracture.enabled) {
       // Every grain may split along its cleavage planes (chapter 3): the book knows its
-      // exact shape (world shape 0 is the grains' prism, io::make_world) and orientation.
+      // exact shape (world shape k is specimen shape k, io::make_world) and orientation.
       book_.emplace(scenario_.contact.dilation_radius, scenario_.split.min_fragment_fraction);
-      book_->add_shape(0, std::make_shared<const geometry::ExactPolyhedron>(specimen_.prism));
+      for (std::size_t k = 0; k < specimen_.shapes.size(); ++k) {
+        book_->add_shape(static_cast<std::uint32_t>(k),
+                         std::make_shared<const geometry::ExactPolyhedron>(specimen_.shapes[k]));
+      }
       for (const physics::BodyId id : world_.body_ids()) {
         const int grain = world_.info(id).grain_id;
         book_->add_grain(world_, id, grain, specimen_.grains.at(static_cast<std::size_t>(grain)).orientation);

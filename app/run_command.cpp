@@ -66,6 +66,24 @@ std::string fragments_csv(const std::vector<Piece>& pieces) {
   return out;
 }
 
+/// The specimen line for grains off the lattice (Voronoi cells, mesh grains).
+std::string describe_own_grains(const Specimen& s) {
+  const auto& def = s.def;
+  if (def.kind == geometry::SpecimenKind::voronoi) {
+    const Eigen::Vector3d mm = def.voronoi.size * 1e3;
+    const geometry::ExactScalar cells = geometry::total_volume(s.shapes);
+    const geometry::ExactScalar box = geometry::exact_box(Eigen::Vector3d::Zero(), def.voronoi.size).volume();
+    return fmt::format("  specimen   {} Voronoi cells in a box {:g} x {:g} x {:g} mm (point seed {}, "
+                       "gap {:g} mm); the cells' exact volumes {}",
+                       s.grains.size(), mm.x(), mm.y(), mm.z(), def.voronoi.seed, def.voronoi.gap * 1e3,
+                       cells == box ? std::string("sum exactly to the box's")
+                                    : fmt::format("fill {:.2f}% of the box", 100 * cells.to_double() / box.to_double()));
+  }
+  std::string names;
+  for (const auto& g : def.custom_grains) names += (names.empty() ? "" : ", ") + g.name;
+  return fmt::format("  specimen   {} grains from meshes: {}", s.grains.size(), names);
+}
+
 std::string describe_outline(const geometry::Outline& o) {
   const Eigen::Vector3d mm = o.size * 1e3;
   switch (o.kind) {
@@ -155,10 +173,14 @@ int run_command(const RunOptions& options) {
     const auto& def = specimen.def;
     int three_slab = 0;
     for (const auto& g : specimen.grains) three_slab += g.orientation.family == geometry::CleavageFamily::a_11_20;
-    say(fmt::format("  specimen   {} grains in a {}; r = {:g} mm, r_bar = {:g} mm, t = {:g} mm, "
-                    "t_bar = {:g} mm ({:.2f} s)",
-                    specimen.grains.size(), describe_outline(def.outline), def.r * 1e3,
-                    def.r_bar * 1e3, def.t * 1e3, def.t_bar * 1e3, step.seconds()));
+    if (def.kind == geometry::SpecimenKind::lattice) {
+      say(fmt::format("  specimen   {} grains in a {}; r = {:g} mm, r_bar = {:g} mm, t = {:g} mm, "
+                      "t_bar = {:g} mm ({:.2f} s)",
+                      specimen.grains.size(), describe_outline(def.outline), def.r * 1e3,
+                      def.r_bar * 1e3, def.t * 1e3, def.t_bar * 1e3, step.seconds()));
+    } else {
+      say(describe_own_grains(specimen) + fmt::format(" ({:.2f} s)", step.seconds()));
+    }
     say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
                     three_slab, specimen.grains.size() - three_slab, def.seed));
     if (specimen.grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");

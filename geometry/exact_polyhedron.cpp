@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -138,6 +139,12 @@ ExactPlane ExactPlane::through_segment(const ExactPolyhedron& body, int i, int j
     throw GeometryError("plane through segment: direction parallel to the segment");
   }
   return make_plane(Plane3(v[i], v[j], third));
+}
+
+ExactPlane ExactPlane::bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  const Point3 a = to_point(p), b = to_point(q);
+  if (a == b) throw GeometryError("bisector of a point with itself");
+  return make_plane(CGAL::bisector(a, b));
 }
 
 ExactPlane ExactPlane::opposite() const { return make_plane(impl_->plane.opposite()); }
@@ -624,13 +631,40 @@ SplitResult ExactPolyhedron::split(const ExactPlane& exact_plane, double min_vol
 // ---------------------------------------------------------------------------------------
 // Cleavage slabs of a prism
 
-std::vector<ExactPlane> ExactPolyhedron::cleavage_planes(const CrystalOrientation& o) const {
-  if (num_vertices() != 12 || num_faces() != 8) {
-    throw GeometryError("cleavage planes are defined for the hexagonal prism grain only");
+namespace {
+/// True for the layout `hexagonal_prism` builds: 12 vertices, bottom and top hexagons, then
+/// the six side quads, with exactly those indices.
+bool is_honeycomb_prism(const Impl& p) {
+  if (p.vertices.size() != 12 || p.faces.size() != 8) return false;
+  if (p.faces[0] != std::vector<int>{0, 1, 2, 3, 4, 5}) return false;
+  if (p.faces[1] != std::vector<int>{11, 10, 9, 8, 7, 6}) return false;
+  for (int n = 0; n < 6; ++n) {
+    const int m = (n + 1) % 6;
+    if (p.faces[2 + n] != std::vector<int>{n, 6 + n, 6 + m, m}) return false;
   }
+  return true;
+}
+}  // namespace
+
+std::vector<ExactPlane> ExactPolyhedron::cleavage_planes(const CrystalOrientation& o) const {
   const auto normal = cleavage_normal(o);
   const Eigen::Vector3d want(normal[0], normal[1], normal[2]);
   std::vector<ExactPlane> planes;
+  if (!is_honeycomb_prism(*impl_)) {
+    // Any other convex grain: the prism's plane positions relative to the extent along the
+    // normal (the <11-20> planes cut a hexagon's corner-to-corner width at its quarter
+    // points, the <10-10> plane halves its flat-to-flat width).
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& v : vertices_approx()) {
+      lo = std::min(lo, v.dot(want));
+      hi = std::max(hi, v.dot(want));
+    }
+    const std::vector<double> at = o.family == CleavageFamily::a_11_20
+                                       ? std::vector<double>{0.25, 0.75}
+                                       : std::vector<double>{0.5};
+    for (double f : at) planes.push_back(ExactPlane::from_normal_offset(want, lo + f * (hi - lo)));
+    return planes;
+  }
   for (const CornerPlane& cp : cleavage_corner_planes(o)) {
     // Bottom corners a and b, and the top corner above a: a vertical plane through the
     // grain's own exact vertices.

@@ -7,7 +7,7 @@
 /// `ExactScalar` lets callers compare such sums exactly. Double data for the dynamics
 /// (mass properties, contact primitives, meshes) is derived from the exact shape once.
 ///
-/// CGAL itself is confined to exact_polyhedron.cpp and cgal_validation.cpp.
+/// CGAL itself is confined to exact_polyhedron.cpp, convex_mesh.cpp and cgal_validation.cpp.
 
 #include <Eigen/Dense>
 #include <memory>
@@ -70,6 +70,9 @@ class ExactPlane {
   /// direction `along` (taken exactly). Throws if `along` is parallel to the segment.
   static ExactPlane through_segment(const ExactPolyhedron& body, int i, int j,
                                     const Eigen::Vector3d& along);
+  /// The perpendicular bisector of `p` and `q` (taken exactly): the points equally far from
+  /// both, exactly. `p` lies on its positive side. Throws if p == q.
+  static ExactPlane bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q);
 
   [[nodiscard]] ExactPlane opposite() const;
   /// Approximate unit normal and offset (n . x = offset) in doubles.
@@ -162,14 +165,19 @@ class ExactPolyhedron {
   /// Planes through vertices, along edges or touching faces are handled exactly.
   [[nodiscard]] SplitResult split(const ExactPlane& plane, double min_volume_fraction = 0.0) const;
 
-  /// Splits a prism made by `hexagonal_prism` into its cleavage slabs (figs 2.8/2.9),
-  /// ordered along the cleavage normal. Every plane passes through existing vertices, so
-  /// no new coordinates are made. A cut whose smaller part would be below
+  /// Splits the shape into its cleavage slabs (figs 2.8/2.9; see cleavage_planes), ordered
+  /// along the cleavage normal. For the prism every plane passes through existing
+  /// vertices, so no new coordinates are made. A cut whose smaller part would be below
   /// `min_volume_fraction` of the piece it cuts is skipped (that piece stays whole).
   [[nodiscard]] std::vector<ExactPolyhedron> cleavage_slabs(const CrystalOrientation& orientation,
                                                             double min_volume_fraction = 0.0) const;
-  /// The exact cleavage planes of this prism for `orientation` (normals along
-  /// cleavage_normal), in the order cleavage_slabs cuts them.
+  /// The exact cleavage planes for `orientation` (normals along cleavage_normal), in the
+  /// order cleavage_slabs cuts them. For the prism made by `hexagonal_prism` (recognised by
+  /// its vertex and face layout) they pass through its own corners (figs 2.8/2.9). Any
+  /// other convex shape (a grain from a mesh, a Voronoi cell) gets the same family's
+  /// planes placed as they sit in the prism relative to its extent along the normal:
+  /// <10-10> one plane halving the extent, <11-20> two planes at its quarter points
+  /// (offsets from the rounded vertices, then taken exactly).
   [[nodiscard]] std::vector<ExactPlane> cleavage_planes(
       const CrystalOrientation& orientation) const;
 

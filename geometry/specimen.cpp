@@ -1,7 +1,10 @@
 #include "geometry/specimen.hpp"
 
 #include <cstdio>
+#include <algorithm>
+#include <limits>
 #include <map>
+#include <tuple>
 #include <stdexcept>
 
 namespace cleave::geometry {
@@ -12,7 +15,58 @@ void require(bool ok, const std::string& message) {
 }
 }  // namespace
 
+namespace {
+
+/// Grains that are not on the lattice: each shape (specimen coordinates) moved exactly so
+/// `centres[i]` is its grain frame's origin.
+Specimen place_grains(const SpecimenDef& def, const std::vector<ExactPolyhedron>& shapes,
+                      const std::vector<Eigen::Vector3d>& centres) {
+  require(!shapes.empty(), "the specimen has no grains");
+  std::vector<ExactPolyhedron> local;
+  double lowest = std::numeric_limits<double>::infinity();
+  std::vector<double> lows;
+  for (std::size_t g = 0; g < shapes.size(); ++g) {
+    local.push_back(shapes[g].translated(-centres[g]));
+    double low = std::numeric_limits<double>::infinity();
+    for (const auto& v : shapes[g].vertices_approx()) low = std::min(low, v.z());
+    lows.push_back(low);
+    lowest = std::min(lowest, low);
+  }
+  Specimen s{def, {}, local.front(), local};
+  for (std::size_t g = 0; g < shapes.size(); ++g) {
+    Grain grain;
+    grain.id = static_cast<int>(g);
+    grain.site.centre = centres[g];
+    grain.site.k = lows[g] == lowest ? 1 : 2;
+    grain.orientation = draw_orientation(def.seed, g, def.family_mix, def.angles);
+    grain.shape = static_cast<int>(g);
+    s.grains.push_back(grain);
+  }
+  return s;
+}
+
+}  // namespace
+
 Specimen build_specimen(const SpecimenDef& def) {
+  if (def.kind != SpecimenKind::lattice) {
+    require(def.family_mix >= 0.0 && def.family_mix <= 1.0, "family_mix must be in [0, 1]");
+    require(!def.angles.empty(), "angles must not be empty");
+    for (int a : def.angles) require(a == 0 || a == 60 || a == 120, "angles must be 0, 60 or 120");
+  }
+  if (def.kind == SpecimenKind::voronoi) {
+    const std::vector<ExactPolyhedron> cells = voronoi_cells(def.voronoi);
+    return place_grains(def, cells, voronoi_points(def.voronoi));
+  }
+  if (def.kind == SpecimenKind::meshes) {
+    require(!def.custom_grains.empty(), "a mesh specimen needs at least one grain");
+    std::vector<ExactPolyhedron> shapes;
+    std::vector<Eigen::Vector3d> centres;
+    for (const auto& c : def.custom_grains) {
+      shapes.push_back(c.shape);
+      centres.push_back(c.shape.mass_properties().centroid);
+    }
+    return place_grains(def, shapes, centres);
+  }
   require(def.r > 0.0, "r must be positive");
   require(def.t > 0.0, "t must be positive");
   require(def.r_bar > 0.0 && def.r_bar <= def.r, "r_bar must be in (0, r]");
@@ -22,7 +76,8 @@ Specimen build_specimen(const SpecimenDef& def) {
   for (int a : def.angles) require(a == 0 || a == 60 || a == 120, "angles must be 0, 60 or 120");
   for (int d = 0; d < 3; ++d) require(def.outline.size[d] > 0.0, "specimen sizes must be positive");
 
-  Specimen s{def, {}, ExactPolyhedron::hexagonal_prism(def.r_bar, def.t_bar)};
+  Specimen s{def, {}, ExactPolyhedron::hexagonal_prism(def.r_bar, def.t_bar), {}};
+  s.shapes.push_back(s.prism);
   const auto sites = honeycomb_sites(def.r, def.t, def.outline, def.keep);
   s.grains.reserve(sites.size());
   for (std::size_t g = 0; g < sites.size(); ++g) {
@@ -50,15 +105,16 @@ std::string Lineage::name() const {
 }
 
 std::vector<Piece> split_into_slabs(const Specimen& specimen, double min_fragment_fraction) {
-  // Grains share one prism, so each distinct orientation is cut once.
-  std::map<std::pair<int, int>, std::vector<std::shared_ptr<const ExactPolyhedron>>> cache;
+  // Lattice grains share one prism, so each distinct (shape, orientation) is cut once.
+  std::map<std::tuple<int, int, int>, std::vector<std::shared_ptr<const ExactPolyhedron>>> cache;
   std::vector<Piece> pieces;
   for (const Grain& g : specimen.grains) {
-    const auto key = std::make_pair(static_cast<int>(g.orientation.family), g.orientation.angle_deg);
+    const auto key = std::make_tuple(g.shape, static_cast<int>(g.orientation.family),
+                                     g.orientation.angle_deg);
     auto it = cache.find(key);
     if (it == cache.end()) {
       std::vector<std::shared_ptr<const ExactPolyhedron>> shapes;
-      for (auto& slab : specimen.prism.cleavage_slabs(g.orientation, min_fragment_fraction)) {
+      for (auto& slab : specimen.shape_of(g).cleavage_slabs(g.orientation, min_fragment_fraction)) {
         shapes.push_back(std::make_shared<const ExactPolyhedron>(std::move(slab)));
       }
       it = cache.emplace(key, std::move(shapes)).first;

@@ -12,12 +12,27 @@
 #include "geometry/crystal.hpp"
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/lattice.hpp"
+#include "geometry/voronoi.hpp"
 
 namespace cleave::geometry {
+
+/// Where a specimen's grains come from.
+enum class SpecimenKind {
+  lattice,  ///< hexagonal prisms on the honeycomb lattice inside `outline` (the seed's model)
+  voronoi,  ///< the Voronoi cells of random points in a box (`voronoi`)
+  meshes,   ///< convex shapes given one by one (`custom_grains`, e.g. from mesh files)
+};
+
+/// One grain given by its shape (SpecimenKind::meshes).
+struct CustomGrainDef {
+  std::string name;       ///< where it came from, for tables and messages (e.g. "cube.obj")
+  ExactPolyhedron shape;  ///< closed, convex, in specimen coordinates (metres)
+};
 
 /// Plain definition of a specimen (what a scenario file's [specimen], [grain] and
 /// [orientation] tables map onto). Lengths in metres.
 struct SpecimenDef {
+  SpecimenKind kind = SpecimenKind::lattice;
   Outline outline = Outline::box(12e-3, 12e-3, 4e-3);
   KeepRule keep = KeepRule::cell_inside;
   double r = 1e-3;       ///< lattice side length (table 2.1)
@@ -26,25 +41,43 @@ struct SpecimenDef {
   double t_bar = 1e-3;   ///< grain thickness, <= t (App. C uses 1.0 in a 1.3 pitch)
   double family_mix = 0.5;             ///< probability of the <11-20> (three-slab) family
   std::vector<int> angles{0, 60, 120}; ///< allowed angles, each 0, 60 or 120
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;  ///< of the orientations
+  VoronoiDef voronoi;      ///< SpecimenKind::voronoi (its size is also `outline`'s)
+  std::vector<CustomGrainDef> custom_grains;  ///< SpecimenKind::meshes, in grain id order
 };
 
 struct Grain {
-  int id = 0;                  ///< 0-based, in lattice order
-  LatticeSite site;            ///< its lattice point (centre)
+  int id = 0;                  ///< 0-based, in lattice order (or cell / file order)
+  /// Its lattice point (centre). Grains not on the lattice have their reference point here
+  /// (Voronoi: the cell's point; meshes: the rounded centroid), plane 'A', row 1, i = j = 0
+  /// and k = 1 when the grain touches the specimen's lowest level (k = 2 otherwise).
+  LatticeSite site;
   CrystalOrientation orientation;
+  int shape = 0;  ///< index into Specimen::shapes
 };
 
-/// Grains plus the one exact prism shape they all share (in the grain frame, centred).
+/// Grains plus their exact shapes (in grain frames: a grain is its shape moved by its
+/// site's centre).
 struct Specimen {
   SpecimenDef def;
   std::vector<Grain> grains;
-  ExactPolyhedron prism;  ///< side r_bar, thickness t_bar, centred at the origin
+  /// Lattice specimens: the one prism all grains share (side r_bar, thickness t_bar,
+  /// centred at the origin). Other specimens: shapes[0].
+  ExactPolyhedron prism;
+  /// Every distinct grain shape; shapes[0] is `prism` for lattice specimens.
+  std::vector<ExactPolyhedron> shapes;
+
+  [[nodiscard]] const ExactPolyhedron& shape_of(const Grain& g) const {
+    return shapes.at(static_cast<std::size_t>(g.shape));
+  }
 };
 
-/// Builds the lattice, keeps the grains inside the outline and draws their orientations.
+/// Builds the specimen: for SpecimenKind::lattice the lattice sites whose cell fits the
+/// outline; for voronoi the cells of `def.voronoi` (each moved so its point is the grain
+/// frame's origin, exactly); for meshes each custom grain moved so its rounded centroid is
+/// the origin (exactly). Orientations are drawn per grain id in every case.
 /// Throws std::invalid_argument for impossible definitions (non-positive sizes, r_bar > r,
-/// t_bar > t, family_mix outside [0, 1], angles other than 0/60/120).
+/// t_bar > t, family_mix outside [0, 1], angles other than 0/60/120, no custom grains).
 Specimen build_specimen(const SpecimenDef& def);
 
 /// Where a fragment came from: its grain and the path of split choices, e.g. grain 17,

@@ -19,9 +19,8 @@ ExactStore make_exact_store(const geometry::Specimen& specimen,
     if (fresh) store.shapes.push_back(*shape);
     return it->second;
   };
-  const int prism = shape_id(&specimen.prism);
   for (const auto& g : specimen.grains) {
-    store.grains.push_back({geometry::Lineage{g.id, {}}, prism, g.site.centre});
+    store.grains.push_back({geometry::Lineage{g.id, {}}, shape_id(&specimen.shape_of(g)), g.site.centre});
   }
   for (const auto& p : pieces) {
     store.fragments.push_back({p.lineage, shape_id(p.shape.get()), p.position});

@@ -20,6 +20,20 @@
 ///   notch_depth = 0.0          # beam only, optional (>= 0, < height), default 0;
 ///                              # width and depth are both 0 or both > 0
 ///   keep = "cell_inside"       # optional: "cell_inside" | "centre_inside"
+///   # shape = "voronoi": the Voronoi cells of random points cut a box (no [grain] table):
+///   #   size = [4.0, 4.0, 1.0]   required, as for a box
+///   #   grains = 12              required: number of cells (integer, 1 to 10000)
+///   #   gap = 0.0                optional (>= 0): distance between neighbouring cells' faces;
+///   #                            0: the cells tile the box exactly
+///   #   seed = 1                 optional (integer >= 0): seed of the points, default 1
+///   # shape = "mesh": grains from [[mesh_grain]] tables (no [grain] table, no other keys)
+///
+///   [[mesh_grain]]             # shape = "mesh" only, one or more; every mesh of the file is
+///                              # one grain, which must be closed and convex
+///   file = "meshes/cube.obj"   # required: OBJ, STL or PLY (assimp), relative to this file
+///   scale = 1.0                # optional (> 0): file coordinates x scale = length unit
+///   position = [0, 0, 0]       # optional: added to the scaled coordinates (length unit)
+///   convex_hull = false        # optional: true replaces a non-convex mesh by its convex hull
 ///
 ///   [grain]                    # required table
 ///   r = 1.0                    # required: lattice side length (> 0)
@@ -86,6 +100,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "io/mesh_grains.hpp"
 #include "io/toml_reader.hpp"
 
 #include <algorithm>
@@ -138,7 +153,8 @@ void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
 
 constexpr std::string_view kSpecimenKeys[] = {"shape",       "size",        "diameter",
                                               "thickness",   "length",      "height",
-                                              "notch_width", "notch_depth", "keep"};
+                                              "notch_width", "notch_depth", "keep",
+                                              "grains",      "gap",         "seed"};
 constexpr std::string_view kCommonSpecimenKeys[] = {"shape", "keep"};
 constexpr std::string_view kBoxKeys[] = {"size"};
 constexpr std::string_view kDiscKeys[] = {"diameter", "thickness"};
@@ -193,11 +209,48 @@ Outline read_beam(const TableReader& t, double unit) {
                        width.value * unit, depth.value * unit);
 }
 
+// Specimens that make their own grains (no honeycomb lattice, no [grain] table).
+constexpr std::string_view kVoronoiKeys[] = {"size", "grains", "gap", "seed"};
+constexpr int kMaxVoronoiCells = 10000;
+
+Outline read_no_outline(const TableReader&, double) { return Outline::box(1.0, 1.0, 1.0); }
+
 constexpr ShapeSpec kShapes[] = {
     {"box", kBoxKeys, &read_box},
     {"disc", kDiscKeys, &read_disc},
     {"beam", kBeamKeys, &read_beam},
+    {"voronoi", kVoronoiKeys, &read_box},
+    {"mesh", {}, &read_no_outline},
 };
+
+/// shape = "voronoi": the cells' count, gap and point seed; the points are checked against
+/// the gap here so a bad gap is reported at its key.
+void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def) {
+  def.kind = geometry::SpecimenKind::voronoi;
+  def.voronoi.size = def.outline.size;
+  if (t.find("grains") == nullptr) t.fail_absent("grains", "missing required key: the number of Voronoi cells");
+  const std::int64_t cells = t.integer("grains", 1, 1);
+  if (cells > kMaxVoronoiCells) {
+    t.fail(*t.find("grains"), "grains", fmt::format("must be <= {}, found {}", kMaxVoronoiCells, cells));
+  }
+  def.voronoi.cells = static_cast<int>(cells);
+  const Number gap = t.number("gap", Range::non_negative(), 0.0);
+  def.voronoi.gap = gap.value * unit;
+  def.voronoi.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
+  const auto points = geometry::voronoi_points(def.voronoi);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      const double d = (points[i] - points[j]).norm();
+      if (d > def.voronoi.gap) continue;
+      const std::string message = fmt::format(
+          "points {} and {} of seed {} are {:.4g} apart, not more than the gap {:.4g}: their "
+          "cells would vanish; use a smaller gap, fewer grains or another seed",
+          j, i, def.voronoi.seed, d / unit, gap.value);
+      if (gap.node != nullptr) t.fail(*gap.node, "gap", message);
+      t.fail(*t.find("seed"), "seed", message);
+    }
+  }
+}
 
 void read_specimen_table(const TableReader& t, double unit, geometry::SpecimenDef& def) {
   t.reject_unknown(kSpecimenKeys);
@@ -223,6 +276,15 @@ void read_specimen_table(const TableReader& t, double unit, geometry::SpecimenDe
   }
 
   def.outline = shape.read(t, unit);
+  if (shape.name == "voronoi" || shape.name == "mesh") {
+    if (const toml::node* keep = t.find("keep")) {
+      t.fail(*keep, "keep", fmt::format("applies to the lattice shapes 'box', 'disc', 'beam'; "
+                                        "shape '{}' makes its own grains", shape.name));
+    }
+    if (shape.name == "voronoi") read_voronoi(t, unit, def);
+    if (shape.name == "mesh") def.kind = geometry::SpecimenKind::meshes;
+    return;
+  }
   const std::vector<Choice<KeepRule>> rules = {{"cell_inside", KeepRule::cell_inside},
                                                {"centre_inside", KeepRule::centre_inside}};
   def.keep = t.choose("keep", rules, std::optional(KeepRule::cell_inside));
@@ -248,6 +310,62 @@ void read_grain_table(const TableReader& t, double unit, geometry::SpecimenDef& 
   t.reject_unknown(kGrainKeys);
   std::tie(def.r, def.r_bar) = read_pitch(t, "r", "r_bar", unit);
   std::tie(def.t, def.t_bar) = read_pitch(t, "t", "t_bar", unit);
+}
+
+// ---- [[mesh_grain]] and the grains of specimens off the lattice ----------------------------
+
+constexpr std::string_view kMeshGrainKeys[] = {"file", "scale", "position", "convex_hull"};
+
+/// The specimen shape named in the file, if it is a string.
+std::string specimen_shape(const toml::table& root) {
+  const auto* shape = root["specimen"]["shape"].as_string();
+  return shape != nullptr ? shape->get() : std::string();
+}
+
+/// For shape "voronoi" or "mesh": no [grain] table; for "mesh" every [[mesh_grain]] read,
+/// its file loaded and checked, and the outline set to the grains' bounding box.
+void read_own_grains(const toml::table& root, const std::string& source, double unit,
+                     geometry::SpecimenDef& def, std::vector<MeshGrainSpec>& specs) {
+  const std::string shape = def.kind == geometry::SpecimenKind::voronoi ? "voronoi" : "mesh";
+  if (const auto* grain = root.get_as<toml::table>("grain")) {
+    TableReader(source, "grain", grain)
+        .fail_table(fmt::format("[grain] sets the honeycomb lattice's cells; specimen shape '{}' "
+                                "makes its own grains: remove [grain]",
+                                shape));
+  }
+  const auto* tables = root.get_as<toml::array>("mesh_grain");
+  if (def.kind != geometry::SpecimenKind::meshes) return;
+  if (tables == nullptr || tables->empty()) {
+    const TableReader t(source, "specimen", root.get_as<toml::table>("specimen"));
+    t.fail(*t.find("shape"), "shape", "shape \"mesh\" takes its grains from [[mesh_grain]] tables; give at least one");
+  }
+  const std::filesystem::path folder = std::filesystem::path(source).parent_path();
+  for (std::size_t i = 0; i < tables->size(); ++i) {
+    const TableReader t(source, fmt::format("mesh_grain[{}]", i + 1), tables->get(i)->as_table());
+    t.reject_unknown(kMeshGrainKeys);
+    MeshGrainSpec spec;
+    const std::string file = t.string("file");
+    if (file.empty()) t.fail(*t.find("file"), "file", "must not be empty");
+    spec.file = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : folder / file;
+    spec.scale = t.number("scale", Range::positive(), 1.0).value * unit;
+    if (t.find("position") != nullptr) {
+      const auto at = t.numbers("position", 3, Range{});
+      spec.offset = Eigen::Vector3d(at[0], at[1], at[2]) * unit;
+    }
+    spec.convex_hull = t.boolean("convex_hull", false);
+    try {
+      for (auto& g : load_mesh_grains(spec)) def.custom_grains.push_back(std::move(g));
+    } catch (const MeshGrainError& e) {
+      t.fail(*t.find("file"), "file", e.what());
+    }
+    spec.file = std::filesystem::absolute(spec.file);
+    specs.push_back(spec);
+  }
+  Eigen::Vector3d hi = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  for (const auto& g : def.custom_grains) {
+    for (const auto& v : g.shape.vertices_approx()) hi = hi.cwiseMax(v);
+  }
+  def.outline = Outline::box(std::max(hi.x(), 1e-9), std::max(hi.y(), 1e-9), std::max(hi.z(), 1e-9));
 }
 
 // ---- [orientation] ------------------------------------------------------------------------
@@ -611,7 +729,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
 constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
                                         "split",    "output",   "material", "contact",
                                         "dynamics", "wall",     "bond",     "stage",
-                                        "fracture"};
+                                        "fracture", "mesh_grain"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -653,7 +771,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   }
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
-    if (name == "wall" || name == "stage") {  // arrays of tables, [[wall]] and [[stage]]
+    if (name == "wall" || name == "stage" || name == "mesh_grain") {  // arrays of tables
       if (node != nullptr && !node->is_array_of_tables()) {
         throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
                             std::string(name),
@@ -666,7 +784,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
                           std::string(name),
                           fmt::format("expected a table, found {}", type_name(*node)));
     }
-    if (node == nullptr && contains(kRequiredTables, name)) {
+    const bool own_grains = specimen_shape(root) == "voronoi" || specimen_shape(root) == "mesh";
+    if (node == nullptr && contains(kRequiredTables, name) && !(name == "grain" && own_grains)) {
       throw ScenarioError(source, 1, 1, std::string(name),
                           fmt::format("missing required table [{}]", name));
     }
@@ -680,7 +799,16 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   double unit = kDefaultUnit->metres;
   read_scenario_table(reader("scenario"), s, unit);
   read_specimen_table(reader("specimen"), unit, s.specimen);
-  read_grain_table(reader("grain"), unit, s.specimen);
+  if (s.specimen.kind == geometry::SpecimenKind::lattice) {
+    read_grain_table(reader("grain"), unit, s.specimen);
+    if (const auto* meshes = root.get_as<toml::array>("mesh_grain")) {
+      const toml::node& first = *meshes->get(0);
+      throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "mesh_grain",
+                          "[[mesh_grain]] tables need [specimen] shape = \"mesh\"");
+    }
+  } else {
+    read_own_grains(root, source, unit, s.specimen, s.mesh_grains);
+  }
   read_orientation_table(reader("orientation"), s.specimen);
   read_split_table(reader("split"), s.split);
   read_output_table(reader("output"), s.output);

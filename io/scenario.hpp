@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/specimen.hpp"
+#include "io/mesh_grains.hpp"
 #include "io/mesh_io.hpp"
 #include "physics/bond_law.hpp"
 #include "physics/contact_law.hpp"
@@ -138,6 +139,9 @@ struct Scenario {
   FractureDef fracture;
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
+  /// [[mesh_grain]] entries as read (absolute paths, SI); their grains are in
+  /// specimen.custom_grains.
+  std::vector<MeshGrainSpec> mesh_grains;
 };
 
 /// Reads and validates a scenario file. Throws ScenarioError (file, line, key) for a

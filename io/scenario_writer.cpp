@@ -80,6 +80,16 @@ std::string scenario_to_toml(const Scenario& s) {
 
   const geometry::SpecimenDef& d = s.specimen;
   const geometry::Outline& o = d.outline;
+  if (d.kind == geometry::SpecimenKind::voronoi) {
+    out += fmt::format("\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\ngap = {}\nseed = {}\n",
+                       vec(d.voronoi.size), d.voronoi.cells, num(d.voronoi.gap), d.voronoi.seed);
+  } else if (d.kind == geometry::SpecimenKind::meshes) {
+    out += "\n[specimen]\nshape = \"mesh\"\n";
+    for (const MeshGrainSpec& m : s.mesh_grains) {
+      out += fmt::format("\n[[mesh_grain]]\nfile = {}\nscale = {}\nposition = {}\nconvex_hull = {}\n",
+                         str(m.file.string()), num(m.scale), vec(m.offset), boolean(m.convex_hull));
+    }
+  } else {
   out += fmt::format("\n[specimen]\nshape = \"{}\"\n", outline_name(o.kind));
   switch (o.kind) {
     case geometry::Outline::Kind::box:
@@ -98,6 +108,7 @@ std::string scenario_to_toml(const Scenario& s) {
                      d.keep == geometry::KeepRule::cell_inside ? "cell_inside" : "centre_inside");
   out += fmt::format("\n[grain]\nr = {}\nr_bar = {}\nt = {}\nt_bar = {}\n", num(d.r), num(d.r_bar),
                      num(d.t), num(d.t_bar));
+  }  // lattice specimens
   out += fmt::format("\n[orientation]\nseed = {}\nfamily_mix = {}\nangles = [{}]\n", d.seed,
                      num(d.family_mix), fmt::join(d.angles, ", "));
   out += fmt::format("\n[split]\nmin_fragment_fraction = {}\n", num(s.split.min_fragment_fraction));
@@ -231,6 +242,24 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
 
   const geometry::SpecimenDef &sa = a.specimen, &sb = b.specimen;
   d.same("specimen.shape", sa.outline.kind, sb.outline.kind);
+  d.same("specimen.shape", sa.kind, sb.kind);
+  d.same("specimen.size", sa.voronoi.size, sb.voronoi.size);
+  d.same("specimen.grains", sa.voronoi.cells, sb.voronoi.cells);
+  d.same("specimen.gap", sa.voronoi.gap, sb.voronoi.gap);
+  d.same("specimen.seed", sa.voronoi.seed, sb.voronoi.seed);
+  d.same("mesh_grain", a.mesh_grains.size(), b.mesh_grains.size());
+  for (std::size_t i = 0; i < std::min(a.mesh_grains.size(), b.mesh_grains.size()); ++i) {
+    const std::string key = fmt::format("mesh_grain[{}]", i + 1);
+    d.same(key + ".file", a.mesh_grains[i].file, b.mesh_grains[i].file);
+    d.same(key + ".scale", a.mesh_grains[i].scale, b.mesh_grains[i].scale);
+    d.same(key + ".position", a.mesh_grains[i].offset, b.mesh_grains[i].offset);
+    d.same(key + ".convex_hull", a.mesh_grains[i].convex_hull, b.mesh_grains[i].convex_hull);
+  }
+  d.same("mesh_grain (grains)", sa.custom_grains.size(), sb.custom_grains.size());
+  for (std::size_t i = 0; i < std::min(sa.custom_grains.size(), sb.custom_grains.size()); ++i) {
+    d.same(fmt::format("mesh_grain (grain {})", i), sa.custom_grains[i].shape.to_exact_text(),
+           sb.custom_grains[i].shape.to_exact_text());
+  }
   d.same("specimen.size", sa.outline.size, sb.outline.size);
   d.same("specimen.notch_width", sa.outline.notch_width, sb.outline.notch_width);
   d.same("specimen.notch_depth", sa.outline.notch_depth, sb.outline.notch_depth);

@@ -8,8 +8,14 @@
 namespace cleave::io {
 
 namespace {
-physics::RigidShape grain_shape(const Scenario& scenario, const geometry::Specimen& specimen) {
-  return physics::make_rigid_shape(specimen.prism, scenario.contact.dilation_radius);
+/// One rigid shape per distinct grain shape, in Specimen::shapes order.
+std::vector<physics::RigidShape> grain_shapes(const Scenario& scenario,
+                                              const geometry::Specimen& specimen) {
+  std::vector<physics::RigidShape> shapes;
+  for (const auto& s : specimen.shapes) {
+    shapes.push_back(physics::make_rigid_shape(s, scenario.contact.dilation_radius));
+  }
+  return shapes;
 }
 
 struct StableStep {
@@ -36,14 +42,26 @@ StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shap
 }
 }  // namespace
 
+namespace {
+/// The most restrictive of the shapes' stable steps.
+StableStep stable_step(const Scenario& scenario, const std::vector<physics::RigidShape>& shapes) {
+  StableStep worst;
+  for (const auto& shape : shapes) {
+    const StableStep s = stable_step(scenario, shape);
+    if (worst.mass == 0.0 || s.dt < worst.dt) worst = s;
+  }
+  return worst;
+}
+}  // namespace
+
 double stable_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
-  return stable_step(scenario, grain_shape(scenario, specimen)).dt;
+  return stable_step(scenario, grain_shapes(scenario, specimen)).dt;
 }
 
 namespace {
-void check_time_step(const Scenario& scenario, const physics::RigidShape& shape) {
+void check_time_step(const Scenario& scenario, const std::vector<physics::RigidShape>& shapes) {
   const DynamicsDef& dyn = scenario.dynamics;
-  const StableStep s = stable_step(scenario, shape);
+  const StableStep s = stable_step(scenario, shapes);
   if (dyn.dt > s.dt) {
     throw ScenarioError(
         scenario.source, dyn.dt_position.line, dyn.dt_position.column, "dynamics.dt",
@@ -56,12 +74,12 @@ void check_time_step(const Scenario& scenario, const physics::RigidShape& shape)
 }  // namespace
 
 void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
-  check_time_step(scenario, grain_shape(scenario, specimen));
+  check_time_step(scenario, grain_shapes(scenario, specimen));
 }
 
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
-  const physics::RigidShape shape = grain_shape(scenario, specimen);
-  check_time_step(scenario, shape);
+  const std::vector<physics::RigidShape> shapes = grain_shapes(scenario, specimen);
+  check_time_step(scenario, shapes);
   const DynamicsDef& dyn = scenario.dynamics;
   physics::WorldSettings ws;
   ws.gravity = dyn.gravity;
@@ -72,13 +90,24 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.threads = dyn.threads;
   ws.local_damping = dyn.local_damping;
   physics::World world(ws);
-  const std::uint32_t sh = world.add_shape(shape);
-  double min_z = std::numeric_limits<double>::infinity();
-  for (const auto& g : specimen.grains) min_z = std::min(min_z, g.site.centre.z());
-  const Eigen::Vector3d lift(0, 0, dyn.lift - (min_z - specimen.def.t_bar / 2.0));
+  // World shape k is specimen shape k (dynamics_run registers them so with the fracture book).
+  std::vector<std::uint32_t> ids;
+  for (const auto& shape : shapes) ids.push_back(world.add_shape(shape));
+  std::vector<double> shape_low;
+  for (const auto& s : specimen.shapes) {
+    double low = std::numeric_limits<double>::infinity();
+    for (const auto& v : s.vertices_approx()) low = std::min(low, v.z());
+    shape_low.push_back(low);
+  }
+  double lowest = std::numeric_limits<double>::infinity();
   for (const auto& g : specimen.grains) {
-    world.add_body(sh, scenario.material.density, g.site.centre + shape.centroid + lift,
-                   shape.orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
+    lowest = std::min(lowest, g.site.centre.z() + shape_low.at(static_cast<std::size_t>(g.shape)));
+  }
+  const Eigen::Vector3d lift(0, 0, dyn.lift - lowest);
+  for (const auto& g : specimen.grains) {
+    const auto k = static_cast<std::size_t>(g.shape);
+    world.add_body(ids.at(k), scenario.material.density, g.site.centre + shapes[k].centroid + lift,
+                   shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
   }
   for (const auto& w : scenario.walls) world.add_wall(w);
   return world;

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// From a scenario and its specimen to a physics::World: one body per grain (sharing one
-/// rigid prism shape), the walls, the contact parameters, and the stable time step check.
+/// From a scenario and its specimen to a physics::World: one body per grain (world shape k
+/// is the rigid form of Specimen::shapes[k]; lattice grains share one prism), the walls,
+/// the contact parameters, and the stable time step check (the most restrictive shape).
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"

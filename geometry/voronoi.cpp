@@ -1,0 +1,94 @@
+#include "geometry/voronoi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "geometry/rng.hpp"
+
+namespace cleave::geometry {
+
+std::vector<Eigen::Vector3d> voronoi_points(const VoronoiDef& def) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(static_cast<std::size_t>(std::max(def.cells, 0)));
+  for (int i = 0; i < def.cells; ++i) {
+    SplitMix64 rng = stream_for(def.seed, static_cast<std::uint64_t>(i));
+    Eigen::Vector3d p;
+    for (int d = 0; d < 3; ++d) p[d] = rng.uniform() * def.size[d];
+    points.push_back(p);
+  }
+  return points;
+}
+
+ExactPolyhedron exact_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  PolygonMesh m;
+  m.name = "box";
+  for (int k = 0; k < 8; ++k) {
+    m.vertices.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(),
+                            (k & 4) ? hi.z() : lo.z());
+  }
+  // Vertex k has bit 0 = x, bit 1 = y, bit 2 = z; faces CCW seen from outside.
+  m.faces = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  return ExactPolyhedron::from_mesh(m);
+}
+
+std::vector<ExactPolyhedron> voronoi_cells(const VoronoiDef& def) {
+  for (int d = 0; d < 3; ++d) {
+    if (!(def.size[d] > 0.0)) throw std::invalid_argument("Voronoi box sizes must be positive");
+  }
+  if (def.cells < 1) throw std::invalid_argument("a Voronoi specimen needs at least one cell");
+  if (!(def.gap >= 0.0)) throw std::invalid_argument("the Voronoi gap must not be negative");
+  const std::vector<Eigen::Vector3d> points = voronoi_points(def);
+  const ExactPolyhedron box = exact_box(Eigen::Vector3d::Zero(), def.size);
+  const std::size_t n = points.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      const double d = (points[i] - points[j]).norm();
+      if (d == 0.0 || d <= def.gap) {
+        throw std::invalid_argument(
+            "Voronoi points " + std::to_string(j) + " and " + std::to_string(i) + " are " +
+            std::to_string(d) + " m apart, not more than the gap " + std::to_string(def.gap) +
+            " m: their cells would vanish; use a smaller gap, fewer cells or another seed");
+      }
+    }
+  }
+  std::vector<ExactPolyhedron> cells;
+  cells.reserve(n);
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // The other points nearest first; once a bisector lies beyond the cell's farthest
+    // corner, so do all later ones, and they cannot cut it.
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      const double da = (points[a] - points[i]).squaredNorm(), db = (points[b] - points[i]).squaredNorm();
+      return da != db ? da < db : a < b;
+    });
+    ExactPolyhedron cell = box;
+    for (std::size_t j : order) {
+      if (j == i) continue;
+      const Eigen::Vector3d& p = points[i];
+      const Eigen::Vector3d& q = points[j];
+      const double distance = (q - p).norm();
+      double reach = 0.0;
+      for (const auto& v : cell.vertices_approx()) reach = std::max(reach, (v - p).norm());
+      if (0.5 * (distance - def.gap) > reach * (1.0 + 1e-9)) break;
+      // Keep the side nearer to p: the bisector's positive side, exactly, or with a gap the
+      // bisector moved gap/2 towards p (its offset rounded, then taken exactly).
+      const ExactPlane plane =
+          def.gap == 0.0
+              ? ExactPlane::bisector(p, q)
+              : ExactPlane::from_normal_offset(p - q, (p - q).dot(0.5 * (p + q)) +
+                                                          0.5 * def.gap * distance);
+      // p lies strictly on the kept side and inside the cell, so a plane that misses the
+      // cell leaves all of it on the kept side.
+      SplitResult r = cell.split(plane);
+      if (r.ok()) cell = std::move(*r.above);
+    }
+    cells.push_back(std::move(cell));
+  }
+  return cells;
+}
+
+}  // namespace cleave::geometry
