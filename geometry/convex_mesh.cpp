@@ -286,10 +286,9 @@ ConvexMeshResult convex_shape_from_mesh(const PolygonMesh& mesh, bool convex_hul
   if (!result.was_convex && !convex_hull) {
     std::ostringstream d;
     d.precision(4);
-    d << worst;
+    d << worst << " (mesh units) outside the plane of face " << worst_face << " (tolerance "
+      << tolerance << ")";
     fail("not convex: " + describe_vertex(mesh, worst_vertex) + " lies " + d.str() +
-         " (mesh units) outside the plane of face " + std::to_string(worst_face) +
-         " (tolerance " + std::to_string(tolerance) + ")" +
          ", the largest of " + std::to_string(violations) +
          " vertex-face violation(s); convex_hull = true would use the mesh's convex hull");
   }

@@ -15,9 +15,14 @@ std::vector<geometry::CustomGrainDef> load_mesh_grains(const MeshGrainSpec& spec
   const std::string file_name = spec.file.filename().string();
   std::vector<geometry::CustomGrainDef> grains;
   for (auto& mesh : meshes) {
-    for (auto& v : mesh.vertices) v = v * spec.scale + spec.offset;
     try {
+      // Checked first as the file has it, so that messages quote the file's coordinates;
+      // then made in place (scaled and moved in doubles, then taken exactly).
       geometry::ConvexMeshResult r = geometry::convex_shape_from_mesh(mesh, spec.convex_hull);
+      if (spec.scale != 1.0 || spec.offset != Eigen::Vector3d::Zero()) {
+        for (auto& v : mesh.vertices) v = v * spec.scale + spec.offset;
+        r = geometry::convex_shape_from_mesh(mesh, spec.convex_hull);
+      }
       grains.push_back({meshes.size() == 1 ? file_name : file_name + ":" + mesh.name,
                         std::move(r.shape)});
     } catch (const geometry::GeometryError& e) {

@@ -75,6 +75,13 @@ TEST(MeshGrain, StlTetrahedronHasTheExactVolumeAndCentroid) {
   EXPECT_EQ(r.shape.mass_properties().centroid, Eigen::Vector3d(0.5, 0.75, 1.0));
 }
 
+TEST(MeshGrain, PlyCubeOfQuadsHasTheExactVolumeAndCentroid) {
+  const ConvexMeshResult r = cleave::geometry::convex_shape_from_mesh(only_mesh("cube_quads.ply"), false);
+  EXPECT_TRUE(r.shape.volume() == ExactScalar(8.0));
+  EXPECT_EQ(r.shape.num_faces(), 6);
+  EXPECT_EQ(r.shape.mass_properties().centroid, Eigen::Vector3d(1.0, 1.0, 1.0));
+}
+
 TEST(MeshGrain, InwardOrientedMeshGivesTheSameShape) {
   PolygonMesh m = only_mesh("cube_triangulated.obj");
   for (auto& f : m.faces) std::reverse(f.begin(), f.end());
