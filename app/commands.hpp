@@ -16,6 +16,12 @@ struct RunOptions {
   std::optional<std::string> mesh_layout;  ///< overrides [output] mesh_layout
   bool quiet = false;
   std::uint64_t max_steps = 0;  ///< stop a [dynamics] run after this many steps (0: no limit)
+  /// Continue from this checkpoint (a file, or a result folder holding `checkpoint`)
+  /// instead of starting: the scenario is the one saved in it, `out` defaults to its folder,
+  /// and `max_steps` 0 keeps the checkpointed run's limit.
+  std::filesystem::path restart;
+  /// Overrides [output] checkpoint_every (a checkpoint every N steps; 0: only on a signal).
+  std::optional<std::uint64_t> checkpoint_every;
 };
 
 /// Builds the specimen, splits every grain into its cleavage slabs and writes the result

@@ -16,6 +16,7 @@
 #include "io/world_setup.hpp"
 #include "physics/fracture_book.hpp"
 #include "physics/grain_stress.hpp"
+#include "physics/state_codec.hpp"
 #include "physics/step_guard.hpp"
 #include "physics/transgranular.hpp"
 #include "physics/world.hpp"
@@ -140,11 +141,55 @@ WallReading read_wall(const physics::Wall& w, const Eigen::Vector3d& origin0) {
   return {-w.reaction.dot(w.load_axis), moved.dot(w.load_axis)};
 }
 
+/// Where the loop of one stage is: what a checkpoint saves of it besides the world.
+struct StageProgress {
+  StageSummary st;
+  std::size_t breaks0 = 0;                    ///< bond breaks before the stage
+  std::vector<Eigen::Vector3d> stage_origin;  ///< wall origins at the stage's start
+  std::vector<double> plot_x, plot_y;         ///< its load-displacement picture so far
+  bool event = false;                         ///< its ending event has come
+};
+
+/// The layout of the run state in a checkpoint (Runner::encode_run_state).
+constexpr std::uint32_t kRunStateLayout = 1;
+
+void put_summary(physics::StateWriter& w, const StageSummary& st) {
+  w.put(st.name);
+  w.put(st.kind);
+  w.put(st.steps);
+  w.put(st.start);
+  w.put(st.end);
+  w.put(st.ended_by);
+  w.put(st.event_missed);
+  w.put(st.peak_load);
+  w.put(st.peak_displacement);
+  w.put<std::uint64_t>(st.bonds_broken);
+  w.put<std::uint64_t>(st.splits);
+  w.put(st.plot);
+}
+
+StageSummary get_summary(physics::StateReader& r) {
+  StageSummary st;
+  st.name = r.string();
+  st.kind = r.get_enum(StageDef::Kind::bond);
+  st.steps = r.get<std::uint64_t>();
+  st.start = r.get<double>();
+  st.end = r.get<double>();
+  st.ended_by = r.string();
+  st.event_missed = r.get_bool();
+  st.peak_load = r.get<double>();
+  st.peak_displacement = r.get<double>();
+  st.bonds_broken = r.get<std::uint64_t>();
+  st.splits = r.get<std::uint64_t>();
+  st.plot = r.string();
+  return st;
+}
+
 /// One dynamic run, stage after stage, and everything it writes.
 class Runner {
  public:
   Runner(const io::Scenario& scenario, const geometry::Specimen& specimen, fs::path out,
-         bool quiet, std::uint64_t max_steps, const RunHooks& hooks)
+         bool quiet, std::uint64_t max_steps, const RunHooks& hooks, RunResume* resume)
       : scenario_(scenario),
         specimen_(specimen),
         out_(std::move(out)),
@@ -152,7 +197,7 @@ class Runner {
         max_steps_(max_steps),
         hooks_(hooks),
         guard_(hooks.max_move_fraction),
-        world_(io::make_world(scenario, specimen)),
+        world_(resume ? std::move(resume->world) : io::make_world(scenario, specimen)),
         bodies_pvd_(out_ / "bodies.pvd"),
         contacts_pvd_(out_ / "contacts.pvd"),
         bonds_pvd_(out_ / "bonds.pvd") {
@@ -169,7 +214,18 @@ class Runner {
     walls_ += "\n";
     loads_ += ",load_N,load_point_displacement_m\n";
     bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
-    if (scenario_.fracture.enabled) {
+    if (resume) {
+      // Everything else comes from the checkpoint (run()).
+      if (scenario_.fracture.enabled != resume->book.has_value()) {
+        throw std::runtime_error("the checkpoint does not match the scenario: [fracture] is " +
+                                 std::string(scenario_.fracture.enabled ? "on" : "off") +
+                                 " in the scenario but the checkpoint has " +
+                                 (resume->book ? "a" : "no") + " fracture book");
+      }
+      book_ = std::move(resume->book);
+      resume_state_ = std::move(resume->run_state);
+      resuming_ = true;
+    } else if (scenario_.fracture.enabled) {
       // Every grain may split along its cleavage planes (chapter 3): the book knows its
       // exact shape (world shape k is specimen shape k, io::make_world) and orientation.
       book_.emplace(scenario_.contact.dilation_radius, scenario_.split.min_fragment_fraction);
@@ -190,7 +246,12 @@ class Runner {
   DynamicsSummary run() {
     const io::DynamicsDef& dyn = scenario_.dynamics;
     stage_ = scenario_.stages.empty() ? "run" : scenario_.stages.front().name;
-    write_frame();
+    std::optional<StageProgress> resumed;
+    if (resuming_) {
+      resumed.emplace(decode_run_state(resume_state_));
+    } else {
+      write_frame();
+    }
     if (scenario_.stages.empty()) {
       // A plain run: one stage as long as the duration, ended early once settled.
       StageDef plain;
@@ -200,11 +261,12 @@ class Runner {
       for (std::size_t i = 0; i < world_.walls().size(); ++i) {
         plain.wall_velocity.emplace_back(world_.walls()[i].name, world_.walls()[i].velocity);
       }
-      run_stage(plain, true);
+      run_stage(plain, true, resumed ? &*resumed : nullptr);
     } else {
-      for (std::size_t k = 0; k < scenario_.stages.size() && !stopped_; ++k) {
+      for (std::size_t k = resumed ? stage_index_ : 0; k < scenario_.stages.size() && !stopped_; ++k) {
         stage_index_ = k;
-        run_stage(scenario_.stages[k], false);
+        run_stage(scenario_.stages[k], false, resumed ? &*resumed : nullptr);
+        resumed.reset();
       }
     }
     // A blown-up state with non-finite values makes no frame; the last good one stays.
@@ -229,18 +291,26 @@ class Runner {
       /// Brazilian tensile strength sigma = 2P / (pi D t), sec. 2.5.4 of the dissertation.
       sum_.brazilian_strength = 2.0 * sum_.peak_load / (M_PI * outline.size.x() * outline.size.z());
     }
+    sum_.state_hash = world_.state_hash();
     sum_.wall_seconds = seconds_since(t0_);
     return sum_;
   }
 
  private:
-  void run_stage(const StageDef& stage, bool plain) {
-    StageSummary st;
-    st.name = stage.name;
-    st.kind = stage.kind;
-    st.start = world_.time();
+  /// Runs one stage from its start, or from `resume` (a checkpoint taken inside it).
+  void run_stage(const StageDef& stage, bool plain, const StageProgress* resume) {
+    StageProgress progress;
+    if (resume) progress = *resume;
+    current_ = &progress;
+    StageSummary& st = progress.st;
+    std::size_t& breaks0 = progress.breaks0;
+    if (!resume) {
+      st.name = stage.name;
+      st.kind = stage.kind;
+      st.start = world_.time();
+      breaks0 = world_.bond_breaks().size();
+    }
     stage_ = stage.name;
-    const std::size_t breaks0 = world_.bond_breaks().size();
     if (stage.kind == StageDef::Kind::bond) {
       sum_.bonds = world_.initialise_bonds(scenario_.bond.params, stage.bond_distance);
       st.ended_by = "bonded";
@@ -254,20 +324,26 @@ class Runner {
       record(max_overlap(world_), std::nullopt);
       write_frame();
       sum_.stages.push_back(st);
+      current_ = nullptr;
       return;
     }
-    // Walls move as the stage says; the others stand still.
-    for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
-    for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = v;
+    // Walls move as the stage says; the others stand still (a resumed stage has them so).
+    if (!resume) {
+      for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
+      for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = v;
+    }
     std::vector<std::size_t> load_walls;
     for (const auto& name : stage.load_walls) load_walls.push_back(wall_index(name));
-    std::vector<Eigen::Vector3d> stage_origin;
-    for (const auto& w : world_.walls()) stage_origin.push_back(w.origin);
+    std::vector<Eigen::Vector3d>& stage_origin = progress.stage_origin;
+    if (!resume) {
+      for (const auto& w : world_.walls()) stage_origin.push_back(w.origin);
+    }
 
     std::uint64_t limit = stage.steps > 0 ? stage.steps
                                           : static_cast<std::uint64_t>(std::ceil(stage.time / scenario_.dynamics.dt));
     if (max_steps_ > 0) {
-      const std::uint64_t left = max_steps_ > world_.steps() ? max_steps_ - world_.steps() : 0;
+      const std::uint64_t started_at = world_.steps() - st.steps;  // the stage's first step
+      const std::uint64_t left = max_steps_ > started_at ? max_steps_ - started_at : 0;
       if (left < limit) {
         limit = left;
         stopped_ = true;  // --max-steps: the run ends with this stage
@@ -275,12 +351,14 @@ class Runner {
     }
     const std::uint64_t frame_every = stage.frames > 0 ? std::max<std::uint64_t>(1, limit / stage.frames) : 0;
     const std::uint64_t log_every = std::max<std::uint64_t>(1, limit / 1000);
-    std::vector<double> plot_x, plot_y;
+    std::vector<double>& plot_x = progress.plot_x;
+    std::vector<double>& plot_y = progress.plot_y;
     const auto stage_t0 = std::chrono::steady_clock::now();
+    const std::uint64_t first = st.steps + 1;  // 1, or the step after the checkpoint
     auto last_print = std::chrono::steady_clock::time_point{};
-    bool event = false;
+    bool& event = progress.event;
     bool halt = false;  // interrupted or blew up: the run ends after this step
-    for (std::uint64_t i = 1; i <= limit && !event && !halt; ++i) {
+    for (std::uint64_t i = first; i <= limit && !event && !halt; ++i) {
       guard_.before_step(world_);
       bool completed = true;
       try {
@@ -337,17 +415,19 @@ class Runner {
         }
       }
       if (frame_every && (i % frame_every == 0)) write_frame();
-      const RunPoint point{world_, stage.name, stage_index_, st.steps};
+      const RunPoint point{world_, stage.name, stage_index_, st.steps, book_ ? &*book_ : nullptr,
+                           [this] { return encode_run_state(); }};
       if (hooks_.on_checkpoint && hooks_.checkpoint_every > 0 &&
           world_.steps() % hooks_.checkpoint_every == 0) {
         hooks_.on_checkpoint(point);
       }
       if (hooks_.stop_requested && hooks_.stop_requested()) {
         sum_.ending = RunEnding::interrupted;
+        // The checkpoint first: a restart continues the histories as if never stopped.
+        if (hooks_.on_interrupt) hooks_.on_interrupt(point);
         if (i % log_every != 0 && i != limit && !event) {
           record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
         }
-        if (hooks_.on_interrupt) hooks_.on_interrupt(point);
         halt = stopped_ = true;
       }
       if (!quiet_ && (seconds_since(last_print) > 1.0 || i == limit || event || halt)) {
@@ -393,6 +473,104 @@ class Runner {
       progress_shown_ = false;
     }
     sum_.stages.push_back(st);
+    current_ = nullptr;
+  }
+
+  /// The loop's own state for a checkpoint, taken inside a motion stage (run_stage).
+  std::string encode_run_state() const {
+    if (!current_) throw std::logic_error("encode_run_state: not inside a stage");
+    physics::StateWriter w;
+    w.put(kRunStateLayout);
+    w.put<std::uint64_t>(stage_index_);
+    w.put(stage_);
+    put_summary(w, current_->st);
+    w.put<std::uint64_t>(current_->breaks0);
+    w.put(current_->stage_origin);
+    w.put(current_->plot_x);
+    w.put(current_->plot_y);
+    w.put(current_->event);
+    w.put<std::int32_t>(sum_.frames);
+    w.put(sum_.max_overlap);
+    w.put<std::uint64_t>(sum_.bonds);
+    w.put<std::uint64_t>(sum_.splits);
+    w.count(sum_.stages.size());
+    for (const auto& st : sum_.stages) put_summary(w, st);
+    w.put(origin0_);
+    w.put(pe0_);
+    for (const std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_}) w.put(*s);
+    w.count(breaks_by_stage_.size());
+    for (const auto& [end, name] : breaks_by_stage_) {
+      w.put<std::uint64_t>(end);
+      w.put(name);
+    }
+    w.put(last_frame_step_);
+    for (const io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_}) {
+      w.count(pvd->entries().size());
+      for (const auto& e : pvd->entries()) {
+        w.put(e.time);
+        w.put(e.file);
+        w.put<std::int32_t>(e.part);
+      }
+    }
+    return w.take();
+  }
+
+  /// Takes back what encode_run_state saved; returns the progress of the stage it was in
+  /// (and sets stage_index_ to that stage).
+  StageProgress decode_run_state(const std::string& bytes) {
+    physics::StateReader r(bytes);
+    StageProgress p;
+    try {
+      if (const auto layout = r.get<std::uint32_t>(); layout != kRunStateLayout) {
+        r.fail(fmt::format("run state layout {} is not supported (this build reads {})", layout, kRunStateLayout));
+      }
+      stage_index_ = r.get<std::uint64_t>();
+      const std::size_t stages = std::max<std::size_t>(1, scenario_.stages.size());
+      if (stage_index_ >= stages) r.fail("the stage index is beyond the scenario's stages");
+      stage_ = r.string();
+      const std::string expected = scenario_.stages.empty() ? "run" : scenario_.stages[stage_index_].name;
+      if (stage_ != expected) {
+        r.fail(fmt::format("the checkpoint is in stage '{}' but the scenario's stage {} is '{}'", stage_,
+                           stage_index_ + 1, expected));
+      }
+      p.st = get_summary(r);
+      p.breaks0 = r.get<std::uint64_t>();
+      p.stage_origin = r.vec3s();
+      p.plot_x = r.numbers<double>();
+      p.plot_y = r.numbers<double>();
+      p.event = r.get_bool();
+      sum_.frames = r.get<std::int32_t>();
+      sum_.max_overlap = r.get<double>();
+      sum_.bonds = r.get<std::uint64_t>();
+      sum_.splits = r.get<std::uint64_t>();
+      sum_.stages.resize(r.count(8));
+      for (auto& st : sum_.stages) st = get_summary(r);
+      origin0_ = r.vec3s();
+      pe0_ = r.get<double>();
+      for (std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_}) *s = r.string();
+      breaks_by_stage_.resize(r.count(16));
+      for (auto& [end, name] : breaks_by_stage_) {
+        end = r.get<std::uint64_t>();
+        name = r.string();
+      }
+      last_frame_step_ = r.get<std::uint64_t>();
+      for (io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_}) {
+        std::vector<io::PvdSeries::Entry> entries(r.count(16));
+        for (auto& e : entries) {
+          e.time = r.get<double>();
+          e.file = r.string();
+          e.part = r.get<std::int32_t>();
+        }
+        pvd->restore(std::move(entries));
+      }
+      if (!r.done()) r.fail("unread bytes after the run state");
+      if (origin0_.size() != world_.walls().size() || p.stage_origin.size() != world_.walls().size()) {
+        r.fail("the walls of the run state do not match the world's");
+      }
+    } catch (const physics::StateError& e) {
+      throw std::runtime_error(fmt::format("checkpoint run state: {}", e.what()));
+    }
+    return p;
   }
 
   /// What the testing machine reads: load walls whose load axes agree are one crosshead
@@ -599,6 +777,9 @@ class Runner {
   std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)
   std::vector<char> touched_;
   std::uint64_t last_frame_step_ = ~0ull;
+  StageProgress* current_ = nullptr;  // the stage under way (for checkpoints)
+  bool resuming_ = false;
+  std::string resume_state_;
   bool stopped_ = false;
   bool progress_shown_ = false;
   DynamicsSummary sum_;
@@ -608,8 +789,8 @@ class Runner {
 
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const fs::path& out, bool quiet, std::uint64_t max_steps,
-                             const RunHooks& hooks) {
-  Runner runner(scenario, specimen, out, quiet, max_steps, hooks);
+                             const RunHooks& hooks, RunResume* resume) {
+  Runner runner(scenario, specimen, out, quiet, max_steps, hooks, resume);
   return runner.run();
 }
 

@@ -13,6 +13,7 @@
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
+#include "physics/fracture_book.hpp"
 #include "physics/world.hpp"
 
 namespace cleave::app {
@@ -46,6 +47,18 @@ struct RunPoint {
   const std::string& stage;     ///< its name
   std::size_t stage_index;      ///< in scenario.stages (0 for a plain run)
   std::uint64_t stage_steps;    ///< steps taken in the stage so far
+  /// The book of transgranular fracture (null without [fracture]).
+  const physics::FractureBook* book = nullptr;
+  /// The run loop's own state at this point (stage progress, the histories written so far,
+  /// frame series), encoded for a checkpoint (io/checkpoint.hpp); RunResume takes it back.
+  std::function<std::string()> run_state;
+};
+
+/// What a run restarted from a checkpoint continues from (io::read_checkpoint gives it).
+struct RunResume {
+  physics::World world;
+  std::optional<physics::FractureBook> book;
+  std::string run_state;  ///< RunPoint::run_state() at the checkpoint
 };
 
 /// What the caller of run_dynamics plugs into its step loop. Every member may be empty.
@@ -53,11 +66,12 @@ struct RunHooks {
   /// Polled after every step; true stops the run cleanly after that step (its outputs
   /// are written and the summary says interrupted). `cleave run` asks run_control.hpp.
   std::function<bool()> stop_requested;
-  /// Called once when stop_requested stopped the run, before the outputs are written: the
-  /// place a checkpoint writer plugs in to save the state for a restart.
+  /// Called once when stop_requested stopped the run, before the outputs are written (and
+  /// before the extra history row of the interrupted step): `cleave run` writes the
+  /// checkpoint a restart continues from.
   std::function<void(const RunPoint&)> on_interrupt;
-  /// Called every `checkpoint_every` steps (0: never), after the step and its fracture
-  /// check: the place periodic checkpoints plug in. None is written today.
+  /// Called every `checkpoint_every` steps (0: never; counted in World::steps), after the
+  /// step, its fracture check, its history row and frame: `cleave run` writes a checkpoint.
   std::function<void(const RunPoint&)> on_checkpoint;
   std::uint64_t checkpoint_every = 0;
   /// The step guard's limit on a body's movement in one step, as a fraction of its
@@ -88,6 +102,9 @@ struct DynamicsSummary {
   std::vector<geometry::Piece> final_pieces;
   /// Disc specimens: the Brazilian tensile strength 2P/(pi D t) of the peak load (sec. 2.5.4).
   std::optional<double> brazilian_strength;
+  /// physics::World::state_hash of the final state: a run restarted from a checkpoint ends
+  /// with the same hash as the run done without interruption.
+  std::uint64_t state_hash = 0;
 };
 
 /// Runs [dynamics] (and its [[stage]]s) of `scenario` on `specimen`, writing into `out`:
@@ -98,8 +115,13 @@ struct DynamicsSummary {
 /// total number of steps. A run stopped by `hooks.stop_requested` or by the step guard
 /// (a blow-up) still writes its frames and tables up to where it stopped; the summary's
 /// `ending` says which.
+///
+/// With `resume` (moved from), the run continues from a checkpoint of the same scenario
+/// and specimen instead of starting: the world, the fracture book and the loop's state
+/// are those saved, and the outputs of `out` continue where the checkpoint left them.
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const std::filesystem::path& out, bool quiet,
-                             std::uint64_t max_steps = 0, const RunHooks& hooks = {});
+                             std::uint64_t max_steps = 0, const RunHooks& hooks = {},
+                             RunResume* resume = nullptr);
 
 }  // namespace cleave::app

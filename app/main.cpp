@@ -14,13 +14,30 @@ int main(int argc, char** argv) {
 
   RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Run a scenario file and write a result folder");
-  run_cmd->add_option("scenario", run.scenario, "Scenario file (TOML)")->required();
+  run_cmd->add_option("scenario", run.scenario, "Scenario file (TOML); not with --restart");
   run_cmd->add_option("--out,-o", run.out, "Result folder (default: results/<scenario name>)");
   run_cmd->add_option("--mesh-format", run.mesh_format, "stl | stl_ascii | obj (overrides the scenario)");
   run_cmd->add_option("--mesh-layout", run.mesh_layout, "scene | per_fragment (overrides the scenario)");
   run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors");
   run_cmd->add_option("--max-steps", run.max_steps,
                       "Stop the dynamics after this many steps (a quick look; 0: no limit)");
+  run_cmd->add_option("--restart", run.restart,
+                      "Continue from a checkpoint (DIR/checkpoint or DIR) instead of a scenario");
+  run_cmd->add_option("--checkpoint-every", run.checkpoint_every,
+                      "Write DIR/checkpoint every N steps (overrides [output] checkpoint_every; "
+                      "one is always written on SIGINT/SIGTERM)");
+
+  RunOptions restart;
+  CLI::App* restart_cmd = app.add_subcommand(
+      "restart", "Continue an interrupted run from its checkpoint (same as run --restart)");
+  restart_cmd->add_option("checkpoint", restart.restart, "DIR/checkpoint, or the result folder DIR")
+      ->required();
+  restart_cmd->add_option("--out,-o", restart.out, "Result folder (default: the checkpoint's folder)");
+  restart_cmd->add_flag("--quiet,-q", restart.quiet, "Print only errors");
+  restart_cmd->add_option("--max-steps", restart.max_steps,
+                          "Total step limit (default: the interrupted run's --max-steps)");
+  restart_cmd->add_option("--checkpoint-every", restart.checkpoint_every,
+                          "Write a checkpoint every N steps (overrides the scenario)");
 
   CLI::App* check_cmd = app.add_subcommand("check", "Check a result folder");
   check_cmd->require_subcommand(1);
@@ -52,7 +69,14 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
 
-  if (run_cmd->parsed()) return run_command(run);
+  if (run_cmd->parsed()) {
+    if (run.scenario.empty() == run.restart.empty()) {
+      fmt::print(stderr, "cleave run: give a scenario file or --restart CHECKPOINT (one of them)\n");
+      return 2;
+    }
+    return run_command(run);
+  }
+  if (restart_cmd->parsed()) return run_command(restart);
   if (volume_cmd->parsed()) return check_volume_command(check);
   if (validate_cmd->parsed()) return validate_command(validate);
   return 2;

@@ -9,6 +9,7 @@
 
 #include "cleave_version.hpp"
 #include "commands.hpp"
+#include "io/checkpoint.hpp"
 #include "io/exact_store.hpp"
 #include "io/mesh_io.hpp"
 #include "io/provenance.hpp"
@@ -106,18 +107,34 @@ int run_command(const RunOptions& options) {
   };
 
   io::Scenario scenario;
+  // A restart: the checkpoint holds the scenario as run and the state to continue from.
+  std::optional<io::Checkpoint> checkpoint;
+  fs::path restart_file;
   try {
-    scenario = io::load_scenario(options.scenario);
+    if (!options.restart.empty()) {
+      restart_file = io::checkpoint_file(options.restart);
+      checkpoint.emplace(io::read_checkpoint(restart_file));
+      scenario = io::parse_scenario(checkpoint->meta.scenario_text, checkpoint->meta.scenario_source);
+    } else {
+      scenario = io::load_scenario(options.scenario);
+    }
     if (options.mesh_format) scenario.output.mesh_format = io::parse_mesh_format(*options.mesh_format);
     if (options.mesh_layout) scenario.output.mesh_layout = io::parse_mesh_layout(*options.mesh_layout);
   } catch (const io::ScenarioError& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
     return 2;
+  } catch (const io::CheckpointError& e) {
+    fmt::print(stderr, "cleave: error: cannot restart: {}\n", e.what());
+    return 2;
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
     return 2;
   }
-  const fs::path out = options.out.empty() ? fs::path("results") / scenario.name : options.out;
+  const fs::path out = !options.out.empty() ? options.out
+                       : checkpoint        ? (restart_file.has_parent_path() ? restart_file.parent_path() : fs::path("."))
+                                           : fs::path("results") / scenario.name;
+  const std::uint64_t max_steps =
+      options.max_steps > 0 || !checkpoint ? options.max_steps : checkpoint->meta.max_steps;
 
   // Whatever was in the folder is no longer a result until this run finishes.
   try {
@@ -125,7 +142,12 @@ int run_command(const RunOptions& options) {
     fs::remove(out / io::kManifestName);
     fs::remove(out / io::kChecksumsName);
     fs::remove_all(out / "meshes");
-    fs::remove_all(out / "frame_meshes");
+    if (!checkpoint) {
+      // A restart keeps the frames before its checkpoint; a fresh run starts clean (and
+      // drops any checkpoint of an earlier run, which is not this run's to continue).
+      fs::remove_all(out / "frame_meshes");
+      fs::remove(out / io::kCheckpointName);
+    }
   } catch (const fs::filesystem_error& e) {
     fmt::print(stderr, "cleave: error: {}: {}\n", out.string(), e.what());
     return 1;
@@ -144,7 +166,11 @@ int run_command(const RunOptions& options) {
   manifest.provenance["scenario_as_run"] = io::kScenarioAsRunName;
   manifest.provenance["seed"] = std::to_string(scenario.specimen.seed);
   manifest.provenance["started_utc"] = io::utc_now();
-  if (options.max_steps > 0) manifest.provenance["max_steps"] = std::to_string(options.max_steps);
+  if (max_steps > 0) manifest.provenance["max_steps"] = std::to_string(max_steps);
+  if (checkpoint) {
+    manifest.provenance["restarted_from"] = restart_file.string();
+    manifest.provenance["restarted_at_step"] = std::to_string(checkpoint->world.steps());
+  }
   // A run stopped by SIGINT/SIGTERM between two phases: what is written stays, marked so.
   auto interrupted = [&]() {
     const int sig = stop_signal();
@@ -155,10 +181,16 @@ int run_command(const RunOptions& options) {
     record.close_quietly(io::run_status::interrupted, reason);
     return exit_code_for_signal(sig);
   };
+  std::string input;  // the scenario's text, as run (a checkpoint keeps it)
   try {
-    const std::string input = io::read_file(options.scenario);
+    input = checkpoint ? checkpoint->meta.scenario_text : io::read_file(options.scenario);
     manifest.provenance["scenario_sha256"] = io::sha256_hex(input);
-    record.start();
+    if (checkpoint) {
+      // Files written since the interrupted run started are this run's too.
+      record.resume(fs::file_time_type(fs::file_time_type::duration(checkpoint->meta.started_ticks)));
+    } else {
+      record.start();
+    }
     io::write_file_atomically(out / "scenario.toml", input);
     io::write_file_atomically(out / io::kScenarioAsRunName, io::scenario_to_toml(scenario));
   } catch (const std::exception& e) {
@@ -235,8 +267,36 @@ int run_command(const RunOptions& options) {
     if (scenario.dynamics.enabled) {
       RunHooks hooks;
       hooks.stop_requested = [] { return stop_signal() != 0; };
-      // hooks.on_interrupt / on_checkpoint: where a checkpoint writer will plug in.
-      dynamics = run_dynamics(scenario, specimen, out, options.quiet, options.max_steps, hooks);
+      // Checkpoints: every N steps if asked, and always when a signal stops the run.
+      const io::CheckpointMeta meta{CLEAVE_VERSION, scenario.source, input, max_steps,
+                                    static_cast<std::int64_t>(record.started().time_since_epoch().count())};
+      const fs::path checkpoint_path = out / io::kCheckpointName;
+      auto save = [&](const RunPoint& p) {
+        const auto t0 = std::chrono::steady_clock::now();
+        try {
+          io::write_checkpoint_file(checkpoint_path, io::encode_checkpoint(meta, p.world, p.book, p.run_state()));
+        } catch (const std::exception& e) {
+          // The last good checkpoint stays; the run goes on.
+          fmt::print(stderr, "\ncleave: warning: checkpoint at step {} not written: {}\n", p.world.steps(), e.what());
+          return;
+        }
+        if (!options.quiet && stop_signal() != 0) {
+          fmt::print(stderr, "\ncleave: checkpoint at step {} -> {} ({:.2f} s); continue with: cleave restart {}\n",
+                     p.world.steps(), checkpoint_path.string(),
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), out.string());
+        }
+      };
+      hooks.checkpoint_every = options.checkpoint_every.value_or(scenario.output.checkpoint_every);
+      if (hooks.checkpoint_every > 0) hooks.on_checkpoint = save;
+      hooks.on_interrupt = save;
+      std::optional<RunResume> resume;
+      if (checkpoint) {
+        resume.emplace(RunResume{std::move(checkpoint->world), std::move(checkpoint->book),
+                                 std::move(checkpoint->run_state)});
+        say(fmt::format("  restart    from {} at step {}", restart_file.string(), resume->world.steps()));
+      }
+      dynamics = run_dynamics(scenario, specimen, out, options.quiet, max_steps, hooks,
+                              resume ? &*resume : nullptr);
       const DynamicsSummary& d = *dynamics;
       std::string files = "bodies.pvd, contacts.pvd";
       if (scenario.bond.enabled) files += ", bonds.pvd";
@@ -309,6 +369,7 @@ int run_command(const RunOptions& options) {
         manifest.facts["brazilian_strength_Pa"] = fmt::format("{:.9g}", *d.brazilian_strength);
       }
       manifest.facts["dynamics_steps"] = std::to_string(d.steps);
+      manifest.facts["final_state_hash"] = fmt::format("{:016x}", d.state_hash);
       manifest.facts["dynamics_time_s"] = fmt::format("{:.9g}", d.time);
       manifest.facts["dynamics_settled"] = d.settled ? "true" : "false";
       manifest.facts["kinetic_energy_J"] = fmt::format("{:.9g}", d.kinetic_energy);

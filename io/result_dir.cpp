@@ -182,6 +182,14 @@ void ResultRecord::start() {
   started_ = fs::last_write_time(dir_ / kManifestName);
 }
 
+void ResultRecord::resume(fs::file_time_type since) {
+  manifest.status = run_status::running;
+  manifest.reason.clear();
+  manifest.files.clear();
+  write_manifest(dir_, manifest);
+  started_ = since;
+}
+
 void ResultRecord::close(const std::string& status, const std::string& reason) {
   manifest.status = status;
   manifest.reason = reason;

@@ -83,6 +83,11 @@ class ResultRecord {
 
   /// Writes run.toml with status "running" (the provenance known so far).
   void start();
+  /// start() for a run restarted from a checkpoint: files written since `since` (the
+  /// interrupted run's start mark, `started()`) belong to the run.
+  void resume(std::filesystem::file_time_type since);
+  /// When start() was called (file-system clock); a checkpoint keeps it for resume().
+  [[nodiscard]] std::filesystem::file_time_type started() const { return started_; }
   /// Lists and hashes the files written since start(), writes SHA256SUMS and run.toml with
   /// the final status (run_status::finished, interrupted or failed) and reason. Throws
   /// std::runtime_error when they cannot be written.

@@ -55,6 +55,8 @@
 ///   mesh_format = "obj"        # optional: "stl" (binary) | "stl_ascii" | "obj", default "obj"
 ///   mesh_layout = "scene"      # optional: "scene" | "per_fragment", default "scene"
 ///   frame_meshes = false       # optional: with [dynamics], every frame's bodies as meshes too
+///   checkpoint_every = 0       # optional: with [dynamics], a checkpoint every N steps (0: only
+///                              #   when interrupted); `cleave restart DIR` continues from it
 ///
 ///   [material]                 # optional: density = 3100 (kg/m^3, > 0)
 ///   [contact]                  # required by [dynamics]
@@ -425,7 +427,8 @@ void read_split_table(const TableReader& t, SplitDef& split) {
           .value;
 }
 
-constexpr std::string_view kOutputKeys[] = {"mesh_format", "mesh_layout", "frame_meshes"};
+constexpr std::string_view kOutputKeys[] = {"mesh_format", "mesh_layout", "frame_meshes",
+                                            "checkpoint_every"};
 
 void read_output_table(const TableReader& t, OutputDef& output) {
   t.reject_unknown(kOutputKeys);
@@ -440,6 +443,7 @@ void read_output_table(const TableReader& t, OutputDef& output) {
   output.mesh_format = t.choose("mesh_format", formats, std::optional(OutputDef{}.mesh_format));
   output.mesh_layout = t.choose("mesh_layout", layouts, std::optional(OutputDef{}.mesh_layout));
   output.frame_meshes = t.boolean("frame_meshes", false);
+  output.checkpoint_every = static_cast<std::uint64_t>(t.integer("checkpoint_every", 0, 0));
 }
 
 // ---- [material], [contact], [dynamics], [[wall]] ------------------------------------------

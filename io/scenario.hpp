@@ -51,6 +51,9 @@ struct OutputDef {
   /// With [dynamics]: every frame's bodies (grains and fragments, named by lineage) are
   /// written as meshes too, frame_meshes/frame_NNNNNN.*, in their world pose.
   bool frame_meshes = false;
+  /// With [dynamics]: a checkpoint every this many steps (0: only when interrupted);
+  /// `cleave restart` continues from it (io/checkpoint.hpp).
+  std::uint64_t checkpoint_every = 0;
 };
 
 /// [material]

@@ -115,6 +115,7 @@ std::string scenario_to_toml(const Scenario& s) {
   out += fmt::format("\n[output]\nmesh_format = \"{}\"\nmesh_layout = \"{}\"\nframe_meshes = {}\n",
                      to_string(s.output.mesh_format), to_string(s.output.mesh_layout),
                      boolean(s.output.frame_meshes));
+  out += fmt::format("checkpoint_every = {}\n", s.output.checkpoint_every);
   out += fmt::format("\n[material]\ndensity = {}\n", num(s.material.density));
 
   // [contact] is optional without [dynamics]; when given, its dilation radius is > 0.
@@ -275,6 +276,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("output.mesh_format", a.output.mesh_format, b.output.mesh_format);
   d.same("output.mesh_layout", a.output.mesh_layout, b.output.mesh_layout);
   d.same("output.frame_meshes", a.output.frame_meshes, b.output.frame_meshes);
+  d.same("output.checkpoint_every", a.output.checkpoint_every, b.output.checkpoint_every);
   d.same("material.density", a.material.density, b.material.density);
   d.same("contact.dilation_radius", a.contact.dilation_radius, b.contact.dilation_radius);
   d.contact("contact.particle_particle", a.contact.particle_particle, b.contact.particle_particle);

@@ -56,12 +56,17 @@ class PvdSeries {
   void add(double time, const std::filesystem::path& relative_file, int part = 0);
   [[nodiscard]] const std::filesystem::path& file() const { return file_; }
 
- private:
   struct Entry {
     double time;
     std::string file;
     int part;
   };
+  /// The datasets listed so far (a checkpoint keeps them) ...
+  [[nodiscard]] const std::vector<Entry>& entries() const { return entries_; }
+  /// ... and the list restored from one (the .pvd file is rewritten at the next add()).
+  void restore(std::vector<Entry> entries) { entries_ = std::move(entries); }
+
+ private:
   std::filesystem::path file_;
   std::vector<Entry> entries_;
 };

@@ -1,5 +1,6 @@
 #include "physics/fracture_book.hpp"
 
+#include <map>
 #include <stdexcept>
 
 namespace cleave::physics {
@@ -136,6 +137,67 @@ std::vector<FractureBook::Entry> FractureBook::entries(const World& world) const
     out.push_back({id, r.lineage, shapes_.at(r.shape).exact});
   }
   return out;
+}
+
+FractureBook::Saved FractureBook::save() const {
+  Saved saved;
+  saved.dilation_radius = dilation_;
+  saved.min_fragment_fraction = min_fraction_;
+  for (const auto& [index, shape] : shapes_) saved.shapes.emplace_back(index, shape.exact);
+  for (const auto& [key, pieces] : cuts_) saved.cuts.push_back({key.first, key.second, pieces});
+  std::map<const std::vector<geometry::ExactPlane>*, int> set_index;
+  for (const Record& r : by_slot_) {
+    Saved::Body b;
+    b.generation = r.generation;
+    b.used = r.used;
+    b.lineage = r.lineage;
+    b.shape = r.shape;
+    b.candidates = r.candidates;
+    if (r.planes) {
+      auto [it, fresh] = set_index.try_emplace(r.planes.get(), static_cast<int>(saved.plane_sets.size()));
+      if (fresh) saved.plane_sets.push_back(r.planes);
+      b.plane_set = it->second;
+    }
+    saved.bodies.push_back(std::move(b));
+  }
+  return saved;
+}
+
+FractureBook FractureBook::restore(const Saved& saved, const World& world) {
+  FractureBook book(saved.dilation_radius, saved.min_fragment_fraction);
+  for (const auto& [index, exact] : saved.shapes) {
+    if (!exact || index >= world.shape_count()) {
+      throw std::invalid_argument("FractureBook::restore: a shape is missing from the world");
+    }
+    book.shapes_[index] = {exact, world.shape(index)};
+  }
+  for (const Saved::Cut& c : saved.cuts) book.cuts_[{c.shape, c.plane}] = c.pieces;
+  for (const Saved::Body& b : saved.bodies) {
+    Record r;
+    r.generation = b.generation;
+    r.used = b.used;
+    r.lineage = b.lineage;
+    r.shape = b.shape;
+    r.candidates = b.candidates;
+    if (b.plane_set >= 0) {
+      if (static_cast<std::size_t>(b.plane_set) >= saved.plane_sets.size()) {
+        throw std::invalid_argument("FractureBook::restore: a plane set index is out of range");
+      }
+      r.planes = saved.plane_sets[static_cast<std::size_t>(b.plane_set)];
+      for (int c : r.candidates) {
+        if (c < 0 || static_cast<std::size_t>(c) >= r.planes->size()) {
+          throw std::invalid_argument("FractureBook::restore: a candidate plane is out of range");
+        }
+      }
+    } else if (b.used) {
+      throw std::invalid_argument("FractureBook::restore: a body has no cleavage planes");
+    }
+    if (b.used && !book.shapes_.contains(b.shape)) {
+      throw std::invalid_argument("FractureBook::restore: a body's shape is not registered");
+    }
+    book.by_slot_.push_back(std::move(r));
+  }
+  return book;
 }
 
 }  // namespace cleave::physics

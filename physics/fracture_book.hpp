@@ -76,6 +76,36 @@ class FractureBook {
   };
   [[nodiscard]] std::vector<Entry> entries(const World& world) const;
 
+  /// Everything the book holds, for a checkpoint (io/checkpoint.hpp writes the exact shapes
+  /// and planes as exact text): its settings, the exact shape of every world shape it
+  /// knows, the cuts made so far, the cleavage plane sets (shared by a grain's pieces) and
+  /// every slot's record (lineage, shape, remaining candidate planes).
+  struct Saved {
+    double dilation_radius = 0.0;
+    double min_fragment_fraction = 0.0;
+    std::vector<std::pair<std::uint32_t, std::shared_ptr<const geometry::ExactPolyhedron>>> shapes;
+    struct Cut {
+      std::uint32_t shape = 0;
+      std::string plane;                   ///< ExactPlane::to_string
+      std::vector<std::uint32_t> pieces;   ///< empty: the cut was refused
+    };
+    std::vector<Cut> cuts;
+    std::vector<std::shared_ptr<const std::vector<geometry::ExactPlane>>> plane_sets;
+    struct Body {
+      std::uint32_t generation = 0;
+      bool used = false;
+      geometry::Lineage lineage;
+      std::uint32_t shape = 0;
+      int plane_set = -1;  ///< index into plane_sets; -1 for an unused slot
+      std::vector<int> candidates;
+    };
+    std::vector<Body> bodies;  ///< by slot
+  };
+  [[nodiscard]] Saved save() const;
+  /// The book as saved, over `world` restored from the same checkpoint (whose rigid shapes
+  /// the book's shapes refer to). Throws std::invalid_argument when they do not fit.
+  static FractureBook restore(const Saved& saved, const World& world);
+
  private:
   struct Shape {
     std::shared_ptr<const geometry::ExactPolyhedron> exact;

@@ -19,6 +19,9 @@
 
 namespace cleave::physics {
 
+class StateWriter;
+class StateReader;
+
 struct WorldSettings {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.80665);  ///< m/s^2
   double dt = 1e-6;                                               ///< time step, s
@@ -120,6 +123,7 @@ class World {
   /// Registers a shape; bodies refer to it by the returned index.
   std::uint32_t add_shape(RigidShape shape);
   [[nodiscard]] const RigidShape& shape(std::uint32_t index) const { return shapes_[index]; }
+  [[nodiscard]] std::size_t shape_count() const { return shapes_.size(); }
 
   /// Adds a body of `shape` with density `rho` (kg/m^3), centroid at `x`, principal frame
   /// turned to world by `q`, velocity `v` and angular velocity `w` (world).
@@ -188,6 +192,20 @@ class World {
   [[nodiscard]] double potential_energy() const;  ///< -m g . x
   [[nodiscard]] Eigen::Vector3d linear_momentum() const;
   [[nodiscard]] Eigen::Vector3d angular_momentum() const;  ///< about the world origin
+
+  /// Checkpoints (world_state.cpp): everything the world carries from one step to the
+  /// next, bit for bit: settings, shapes, bodies (with the forces of the last evaluation,
+  /// which the next step's first half-kick uses), free slots, walls, bonds with their state
+  /// and stored overlaps, bond breaks, contact histories and records, pair offsets, the
+  /// neighbour search's Verlet list, time and step count. A world that loads what another
+  /// saved steps on exactly as the other would have. `threads` is kept as this world's.
+  void save_state(StateWriter& out) const;
+  /// Replaces this world's state by a saved one; throws StateError on malformed data.
+  void load_state(StateReader& in);
+  /// FNV-1a hash of the physical state: time, steps, every live body's slot, generation
+  /// and state, walls, bonds (state, failure), contact histories and pair offsets. Equal
+  /// runs (and a run restarted from a checkpoint) end with equal hashes.
+  [[nodiscard]] std::uint64_t state_hash() const;
 
  private:
   void compute_forces();

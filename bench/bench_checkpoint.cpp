@@ -1,0 +1,125 @@
+// Checkpoint cost for a large specimen:
+//   ./build/bench/cleave_bench_checkpoint [GRAINS] [DIR]     (default 10000, /tmp)
+// A bonded Brazilian disc of about GRAINS prisms (the lattice of scenarios/brazilian.toml
+// with the disc widened, as in bench_fracture.cpp) with transgranular fracture registered
+// for every grain, squeezed for a few hundred steps so it has contacts with history, bond
+// states and some splits; then the checkpoint (io/checkpoint.hpp) is encoded, written
+// (fsync + rename), read back and decoded, and the restored world's state hash compared.
+// Prints the size and each time (best of 3).
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "geometry/specimen.hpp"
+#include "io/checkpoint.hpp"
+#include "physics/fracture_book.hpp"
+#include "physics/transgranular.hpp"
+#include "physics/world.hpp"
+
+using namespace cleave;
+using namespace cleave::physics;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr double kDilation = 0.05e-3, kRho = 3100.0;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int grains = argc > 1 ? std::atoi(argv[1]) : 10000;
+  const std::filesystem::path dir = argc > 2 ? argv[2] : std::filesystem::temp_directory_path();
+
+  // The disc (bench_fracture.cpp's make_disc).
+  geometry::SpecimenDef def;
+  const double diameter = 15e-3 * std::sqrt(grains / 187.0);
+  def.outline = geometry::Outline::disc(diameter, 5e-3);
+  def.keep = geometry::KeepRule::centre_inside;
+  def.r = 0.6e-3;
+  def.r_bar = 0.5e-3;
+  def.t = def.t_bar = 5e-3;
+  def.seed = 7;
+  WorldSettings ws;
+  ws.gravity.setZero();
+  ws.dt = 1.5e-5;
+  ws.particle_particle.kn = 5.0;
+  ws.particle_particle.ks = 2.0;
+  ws.particle_particle.c_res = 2.0;
+  ws.particle_wall.kn = 10.0;
+  ws.particle_wall.ks = 2.0;
+  ws.particle_wall.c_res = 10.0;
+  ws.local_damping = 0.7;
+  const auto t_build = Clock::now();
+  const geometry::Specimen specimen = geometry::build_specimen(def);
+  World world(ws);
+  const RigidShape shape = make_rigid_shape(specimen.prism, kDilation);
+  const auto sh = world.add_shape(shape);
+  double lo = 1e9, hi = -1e9;
+  for (const auto& g : specimen.grains) {
+    world.add_body(sh, kRho, g.site.centre + shape.centroid, shape.orientation_for(), {}, {}, g.id);
+    lo = std::min(lo, g.site.centre.y());
+    hi = std::max(hi, g.site.centre.y());
+  }
+  const double reach = def.r_bar + kDilation;
+  const double cx = diameter / 2;
+  world.add_wall(Wall::platen("bottom", {cx, lo - reach, 2.5e-3}, {0, 1, 0}, {1, 0, 0}, diameter, 5e-3));
+  world.add_wall(Wall::platen("top", {cx, hi + reach, 2.5e-3}, {0, -1, 0}, {1, 0, 0}, diameter, 5e-3));
+  world.wall(0).velocity = {0, 5e-3, 0};
+  world.wall(1).velocity = {0, -5e-3, 0};
+  const double area = M_PI * kDilation * kDilation;
+  const std::size_t bonds = world.initialise_bonds({5.0 / area, 2.0 / area, 1e3, 1e3}, 0.08e-3);
+  FractureBook book(kDilation, 0.01);
+  book.add_shape(sh, std::make_shared<const geometry::ExactPolyhedron>(specimen.prism));
+  for (const BodyId id : world.body_ids()) {
+    const int g = world.info(id).grain_id;
+    book.add_grain(world, id, g, specimen.grains[static_cast<std::size_t>(g)].orientation);
+  }
+  // Squeeze it with the gate open, so grains split and the book holds fragments too.
+  FractureParams fp;
+  fp.sigma_f_hyd = -1e30;
+  fp.k_ic = 1e-6;
+  fp.crack_length = 0.1e-3;
+  std::size_t splits = 0;
+  for (int i = 0; i < 300; ++i) {
+    world.step();
+    if (i % 100 == 99) splits += transgranular_step(world, book, fp).size();
+  }
+  std::printf("specimen: %zu grains, %zu bodies, %zu bonds, %zu contacts, %zu splits (%.1f s to build and load)\n",
+              specimen.grains.size(), world.body_count(), bonds, world.contacts().size(), splits,
+              since(t_build));
+
+  io::CheckpointMeta meta;
+  meta.cleave_version = "bench";
+  meta.scenario_source = "bench.toml";
+  meta.scenario_text = std::string(4000, '#');  // a scenario's worth of text
+  const std::string run_state(200000, 'r');       // a long run's histories so far
+  const std::filesystem::path file = dir / "cleave_bench_checkpoint";
+  double t_encode = 1e9, t_write = 1e9, t_read = 1e9;
+  std::string bytes;
+  std::uint64_t restored_hash = 0;
+  for (int rep = 0; rep < 3; ++rep) {
+    auto t0 = Clock::now();
+    bytes = io::encode_checkpoint(meta, world, &book, run_state);
+    t_encode = std::min(t_encode, since(t0));
+    t0 = Clock::now();
+    io::write_checkpoint_file(file, bytes);
+    t_write = std::min(t_write, since(t0));
+    t0 = Clock::now();
+    const io::Checkpoint ck = io::read_checkpoint(file);
+    t_read = std::min(t_read, since(t0));
+    restored_hash = ck.world.state_hash();
+  }
+  std::printf("checkpoint: %.2f MB; encode %.3f s, write (fsync + rename) %.3f s, read + decode %.3f s; "
+              "restored hash %s\n",
+              static_cast<double>(bytes.size()) / 1e6, t_encode, t_write, t_read,
+              restored_hash == world.state_hash() ? "equal" : "DIFFERENT");
+  std::filesystem::remove(file);
+  return restored_hash == world.state_hash() ? 0 : 1;
+}
