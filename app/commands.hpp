@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace cleave::app {
 
@@ -51,5 +52,21 @@ struct ValidateOptions {
 /// Exit 0 when every checked stage (and the peak) is within its tolerance, 1 when one is not,
 /// 2 on bad input or a failed run.
 int validate_command(const ValidateOptions& options);
+
+struct SweepOptions {
+  std::filesystem::path scenario;
+  std::vector<std::string> sets;  ///< KEY=VALUES, one per --set
+  int jobs = 1;                   ///< runs at a time
+  std::filesystem::path out;      ///< empty: results/<scenario name>_sweep
+  std::uint64_t max_steps = 0;    ///< passed to each run (0: none)
+  bool quiet = false;
+};
+
+/// Runs the scenario once per combination of the --set values (io/sweep.hpp), `jobs` at a
+/// time as child `cleave run`s, and writes summary.csv (one row per run: the values, status,
+/// peak load, strength, bonds broken, splits, time), a plot, and for a seed ensemble the
+/// Weibull fit (weibull.csv, weibull.svg). Exit 0 when every run finished, 1 when one did
+/// not, 2 on bad input (nothing is run), 130/143 when interrupted.
+int sweep_command(const SweepOptions& options);
 
 }  // namespace cleave::app

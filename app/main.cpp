@@ -58,6 +58,19 @@ int main(int argc, char** argv) {
   volume_cmd->add_flag("--summary", check.summary_only, "Print the summary only, not every grain");
 
   ValidateOptions validate;
+  SweepOptions sweep;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "Run a scenario for every combination of --set values, in parallel, and summarise");
+  sweep_cmd->add_option("scenario", sweep.scenario, "Scenario file (TOML)")->required();
+  sweep_cmd->add_option("--set", sweep.sets,
+                        "KEY=VALUES: a key (table.key, stage[N].key) and a comma list or LO..HI; "
+                        "repeat for a product")
+      ->required();
+  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)");
+  sweep_cmd->add_option("--out,-o", sweep.out, "Folder (default: results/<scenario name>_sweep)");
+  sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run");
+  sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "Print only errors");
+
   CLI::App* validate_cmd = app.add_subcommand(
       "validate",
       "Run a fracture test of scenarios/validation/ (DCB, ENF, MMB) against its closed form");
@@ -78,6 +91,7 @@ int main(int argc, char** argv) {
   }
   if (restart_cmd->parsed()) return run_command(restart);
   if (volume_cmd->parsed()) return check_volume_command(check);
+  if (sweep_cmd->parsed()) return sweep_command(sweep);
   if (validate_cmd->parsed()) return validate_command(validate);
   return 2;
 }

@@ -179,30 +179,34 @@ int validate_command(const ValidateOptions& options) {
                     fin.step, wall, fin.step / wall, fin.delta * 1e3, fin.crack * 1e3, max_ratio));
     for (int stage : v.stages) {
       const physics::StageErrors e = physics::compare_with_closed_form(test, curve, stage, v.margin);
-      const bool ok = e.points > 0 && e.max_error <= v.tolerance;
+      const bool ok =
+          e.points > 0 && (v.mean_measure ? e.mean_error : e.max_error) <= v.tolerance;
       pass = pass && ok;
       ecsv += fmt::format("{},{:.6g},{:.6g},{},{:.6f},{:.6f},{:g},{}\n", stage, e.from * 1e3,
                           e.to * 1e3, e.points, e.mean_error, e.max_error, v.tolerance,
                           ok ? "yes" : "no");
       say(fmt::format("  stage {}    Delta {:.4f}-{:.4f} mm, {} points: load error mean {:.2f}%, "
-                      "max {:.2f}% (tolerance {:g}%) {}",
+                      "max {:.2f}% (tolerance {:g}% on the {}) {}",
                       stage, e.from * 1e3, std::min(e.to, fin.delta) * 1e3, e.points,
                       100 * e.mean_error, 100 * e.max_error, 100 * v.tolerance,
-                      ok ? "PASS" : "FAIL"));
+                      v.mean_measure ? "mean" : "max", ok ? "PASS" : "FAIL"));
       manifest.facts[fmt::format("stage{}_max_error", stage)] = fmt::format("{:.6f}", e.max_error);
       manifest.facts[fmt::format("stage{}_mean_error", stage)] = fmt::format("{:.6f}", e.mean_error);
     }
-    double peak = 0.0, peak_delta = 0.0;
-    for (const auto& r : curve)
-      if (r.load > peak) {
-        peak = r.load;
-        peak_delta = r.delta;
-      }
     double apeak = 0.0, apeak_delta = 0.0;
     for (const auto& p : analytic)
       if (p.stage <= 2 && p.load > apeak) {
         apeak = p.load;
         apeak_delta = p.delta;
+      }
+    // The measured peak: the largest load up to twice the closed form's peak deflection (a
+    // cohesive zone delays the peak; later stages, such as the ENF's stage III, may climb
+    // higher again and are not this peak).
+    double peak = 0.0, peak_delta = 0.0;
+    for (const auto& r : curve)
+      if (r.delta <= 2.0 * apeak_delta && r.load > peak) {
+        peak = r.load;
+        peak_delta = r.delta;
       }
     const double peak_error = std::abs(peak - apeak) / apeak;
     const bool peak_ok = v.peak_tolerance <= 0.0 || peak_error <= v.peak_tolerance;

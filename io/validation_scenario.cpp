@@ -26,7 +26,7 @@ constexpr std::string_view kLoadingKeys[] = {"velocity", "ramp_time", "deflectio
 constexpr std::string_view kDynamicsKeys[] = {"dt_safety", "global_damping", "threads",
                                               "records"};
 constexpr std::string_view kValidationKeys[] = {"stages", "tolerance", "peak_tolerance",
-                                                "margin"};
+                                                "margin", "measure"};
 
 void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
   t.reject_unknown(kSpecimenKeys);
@@ -118,6 +118,8 @@ void read_validation(const TableReader& t, ValidationScenario& v) {
   v.tolerance = t.number("tolerance", Range::positive()).value;
   v.peak_tolerance = t.number("peak_tolerance", Range::positive(), 0.0).value;
   v.margin = t.number("margin", Range{0.0, 0.5, false, true}, 0.1).value;
+  if (t.find("measure") != nullptr)
+    v.mean_measure = t.choose<bool>("measure", {{"max", false}, {"mean", true}});
 }
 
 }  // namespace

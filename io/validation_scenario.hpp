@@ -26,7 +26,8 @@
 ///                     tolerance (relative, > 0, required), peak_tolerance (relative, default:
 ///                     not checked), margin ([0, 0.5), default 0.1: the part of each stage's
 ///                     deflection range left out at either end, where the cohesive zone blurs
-///                     the sharp corners of LEFM)
+///                     the sharp corners of LEFM); measure = "max" (default: every point of a
+///                     stage within the tolerance) or "mean" (the stage's mean error)
 
 #include <filesystem>
 #include <string>
@@ -47,6 +48,7 @@ struct ValidationScenario {
   double tolerance = 0.0;        ///< largest accepted relative load error in those stages
   double peak_tolerance = 0.0;   ///< 0: the peak load is not checked
   double margin = 0.1;
+  bool mean_measure = false;     ///< measure = "mean": the tolerance bounds the mean error
 };
 
 ValidationScenario parse_validation_scenario(const std::string& text, const std::string& source);

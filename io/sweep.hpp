@@ -1,0 +1,68 @@
+#pragma once
+/// \file
+/// Parameter sweeps (`cleave sweep`): `--set KEY=VALUES` specifications, their Cartesian
+/// product, each combination written into the scenario's TOML text, and the Weibull fit of a
+/// seed ensemble's strengths.
+///
+/// KEY is a dotted path into the scenario: `table.key` (`bond.tbn`), `table.sub.key`
+/// (`contact.particle_particle.kn`), or `stage[N].key` for the N-th `[[stage]]` (1-based).
+/// VALUES is a comma list (`1000,2000,4000`) or an inclusive integer range (`1..20`). A value
+/// that reads as an integer is written as one, then a floating-point number, then true/false;
+/// anything else is written as a string.
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace cleave::io {
+
+/// A bad --set specification or a key the scenario cannot take; the message names them.
+class SweepError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One `--set KEY=VALUES`.
+struct SweepAxis {
+  std::string key;                  ///< as given, e.g. "orientation.seed"
+  std::vector<std::string> values;  ///< as given, e.g. {"1", "2", "3"}
+};
+
+/// Parses "KEY=VALUES"; throws SweepError naming the specification.
+SweepAxis parse_sweep_axis(const std::string& spec);
+
+/// One combination: the i-th value of each axis, in axis order.
+using SweepPoint = std::vector<std::string>;
+
+/// The Cartesian product of the axes, the last axis varying fastest. Throws SweepError when
+/// it would exceed `limit` runs.
+std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes,
+                                     std::size_t limit = 10000);
+
+/// The scenario text with each axis' key set to the point's value (tables are created when
+/// missing; an array of tables must exist and be long enough). Relative `file` paths of
+/// `[[mesh_grain]]` tables are made absolute against `base_dir` (the original scenario's
+/// folder), so the text can be written anywhere. `source` names the scenario in errors.
+std::string apply_sweep_point(const std::string& scenario_text, const std::string& source,
+                              const std::vector<SweepAxis>& axes, const SweepPoint& point,
+                              const std::filesystem::path& base_dir);
+
+/// A two-parameter Weibull fit of strengths, P_f(s) = 1 - exp(-(s / s0)^m), by least squares
+/// of ln(-ln(1 - F_i)) on ln(s_i) with the strengths sorted and Bernard's median ranks
+/// F_i = (i - 0.3) / (n + 0.4): the usual Weibull-plot regression (ISO 20501 / ASTM C1239
+/// give maximum likelihood as the reference; the regression is what a Weibull plot shows).
+struct WeibullFit {
+  double modulus = 0.0;     ///< m
+  double scale = 0.0;       ///< s0, in the strengths' unit
+  double r_squared = 0.0;   ///< of the regression line
+  std::vector<double> sorted, ln_strength, ln_ln;  ///< the Weibull plot's points
+};
+/// Throws SweepError for fewer than 3 strengths, non-positive ones, or all equal.
+WeibullFit fit_weibull(std::vector<double> strengths);
+
+/// The plotting position (median rank) of the i-th of n sorted values, i from 1.
+double median_rank(std::size_t i, std::size_t n);
+
+}  // namespace cleave::io

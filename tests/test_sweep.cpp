@@ -1,0 +1,212 @@
+// Parameter sweeps: --set parsing, the Cartesian product, keys written into the scenario, the
+// Weibull fit against closed-form quantiles and against samples of a known distribution, and
+// `cleave sweep` of a 4-seed Brazilian ensemble as a user runs it.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "io/result_dir.hpp"
+#include "io/sweep.hpp"
+
+using namespace cleave::io;
+namespace fs = std::filesystem;
+
+TEST(SweepAxis, ListsAndIntegerRanges) {
+  const SweepAxis a = parse_sweep_axis("bond.tbn=500, 1000,2e3");
+  EXPECT_EQ(a.key, "bond.tbn");
+  EXPECT_EQ(a.values, (std::vector<std::string>{"500", "1000", "2e3"}));
+  const SweepAxis r = parse_sweep_axis("orientation.seed=3..7");
+  EXPECT_EQ(r.values, (std::vector<std::string>{"3", "4", "5", "6", "7"}));
+  EXPECT_EQ(parse_sweep_axis("stage[3].time=0.1").key, "stage[3].time");
+}
+
+TEST(SweepAxis, BadSpecificationsAreErrorsNamingThem) {
+  for (const char* bad : {"bond.tbn", "=1", "bond.tbn=", "tbn=1", "bond.tbn=1,,2",
+                          "orientation.seed=5..2", "orientation.seed=a..3", "stage[0].time=1",
+                          "stage[x].time=1", "bond..tbn=1"}) {
+    try {
+      (void)parse_sweep_axis(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const SweepError& e) {
+      EXPECT_NE(std::string(e.what()).find("--set"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(SweepPoints, CartesianProductLastAxisFastest) {
+  const std::vector<SweepAxis> axes = {parse_sweep_axis("a.x=1,2"), parse_sweep_axis("b.y=p,q,r")};
+  const auto points = sweep_points(axes);
+  ASSERT_EQ(points.size(), 6u);
+  EXPECT_EQ(points[0], (SweepPoint{"1", "p"}));
+  EXPECT_EQ(points[1], (SweepPoint{"1", "q"}));
+  EXPECT_EQ(points[3], (SweepPoint{"2", "p"}));
+  EXPECT_EQ(points[5], (SweepPoint{"2", "r"}));
+  EXPECT_THROW(sweep_points(axes, 5), SweepError);
+  EXPECT_THROW(sweep_points({axes[0], axes[0]}), SweepError);
+  EXPECT_THROW(sweep_points({}), SweepError);
+}
+
+TEST(ApplySweepPoint, SetsKeysWithTheirTypesCreatesTablesAndReachesStages) {
+  const std::string text = R"(
+[bond]
+tbn = 1000.0
+[[stage]]
+name = "a"
+time = 1.0
+[[stage]]
+name = "b"
+time = 2.0
+[[mesh_grain]]
+file = "meshes/cube.obj"
+)";
+  const std::vector<SweepAxis> axes = {parse_sweep_axis("bond.tbn=1,2"),
+                                       parse_sweep_axis("orientation.seed=7,8"),
+                                       parse_sweep_axis("stage[2].time=0.25,0.5"),
+                                       parse_sweep_axis("output.mesh_format=obj,stl")};
+  const std::string out =
+      apply_sweep_point(text, "s.toml", axes, {"2", "8", "0.5", "obj"}, "/data/base");
+  const toml::table t = toml::parse(out);
+  EXPECT_EQ(t["bond"]["tbn"].value<std::int64_t>(), 2);
+  EXPECT_EQ(t["orientation"]["seed"].value<std::int64_t>(), 8);
+  EXPECT_EQ(t["stage"][1]["time"].value<double>(), 0.5);
+  EXPECT_EQ(t["stage"][0]["time"].value<double>(), 1.0);  // the other stage untouched
+  EXPECT_EQ(t["stage"][1]["name"].value<std::string>(), "b");
+  EXPECT_EQ(t["output"]["mesh_format"].value<std::string>(), "obj");
+  EXPECT_EQ(t["mesh_grain"][0]["file"].value<std::string>(), "/data/base/meshes/cube.obj");
+
+  EXPECT_THROW(apply_sweep_point(text, "s.toml", {parse_sweep_axis("stage[3].time=1")}, {"1"}, "/"),
+               SweepError);
+  EXPECT_THROW(apply_sweep_point(text, "s.toml", {parse_sweep_axis("bond.tbn.x=1")}, {"1"}, "/"),
+               SweepError);
+  EXPECT_THROW(apply_sweep_point("[bond\n", "s.toml", {parse_sweep_axis("bond.tbn=1")}, {"1"}, "/"),
+               SweepError);
+}
+
+TEST(WeibullFit, RecoversModulusAndScaleFromExactQuantiles) {
+  // Strengths at exactly the plotting positions' quantiles s_i = s0 (-ln(1 - F_i))^(1/m) lie
+  // on the regression line: the fit returns m and s0 to round-off, with R^2 = 1.
+  for (double m : {2.5, 8.0, 20.0})
+    for (std::size_t n : {3u, 10u, 40u}) {
+      const double s0 = 37.5;
+      std::vector<double> s;
+      for (std::size_t i = n; i >= 1; --i)  // any order
+        s.push_back(s0 * std::pow(-std::log(1.0 - median_rank(i, n)), 1.0 / m));
+      const WeibullFit fit = fit_weibull(s);
+      EXPECT_NEAR(fit.modulus, m, 1e-9 * m);
+      EXPECT_NEAR(fit.scale, s0, 1e-9 * s0);
+      EXPECT_NEAR(fit.r_squared, 1.0, 1e-12);
+      EXPECT_TRUE(std::is_sorted(fit.sorted.begin(), fit.sorted.end()));
+    }
+}
+
+TEST(WeibullFit, EstimatesAKnownDistributionFromSamples) {
+  std::mt19937_64 rng(20261201);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double m = 10.0, s0 = 50.0;
+  std::vector<double> s;
+  for (int i = 0; i < 4000; ++i) s.push_back(s0 * std::pow(-std::log(1.0 - u(rng)), 1.0 / m));
+  const WeibullFit fit = fit_weibull(s);
+  EXPECT_NEAR(fit.modulus, m, 0.05 * m);
+  EXPECT_NEAR(fit.scale, s0, 0.01 * s0);
+  EXPECT_GT(fit.r_squared, 0.98);
+}
+
+TEST(WeibullFit, RefusesWhatCannotBeFitted) {
+  EXPECT_THROW(fit_weibull({1.0, 2.0}), SweepError);
+  EXPECT_THROW(fit_weibull({1.0, -2.0, 3.0}), SweepError);
+  EXPECT_THROW(fit_weibull({2.0, 2.0, 2.0}), SweepError);
+}
+
+namespace {
+
+struct Outcome {
+  int code = -1;
+  std::string output;
+};
+
+Outcome run_cleave(const std::string& args) {
+  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
+  Outcome o;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return o;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) o.output.append(buf, n);
+  const int status = pclose(pipe);
+  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return o;
+}
+
+std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> row;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) row.push_back(cell);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(SweepCommand, FourSeedsWriteOneRowPerRunAndTheWeibullFit) {
+  const fs::path dir = fs::temp_directory_path() / ("cleave_sweep_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
+  const Outcome o = run_cleave("sweep " + scenario + " --set orientation.seed=1..4 --jobs 2 -o " +
+                               dir.string());
+  ASSERT_EQ(o.code, 0) << o.output;
+  const auto rows = read_csv(dir / "summary.csv");
+  ASSERT_EQ(rows.size(), 5u);  // header + 4 runs
+  const auto& h = rows[0];
+  const auto col = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(h.begin(), h.end(), name) - h.begin());
+  };
+  ASSERT_LT(col("strength_Pa"), h.size());
+  std::vector<double> strengths;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    EXPECT_EQ(rows[r][col("orientation.seed")], std::to_string(r));
+    EXPECT_EQ(rows[r][col("status")], "finished");
+    // Each row is what that run's own manifest says.
+    const Manifest m = read_manifest(dir / rows[r][0]);
+    EXPECT_EQ(m.facts.at("brazilian_strength_Pa"), rows[r][col("strength_Pa")]);
+    EXPECT_EQ(m.facts.at("intergranular_breaks"), rows[r][col("bonds_broken")]);
+    strengths.push_back(std::stod(rows[r][col("strength_Pa")]));
+  }
+  // The fit written is the fit of the strengths in the table.
+  const WeibullFit fit = fit_weibull(strengths);
+  const Manifest sweep = read_manifest(dir);
+  EXPECT_EQ(sweep.status, "finished");
+  EXPECT_NEAR(std::stod(sweep.facts.at("weibull_modulus")), fit.modulus, 1e-5 * fit.modulus);
+  EXPECT_EQ(read_csv(dir / "weibull.csv").size(), 5u);
+  EXPECT_TRUE(fs::exists(dir / "weibull.svg"));
+  fs::remove_all(dir);
+}
+
+TEST(SweepCommand, AKeyTheScenarioCannotTakeStopsBeforeAnyRun) {
+  const fs::path dir = fs::temp_directory_path() / ("cleave_sweep_bad_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
+  const Outcome o =
+      run_cleave("sweep " + scenario + " --set bond.nonsense=1,2 -o " + dir.string());
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("nonsense"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(dir / "run_001"));
+  const Outcome r = run_cleave("sweep " + scenario + " --set orientation.seed=9..1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  fs::remove_all(dir);
+}
