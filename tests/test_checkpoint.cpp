@@ -217,7 +217,7 @@ TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTh
   // The histories continue as if never stopped: the same files, byte for byte.
   for (const char* f : {"load_displacement.csv", "energy.csv", "walls.csv", "bonds.csv", "bond_breaks.csv",
                         "splits.csv", "bodies.pvd"}) {
-    EXPECT_EQ(slurp(part / f), slurp(whole / f)) << f;
+    EXPECT_TRUE(slurp(part / f) == slurp(whole / f)) << f << " differs after the restart";
   }
 }
 
@@ -232,7 +232,7 @@ TEST_F(Checkpoint, SigtermLeavesACheckpointThatRestartsToTheUninterruptedHash) {
 
   // The same run, with periodic checkpoints, killed by SIGTERM once one is there.
   const fs::path out = dir_ / "out";
-  const pid_t pid = spawn({"run", kScenario.string(), "--out", out.string(), "--quiet", "--checkpoint-every", "2000"});
+  const pid_t pid = spawn({"run", kScenario.string(), "--out", out.string(), "--quiet", "--checkpoint-every", "200"});
   ASSERT_GT(pid, 0);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (!fs::exists(out / io::kCheckpointName) && std::chrono::steady_clock::now() < deadline) {
@@ -259,9 +259,9 @@ TEST_F(Checkpoint, SigtermLeavesACheckpointThatRestartsToTheUninterruptedHash) {
   EXPECT_EQ(finished.facts.at("dynamics_steps"), reference.facts.at("dynamics_steps"));
   EXPECT_EQ(finished.facts.at("transgranular_splits"), reference.facts.at("transgranular_splits"));
   EXPECT_EQ(finished.provenance.at("restarted_at_step"), std::to_string(at));
-  EXPECT_EQ(slurp(out / "load_displacement.csv"), slurp(whole / "load_displacement.csv"));
-  EXPECT_EQ(slurp(out / "bond_breaks.csv"), slurp(whole / "bond_breaks.csv"));
-  EXPECT_EQ(slurp(out / "geometry.exact"), slurp(whole / "geometry.exact"));
+  for (const char* f : {"load_displacement.csv", "bond_breaks.csv", "splits.csv", "geometry.exact"}) {
+    EXPECT_TRUE(slurp(out / f) == slurp(whole / f)) << f << " differs after the restart";
+  }
 }
 
 TEST_F(Checkpoint, ATruncatedCheckpointSaysWhereItEnds) {
