@@ -521,14 +521,14 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
     d.gravity = {g[0], g[1], g[2]};
   }
   d.lift = t.number("lift", Range::non_negative(), 0.0).value * unit;
-  d.frames = static_cast<int>(t.integer("frames", 0, 20));
+  d.frames = t.int_integer("frames", 0, 20);
   d.settle_ratio = t.number("settle_ratio", {.lo = 0.0, .hi = 1.0}, 0.0).value;
   d.dt_safety = t.number("dt_safety", {.lo = 0.0, .hi = 1.0, .lo_open = true}, 0.2).value;
   d.search = t.choose<physics::SearchMethod>(
       "search", {{"bounding_box", physics::SearchMethod::bounding_box},
                  {"basic", physics::SearchMethod::basic}},
       physics::SearchMethod::bounding_box);
-  d.threads = static_cast<int>(t.integer("threads", 0, 0));
+  d.threads = t.int_integer("threads", 0, 0);
 }
 
 constexpr std::string_view kWallKeys[] = {"name",   "kind",   "point",    "normal",
@@ -628,7 +628,7 @@ void read_fracture_table(const TableReader& t, double unit, bool dynamics, Fract
   f.params.k_ic = t.number("k_ic", Range::positive()).value;
   f.params.c = t.number("c", Range::positive(), 0.816).value;
   f.params.crack_length = t.number("crack_length", Range::positive()).value * unit;
-  f.check_every = static_cast<int>(t.integer("check_every", 1, 1));
+  f.check_every = t.int_integer("check_every", 1, 1);
 }
 
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
@@ -724,7 +724,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
            fmt::format("'{}' needs walls to watch: give load_walls or move walls in "
                        "wall_velocity", to_string(st.until)));
   }
-  st.frames = static_cast<int>(t.integer("frames", 0, 10));
+  st.frames = t.int_integer("frames", 0, 10);
   return st;
 }
 
@@ -757,22 +757,7 @@ ScenarioError::ScenarioError(std::string file, int line, int column, std::string
       key_(std::move(key)) {}
 
 Scenario parse_scenario(std::string_view text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, std::string_view(source));
-  } catch (const toml::parse_error& e) {
-    throw ScenarioError(source, line_of(e.source()), column_of(e.source()), "",
-                        fmt::format("TOML syntax error: {}", e.description()));
-  }
-
-  const Entry unknown = first_in_file(
-      root, [](std::string_view key, const toml::node&) { return !contains(kTables, key); });
-  if (unknown.key != nullptr) {
-    throw ScenarioError(
-        source, line_of(unknown.where()), column_of(unknown.where()),
-        std::string(unknown.key->str()),
-        fmt::format("unknown table; a scenario holds the tables {}", quoted_list(kTables)));
-  }
+  const toml::table root = parse_root(text, source, kTables, "a scenario");
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
     if (name == "wall" || name == "stage" || name == "mesh_grain") {  // arrays of tables
@@ -864,20 +849,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
 }
 
 Scenario load_scenario(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::error_code ec;
-  const auto status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) {
-    throw ScenarioError(name, 0, 0, "", "file does not exist");
-  }
-  if (std::filesystem::is_directory(status)) {
-    throw ScenarioError(name, 0, 0, "", "cannot be read: it is a directory");
-  }
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in) throw ScenarioError(name, 0, 0, "", "file cannot be read");
-  return parse_scenario(text.str(), name);
+  return parse_scenario(read_scenario_text(file), file.string());
 }
 
 }  // namespace cleave::io

@@ -7,7 +7,11 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -108,6 +112,46 @@ Entry first_in_file(const toml::table& table, Pred pred) {
     if (found.key == nullptr || before(key_source(key, node), found.where())) found = {&key, &node};
   }
   return found;
+}
+
+/// A scenario file's whole text; a missing, directory or unreadable file is a ScenarioError
+/// naming it.
+inline std::string read_scenario_text(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw ScenarioError(name, 0, 0, "", "file does not exist");
+  if (std::filesystem::is_directory(status))
+    throw ScenarioError(name, 0, 0, "", "cannot be read: it is a directory");
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in) throw ScenarioError(name, 0, 0, "", "file cannot be read");
+  return text.str();
+}
+
+/// The root table of a scenario's text; a TOML syntax error or a table not among `tables`
+/// (`what` names the kind of file in the message) is a ScenarioError with its position.
+inline toml::table parse_root(std::string_view text, const std::string& source,
+                              std::span<const std::string_view> tables, std::string_view what) {
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    throw ScenarioError(source, line_of(e.source()), column_of(e.source()), "",
+                        fmt::format("TOML syntax error: {}", e.description()));
+  }
+  const Entry unknown = first_in_file(root, [&](std::string_view key, const toml::node&) {
+    return std::find(tables.begin(), tables.end(), key) == tables.end();
+  });
+  if (unknown.key != nullptr) {
+    std::vector<std::string> names(tables.begin(), tables.end());
+    throw ScenarioError(source, line_of(unknown.where()), column_of(unknown.where()),
+                        std::string(unknown.key->str()),
+                        fmt::format("unknown table; {} holds the tables {}", what,
+                                    quoted_list(names)));
+  }
+  return root;
 }
 
 /// An interval a number must lie in.
@@ -245,9 +289,9 @@ class TableReader {
     return values;
   }
 
-  /// The integer at `key`, at least `min`; absent: `fallback`.
-  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t min,
-                                     std::int64_t fallback) const {
+  /// The integer at `key`, at least `min` and at most `max`; absent: `fallback`.
+  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t min, std::int64_t fallback,
+                                     std::int64_t max = std::numeric_limits<std::int64_t>::max()) const {
     const toml::node* node = find(key);
     if (node == nullptr) return fallback;
     const auto* i = node->as_integer();
@@ -257,7 +301,14 @@ class TableReader {
     if (i->get() < min) {
       fail(*node, key, fmt::format("must be >= {}, found {}", min, i->get()));
     }
+    if (i->get() > max) {
+      fail(*node, key, fmt::format("must be <= {}, found {}", max, i->get()));
+    }
     return i->get();
+  }
+  /// The same for an `int` setting: values beyond INT_MAX are errors, not wrapped around.
+  [[nodiscard]] int int_integer(std::string_view key, int min, int fallback) const {
+    return static_cast<int>(integer(key, min, fallback, std::numeric_limits<int>::max()));
   }
 
   /// The boolean at `key`; absent: `fallback`.

@@ -96,8 +96,8 @@ void read_dynamics(const TableReader& t, ValidationScenario& v) {
   t.reject_unknown(kDynamicsKeys);
   v.rig.dt_safety = t.number("dt_safety", Range{0.0, 1.0, true, false}, 0.9).value;
   v.rig.global_damping = t.number("global_damping", Range::non_negative(), 0.0).value;
-  v.threads = static_cast<int>(t.integer("threads", 0, 0));
-  v.records = static_cast<int>(t.integer("records", 2, 400));
+  v.threads = t.int_integer("threads", 0, 0);
+  v.records = t.int_integer("records", 2, 400);
 }
 
 void read_validation(const TableReader& t, ValidationScenario& v) {
@@ -125,20 +125,7 @@ void read_validation(const TableReader& t, ValidationScenario& v) {
 }  // namespace
 
 ValidationScenario parse_validation_scenario(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, std::string_view(source));
-  } catch (const toml::parse_error& e) {
-    throw ScenarioError(source, line_of(e.source()), column_of(e.source()), "",
-                        fmt::format("TOML syntax error: {}", e.description()));
-  }
-  const Entry unknown = first_in_file(
-      root, [](std::string_view key, const toml::node&) { return !contains(kTables, key); });
-  if (unknown.key != nullptr)
-    throw ScenarioError(source, line_of(unknown.where()), column_of(unknown.where()),
-                        std::string(unknown.key->str()),
-                        fmt::format("unknown table; a validation scenario holds the tables {}",
-                                    quoted_list(kTables)));
+  const toml::table root = parse_root(text, source, kTables, "a validation scenario");
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
     if (node != nullptr && !node->is_table())
@@ -171,17 +158,7 @@ ValidationScenario parse_validation_scenario(const std::string& text, const std:
 }
 
 ValidationScenario load_validation_scenario(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::error_code ec;
-  const auto status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) throw ScenarioError(name, 0, 0, "", "file does not exist");
-  if (std::filesystem::is_directory(status))
-    throw ScenarioError(name, 0, 0, "", "cannot be read: it is a directory");
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in) throw ScenarioError(name, 0, 0, "", "file cannot be read");
-  return parse_validation_scenario(text.str(), name);
+  return parse_validation_scenario(read_scenario_text(file), file.string());
 }
 
 }  // namespace cleave::io

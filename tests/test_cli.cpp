@@ -1,6 +1,8 @@
 // Whole-scenario tests of the `cleave` executable: what a user runs and looks at.
 #include <gtest/gtest.h>
 
+#include "cli_helpers.hpp"
+
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -16,22 +18,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-Outcome run_cleave(const std::string& args) {
-  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return o;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) o.output.append(buf, n);
-  const int status = pclose(pipe);
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
-}
+using Outcome = cleave::testing::CliOutcome;
+using cleave::testing::run_cleave;
 
 class CleaveCli : public ::testing::Test {
  protected:

@@ -3,6 +3,8 @@
 // `cleave sweep` of a 4-seed Brazilian ensemble as a user runs it.
 #include <gtest/gtest.h>
 
+#include "cli_helpers.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -129,37 +131,8 @@ TEST(WeibullFit, RefusesWhatCannotBeFitted) {
 
 namespace {
 
-struct Outcome {
-  int code = -1;
-  std::string output;
-};
-
-Outcome run_cleave(const std::string& args) {
-  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return o;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) o.output.append(buf, n);
-  const int status = pclose(pipe);
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
-}
-
-std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::vector<std::string>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> row;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) row.push_back(cell);
-    rows.push_back(row);
-  }
-  return rows;
-}
+using Outcome = cleave::testing::CliOutcome;
+using cleave::testing::run_cleave;
 
 }  // namespace
 
@@ -170,7 +143,7 @@ TEST(SweepCommand, FourSeedsWriteOneRowPerRunAndTheWeibullFit) {
   const Outcome o = run_cleave("sweep " + scenario + " --set orientation.seed=1..4 --jobs 2 -o " +
                                dir.string());
   ASSERT_EQ(o.code, 0) << o.output;
-  const auto rows = read_csv(dir / "summary.csv");
+  const auto rows = cleave::testing::read_csv_cells(dir / "summary.csv");
   ASSERT_EQ(rows.size(), 5u);  // header + 4 runs
   const auto& h = rows[0];
   const auto col = [&](const std::string& name) {
@@ -192,7 +165,7 @@ TEST(SweepCommand, FourSeedsWriteOneRowPerRunAndTheWeibullFit) {
   const Manifest sweep = read_manifest(dir);
   EXPECT_EQ(sweep.status, "finished");
   EXPECT_NEAR(std::stod(sweep.facts.at("weibull_modulus")), fit.modulus, 1e-5 * fit.modulus);
-  EXPECT_EQ(read_csv(dir / "weibull.csv").size(), 5u);
+  EXPECT_EQ(cleave::testing::read_csv_cells(dir / "weibull.csv").size(), 5u);
   EXPECT_TRUE(fs::exists(dir / "weibull.svg"));
   fs::remove_all(dir);
 }

@@ -4,6 +4,8 @@
 // itself (eqs 57-58, 59 and 63), not against the numbers the command printed.
 #include <gtest/gtest.h>
 
+#include "cli_helpers.hpp"
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -19,22 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int code = -1;
-  std::string output;
-};
-
-Outcome run_cleave(const std::string& args) {
-  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return o;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) o.output.append(buf, n);
-  const int status = pclose(pipe);
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
-}
+using Outcome = cleave::testing::CliOutcome;
+using cleave::testing::run_cleave;
 
 /// Rows of a CSV file with a header line, as numbers (non-numbers read as NaN).
 std::vector<std::vector<double>> read_csv(const fs::path& file) {
