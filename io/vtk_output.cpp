@@ -258,7 +258,9 @@ void add_fields(const fs::path& file, const FieldSet& fields, std::size_t items,
                 const std::vector<std::size_t>& cell_item, std::vector<Array>& out) {
   std::set<std::string> used{reserved};
   const std::size_t cells = cell_item.size();
-  for (const auto& [name, values] : fields.scalars) {
+  for (const auto& field : fields.scalars) {
+    const auto& name = field.first;  // not a structured binding: clang < 16 cannot capture those
+    const auto& values = field.second;
     check_name(file, name, used);
     check_length(file, name, values, items, item_word);
     out.push_back({name, ValueType::float64, 1, cells, [&values, &cell_item](char* p) {
@@ -267,7 +269,9 @@ void add_fields(const fs::path& file, const FieldSet& fields, std::size_t items,
                      }
                    }});
   }
-  for (const auto& [name, values] : fields.vectors) {
+  for (const auto& field : fields.vectors) {
+    const auto& name = field.first;  // not a structured binding: clang < 16 cannot capture those
+    const auto& values = field.second;
     check_name(file, name, used);
     check_length(file, name, values, items, item_word);
     out.push_back({name, ValueType::float64, 3, 3 * cells, [&values, &cell_item](char* p) {
@@ -276,7 +280,9 @@ void add_fields(const fs::path& file, const FieldSet& fields, std::size_t items,
                      }
                    }});
   }
-  for (const auto& [name, values] : fields.ids) {
+  for (const auto& field : fields.ids) {
+    const auto& name = field.first;  // not a structured binding: clang < 16 cannot capture those
+    const auto& values = field.second;
     check_name(file, name, used);
     check_length(file, name, values, items, item_word);
     out.push_back({name, ValueType::int64, 1, cells, [&values, &cell_item](char* p) {

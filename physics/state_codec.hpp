@@ -140,7 +140,7 @@ class StateReader {
   std::vector<T> numbers() {
     const std::size_t n = count(sizeof(T));
     std::vector<T> v(n);
-    std::memcpy(v.data(), in_.data() + pos_, n * sizeof(T));
+    if (n > 0) std::memcpy(v.data(), in_.data() + pos_, n * sizeof(T));  // empty: data() may be null
     pos_ += n * sizeof(T);
     return v;
   }
