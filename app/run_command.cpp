@@ -164,7 +164,9 @@ int run_command(const RunOptions& options) {
   manifest.provenance["command"] = "run";
   manifest.provenance["scenario"] = scenario.source;
   manifest.provenance["scenario_as_run"] = io::kScenarioAsRunName;
-  manifest.provenance["seed"] = std::to_string(scenario.specimen.seed);
+  manifest.provenance["seed"] = std::to_string(scenario.specimen.seed);  // of the orientations
+  if (scenario.specimen.kind == geometry::SpecimenKind::voronoi)
+    manifest.provenance["voronoi_seed"] = std::to_string(scenario.specimen.voronoi.seed);
   manifest.provenance["started_utc"] = io::utc_now();
   if (max_steps > 0) manifest.provenance["max_steps"] = std::to_string(max_steps);
   if (checkpoint) {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "io/result_dir.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -471,7 +473,13 @@ std::string read_text(const fs::path& p) {
   return s.str();
 }
 
-void expect_run_finishes(const std::string& scenario) {
+/// The provenance of a run: `key` in run.toml's [provenance] table.
+std::string provenance_of(const fs::path& out, const std::string& key) {
+  return cleave::io::read_manifest(out).provenance.at(key);
+}
+
+void expect_run_finishes(const std::string& scenario,
+                         const std::vector<std::pair<std::string, std::string>>& provenance = {}) {
   const fs::path out = fs::temp_directory_path() / ("cleave_test_custom_" + scenario);
   fs::remove_all(out);
   const std::string cmd = std::string(CLEAVE_BINARY) + " run --quiet " + CLEAVE_SOURCE_DIR +
@@ -481,12 +489,16 @@ void expect_run_finishes(const std::string& scenario) {
   EXPECT_TRUE(manifest.find("\nstatus = \"finished\"") != std::string::npos ||
               manifest.find("\nstatus = 'finished'") != std::string::npos)
       << manifest;
+  for (const auto& [key, value] : provenance) EXPECT_EQ(provenance_of(out, key), value) << key;
   const std::string check = std::string(CLEAVE_BINARY) + " check volume " + out.string() + " > /dev/null";
   EXPECT_EQ(std::system(check.c_str()), 0) << check;
   fs::remove_all(out);
 }
 
 TEST(CustomGrainRun, MeshGrainsScenarioRunsAndChecks) { expect_run_finishes("mesh_grains"); }
-TEST(CustomGrainRun, VoronoiScenarioRunsAndChecks) { expect_run_finishes("voronoi"); }
+TEST(CustomGrainRun, VoronoiScenarioRunsAndChecks) {
+  // Both seeds that made the specimen (scenarios/voronoi.toml: points 11, orientations 12).
+  expect_run_finishes("voronoi", {{"voronoi_seed", "11"}, {"seed", "12"}});
+}
 
 }  // namespace
