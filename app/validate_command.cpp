@@ -14,6 +14,7 @@
 #include "io/plot.hpp"
 #include "io/provenance.hpp"
 #include "io/result_dir.hpp"
+#include "io/scenario_writer.hpp"
 #include "io/scenario.hpp"
 #include "io/validation_scenario.hpp"
 #include "physics/beam_test_rig.hpp"
@@ -84,6 +85,8 @@ int validate_command(const ValidateOptions& options) {
     manifest.provenance["scenario_sha256"] = io::sha256_hex(input);
     record.start();
     io::write_file_atomically(out / "scenario.toml", input);
+    io::write_file_atomically(out / io::kScenarioAsRunName, io::validation_scenario_as_run(v));
+    manifest.provenance["scenario_as_run"] = io::kScenarioAsRunName;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
     record.close_quietly(io::run_status::failed, e.what());

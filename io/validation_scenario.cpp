@@ -161,4 +161,63 @@ ValidationScenario load_validation_scenario(const std::filesystem::path& file) {
   return parse_validation_scenario(read_scenario_text(file), file.string());
 }
 
+namespace {
+
+/// A double as TOML that reads back exactly (shortest round-trip form, always a float).
+std::string toml_number(double x) {
+  std::string s = fmt::format("{}", x);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
+}
+
+std::string toml_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string validation_scenario_as_run(const ValidationScenario& v) {
+  const physics::BeamRigDef& r = v.rig;
+  const physics::LatticeMaterial& m = r.material;
+  const char* test = r.kind == physics::BeamTestKind::dcb   ? "dcb"
+                     : r.kind == physics::BeamTestKind::enf ? "enf"
+                                                            : "mmb";
+  std::string out = "# The validation scenario as cleave ran it: every key, defaults filled in, SI.\n";
+  out += fmt::format("[scenario]\nname = {}\ndescription = {}\nlength_unit = \"m\"\n\n",
+                     toml_string(v.name), toml_string(v.description));
+  out += fmt::format(
+      "[specimen]\ntest = \"{}\"\nlength = {}\nbreadth = {}\nheight = {}\ninitial_crack = {}\n"
+      "particle_radius = {}\nbending_springs = {}\n",
+      test, toml_number(r.length), toml_number(r.breadth), toml_number(r.height),
+      toml_number(r.initial_crack), toml_number(r.radius), toml_number(r.link_bending));
+  if (r.kind == physics::BeamTestKind::mmb) out += fmt::format("mode_mix = {}\n", toml_number(r.mode_mix));
+  out += fmt::format(
+      "\n[material]\nyoung = {}\npoisson = {}\ndensity = {}\ncohesive_strength = {}\n"
+      "fracture_energy = {}\ng_Ic = {}\ng_IIc = {}\ncontact_penalty = {}\nfriction = {}\n",
+      toml_number(m.young), toml_number(m.poisson), toml_number(m.density), toml_number(m.sigma_c),
+      toml_number(m.g_c), toml_number(r.g_Ic), toml_number(r.g_IIc), toml_number(m.kappa),
+      toml_number(m.friction));
+  out += fmt::format("\n[loading]\nvelocity = {}\nramp_time = {}\ndeflection = {}\n",
+                     toml_number(r.velocity), toml_number(r.ramp_time), toml_number(v.deflection));
+  out += fmt::format(
+      "\n[dynamics]\ndt_safety = {}\nglobal_damping = {}\nthreads = {}\nrecords = {}\n",
+      toml_number(r.dt_safety), toml_number(r.global_damping), v.threads, v.records);
+  std::string stages;
+  for (std::size_t i = 0; i < v.stages.size(); ++i) stages += fmt::format("{}{}", i ? ", " : "", v.stages[i]);
+  out += fmt::format(
+      "\n[validation]\nstages = [{}]\nmeasure = \"{}\"\ntolerance = {}\nmargin = {}\n", stages,
+      v.mean_measure ? "mean" : "max", toml_number(v.tolerance), toml_number(v.margin));
+  if (v.peak_tolerance > 0.0) out += fmt::format("peak_tolerance = {}\n", toml_number(v.peak_tolerance));
+  return out;
+}
+
 }  // namespace cleave::io

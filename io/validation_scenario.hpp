@@ -54,4 +54,9 @@ struct ValidationScenario {
 ValidationScenario parse_validation_scenario(const std::string& text, const std::string& source);
 ValidationScenario load_validation_scenario(const std::filesystem::path& file);
 
+/// The scenario as run: every key with the value used (defaults filled in), lengths in
+/// metres (length_unit = "m"), numbers written so that they read back bit for bit; parsing
+/// it gives a ValidationScenario equal to `v` (source aside).
+std::string validation_scenario_as_run(const ValidationScenario& v);
+
 }  // namespace cleave::io

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_helpers.hpp"
+#include "io/validation_scenario.hpp"
 
 #include <sys/wait.h>
 
@@ -111,7 +112,8 @@ TEST(CoarseValidation, DcbStageIFollowsCorrectedBeamTheoryAndPeaksAtTheLefmLoad)
   EXPECT_LT(mean_error(r, 0.1 * d_peak, 0.9 * d_peak, [&](double d) { return slope * d; }), 0.12);
   EXPECT_NEAR(peak_load(r, 2 * d_peak) / p_peak, 1.0, 0.15);
   // What a user opens: the curves, the errors, the plot and the provenance.
-  for (const char* f : {"analytic.csv", "errors.csv", "load_deflection.svg", "run.toml"})
+  for (const char* f : {"analytic.csv", "errors.csv", "load_deflection.svg", "run.toml",
+                        "scenario_as_run.toml"})
     EXPECT_TRUE(fs::exists(r.dir / f)) << f;
   fs::remove_all(r.dir);
 }
@@ -164,4 +166,44 @@ TEST(CoarseValidation, BadScenarioNamesFileLineAndKeyAndWritesNoResult) {
   EXPECT_NE(o.output.find("velocity"), std::string::npos) << o.output;
   EXPECT_FALSE(fs::exists(dir / "out" / "measured.csv"));
   fs::remove_all(dir);
+}
+
+TEST(ValidationScenarioAsRun, EveryShippedScenarioReadsBackEqual) {
+  int checked = 0;
+  for (const auto& entry :
+       fs::directory_iterator(std::string(CLEAVE_SOURCE_DIR) + "/scenarios/validation")) {
+    if (entry.path().extension() != ".toml") continue;
+    const cleave::io::ValidationScenario a = cleave::io::load_validation_scenario(entry.path());
+    const std::string text = cleave::io::validation_scenario_as_run(a);
+    const cleave::io::ValidationScenario b =
+        cleave::io::parse_validation_scenario(text, "as_run.toml");
+    SCOPED_TRACE(entry.path().string());
+    const auto& ra = a.rig;
+    const auto& rb = b.rig;
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.description, b.description);
+    EXPECT_EQ(ra.kind, rb.kind);
+    // Bit for bit: lengths were converted to metres once, and are written that way.
+    for (auto [x, y] : {std::pair{ra.length, rb.length}, {ra.breadth, rb.breadth},
+                        {ra.height, rb.height}, {ra.initial_crack, rb.initial_crack},
+                        {ra.radius, rb.radius}, {ra.mode_mix, rb.mode_mix},
+                        {ra.link_bending, rb.link_bending}, {ra.material.young, rb.material.young},
+                        {ra.material.poisson, rb.material.poisson},
+                        {ra.material.density, rb.material.density},
+                        {ra.material.sigma_c, rb.material.sigma_c}, {ra.material.g_c, rb.material.g_c},
+                        {ra.material.kappa, rb.material.kappa},
+                        {ra.material.friction, rb.material.friction}, {ra.g_Ic, rb.g_Ic},
+                        {ra.g_IIc, rb.g_IIc}, {ra.velocity, rb.velocity},
+                        {ra.ramp_time, rb.ramp_time}, {ra.global_damping, rb.global_damping},
+                        {ra.dt_safety, rb.dt_safety}, {a.deflection, b.deflection},
+                        {a.tolerance, b.tolerance}, {a.peak_tolerance, b.peak_tolerance},
+                        {a.margin, b.margin}})
+      EXPECT_EQ(x, y);
+    EXPECT_EQ(a.threads, b.threads);
+    EXPECT_EQ(a.records, b.records);
+    EXPECT_EQ(a.stages, b.stages);
+    EXPECT_EQ(a.mean_measure, b.mean_measure);
+    ++checked;
+  }
+  EXPECT_GE(checked, 8);
 }
