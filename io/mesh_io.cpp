@@ -10,9 +10,11 @@
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstddef>
 #include <exception>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <random>
@@ -363,10 +365,33 @@ std::vector<fs::path> write_meshes(const std::vector<PolygonMesh>& meshes, const
   return written;
 }
 
+namespace {
+
+/// assimp 5.2's PLY reader never returns on a header without its "end_header" line (it
+/// spins in its buffer; found by fuzz/fuzz_mesh, tests/test_fuzz_regressions.cpp), so a PLY
+/// file (".ply", or content starting "ply") without that line is refused before assimp sees it.
+void check_ply_header(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line)) return;  // empty: assimp refuses it
+  if (ext != ".ply" && !line.starts_with("ply")) return;
+  do {
+    const auto first = line.find_first_not_of(" \t\r");
+    const auto last = line.find_last_not_of(" \t\r");
+    if (first != std::string::npos && line.compare(first, last - first + 1, "end_header") == 0) return;
+  } while (std::getline(in, line));
+  fail(file, "PLY header has no 'end_header' line");
+}
+
+}  // namespace
+
 std::vector<PolygonMesh> read_meshes(const fs::path& file) {
   std::error_code ec;
   if (!fs::exists(file, ec)) fail(file, "no such file");
   if (!fs::is_regular_file(file, ec)) fail(file, "not a regular file");
+  check_ply_header(file);
 
   // No aiProcess_JoinIdenticalVertices: assimp 5.2.5 also welds distinct vertices that lie
   // within about 1e-6 of each other (absolute, in file units, and only for some of them),

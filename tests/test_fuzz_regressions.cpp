@@ -1,0 +1,98 @@
+/// \file
+/// Inputs that once got through the readers wrongly (found by the fuzz targets in fuzz/ or
+/// while writing them). Each must now be refused with the reader's documented error:
+/// io::ScenarioError, io::MeshGrainError, io::CheckpointError.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/mesh_grains.hpp"
+#include "io/mesh_io.hpp"
+#include "io/scenario.hpp"
+#include "io/validation_scenario.hpp"
+#include "physics/state_codec.hpp"
+
+namespace {
+
+using namespace cleave;
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(std::string(CLEAVE_SOURCE_DIR) + "/" + path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// `text` with `line` inserted after the first line that is `after`.
+std::string with_line_after(std::string text, const std::string& after, const std::string& line) {
+  const auto at = text.find(after + "\n");
+  EXPECT_NE(at, std::string::npos) << after;
+  text.insert(at + after.size() + 1, line + "\n");
+  return text;
+}
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// An integer setting held in an `int` (frames, threads, check_every, records) took values
+// beyond INT_MAX modulo 2^32: threads = 4294967296 became 0 ("all cores"), records =
+// 4294967297 became 1, below its own minimum of 2. They are errors now.
+TEST(IntegerSettings, BeyondIntRangeIsAnErrorNotAWrapAround) {
+  const std::string base = read_text("scenarios/drop_test.toml");
+  try {
+    (void)io::parse_scenario(with_line_after(base, "[dynamics]", "threads = 4294967296"), "drop.toml");
+    ADD_FAILURE() << "threads = 4294967296 was accepted";
+  } catch (const io::ScenarioError& e) {
+    EXPECT_EQ(e.key(), "dynamics.threads") << e.what();
+    EXPECT_TRUE(has(e.what(), "must be <= 2147483647")) << e.what();
+  }
+  // The largest int is still fine.
+  EXPECT_EQ(io::parse_scenario(with_line_after(base, "[dynamics]", "threads = 2147483647"), "drop.toml")
+                .dynamics.threads,
+            2147483647);
+
+  const std::string dcb = read_text("scenarios/validation/dcb_coarse.toml");
+  try {
+    (void)io::parse_validation_scenario(with_line_after(dcb, "[dynamics]", "records = 4294967297"),
+                                        "dcb.toml");
+    ADD_FAILURE() << "records = 4294967297 was accepted";
+  } catch (const io::ScenarioError& e) {
+    EXPECT_EQ(e.key(), "dynamics.records") << e.what();
+  }
+}
+
+// fuzz_mesh: a PLY file whose header lacks its "end_header" line (here "end_heade" and
+// binary bytes) made assimp 5.2's PLY reader spin forever. read_meshes refuses it first.
+TEST(MeshImport, PlyWithoutEndHeaderIsRefusedNotAHang) {
+  const std::string file = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/fuzz/ply_without_end_header.ply";
+  try {
+    (void)io::read_meshes(file);
+    ADD_FAILURE() << "no MeshIoError";
+  } catch (const io::MeshIoError& e) {
+    EXPECT_TRUE(has(e.what(), "ply_without_end_header.ply")) << e.what();
+    EXPECT_TRUE(has(e.what(), "end_header")) << e.what();
+  }
+  io::MeshGrainSpec spec;
+  spec.file = file;
+  EXPECT_THROW((void)io::load_mesh_grains(spec), io::MeshGrainError);
+  // The same file with its header line restored is read (and is the seed's quad cube).
+  EXPECT_NO_THROW((void)io::read_meshes(std::string(CLEAVE_SOURCE_DIR) + "/tests/data/meshes/cube_quads.ply"));
+}
+
+// fuzz_checkpoint (UBSan): an empty vector of numbers was read with memcpy into its null
+// data(). Every checkpoint holds some; they read back empty now without undefined behaviour.
+TEST(StateCodec, EmptyNumberVectorsReadBack) {
+  physics::StateWriter w;
+  w.put(std::vector<double>{});
+  w.put(std::vector<std::uint32_t>{7, 8});
+  physics::StateReader r(w.bytes());
+  EXPECT_TRUE(r.numbers<double>().empty());
+  EXPECT_EQ(r.numbers<std::uint32_t>(), (std::vector<std::uint32_t>{7, 8}));
+  EXPECT_TRUE(r.done());
+}
+
+}  // namespace
