@@ -20,6 +20,7 @@
 #include <sstream>
 #include <thread>
 
+#include "io/checkpoint.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
@@ -274,4 +275,41 @@ TEST_F(RunStatus, ABlowUpFailsWithStepBodyAndSuggestedTimeStep) {
   EXPECT_NE(log().find("blew up"), std::string::npos) << log();
   // The failed folder is still a truthful record of what was written.
   expect_files_hashed(out, m);
+}
+
+TEST_F(RunStatus, ABlowUpKeepsTheLastGoodCheckpointWhichReproducesIt) {
+  // Gravity 7.2e5 m/s^2 from rest: the per-step fall g (n - 1/2) dt^2 passes a tenth of the
+  // grain's bounding radius (0.104 mm) at step 101, still 15 mm above the floor. Checkpoints
+  // every 20 steps: the one of step 100 is the last good state, and the blow-up must not
+  // overwrite it.
+  const fs::path scenario =
+      write("late_boom.toml", drop_scenario("duration = 1e-2\ngravity = [0.0, 0.0, -7.2e5]\n"));
+  const fs::path out = dir_ / "out";
+  const std::string run_cmd = std::string(CLEAVE_BINARY) + " run --quiet " + scenario.string() +
+                              " --out " + out.string() + " --checkpoint-every 20 > " +
+                              (dir_ / "first.log").string() + " 2>&1";
+  const int first = std::system(run_cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(first));
+  EXPECT_EQ(WEXITSTATUS(first), 1);
+  const Manifest m = read_manifest(out);
+  EXPECT_EQ(m.status, "failed");
+  std::smatch step;
+  ASSERT_TRUE(std::regex_search(m.reason, step, std::regex(R"(step (\d+) )"))) << m.reason;
+  const std::uint64_t blew_at = std::stoull(step[1]);
+  EXPECT_NEAR(static_cast<double>(blew_at), 101.0, 2.0) << m.reason;
+  const cleave::io::Checkpoint last = cleave::io::read_checkpoint(out / "checkpoint");
+  EXPECT_LT(last.world.steps(), blew_at);
+  EXPECT_GE(last.world.steps() + 20, blew_at);
+  EXPECT_EQ(last.world.steps() % 20, 0u);
+  // Restarted from it, the run blows up again at the same step: the checkpoint is the good
+  // state just before, and the failure is reproducible from it.
+  const std::string restart = std::string(CLEAVE_BINARY) + " restart --quiet " + out.string() +
+                              " > " + (dir_ / "restart.log").string() + " 2>&1";
+  const int second = std::system(restart.c_str());
+  ASSERT_TRUE(WIFEXITED(second));
+  EXPECT_EQ(WEXITSTATUS(second), 1);
+  const Manifest again = read_manifest(out);
+  EXPECT_EQ(again.status, "failed");
+  EXPECT_NE(again.reason.find("step " + std::to_string(blew_at) + " "), std::string::npos)
+      << again.reason;
 }
