@@ -40,15 +40,27 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
   const Number a0 = t.number("initial_crack", Range::positive());
   rig.initial_crack = unit * a0.value;
   rig.radius = unit * t.number("particle_radius", Range::positive()).value;
-  // Each extent must hold a whole number of cubes of side 2r.
+  // Each extent must hold a whole number of cubes of side 2r, and the lattice must fit in
+  // memory (a body and its links take about 1 kB).
+  constexpr double kMaxCells = 1e5, kMaxBodies = 5e7;
+  double bodies = 1.0;
   for (std::string_view key : {"length", "breadth", "height"}) {
     const double extent = unit * t.number(key, Range::positive()).value;
     const double count = extent / (2.0 * rig.radius);
+    if (!(count <= kMaxCells))
+      t.fail(*t.find(key), key,
+             fmt::format("holds {:.3g} particle diameters 2r; at most {:g} are supported", count,
+                         kMaxCells));
     if (std::abs(count - std::round(count)) > 1e-6 * count || std::round(count) < 1.0) {
       t.fail(*t.find(key), key,
              fmt::format("must be a whole number of particle diameters 2r = {} {}", 2.0 * rig.radius / unit,
                          unit == 1e-3 ? "mm" : "length units"));
     }
+    bodies *= std::round(count);
+    if (bodies > kMaxBodies)
+      t.fail(*t.find(key), key,
+             fmt::format("the lattice would hold {:.3g} bodies; at most {:g} are supported", bodies,
+                         kMaxBodies));
   }
   const double layers = std::round(rig.height / (2.0 * rig.radius));
   if (static_cast<long>(layers) % 2 != 0)

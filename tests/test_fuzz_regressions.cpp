@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/mesh_grains.hpp"
 #include "io/mesh_io.hpp"
@@ -93,6 +95,32 @@ TEST(StateCodec, EmptyNumberVectorsReadBack) {
   EXPECT_TRUE(r.numbers<double>().empty());
   EXPECT_EQ(r.numbers<std::uint32_t>(), (std::vector<std::uint32_t>{7, 8}));
   EXPECT_TRUE(r.done());
+}
+
+// A beam length of 1e44 mm (fuzz_validation_scenario, on a fresh clone's CI run) made the
+// particle count overflow a long (undefined behaviour) before any check; the lattice size is
+// now bounded per axis and in all, with the key named.
+TEST(ValidationSpecimen, AnAstronomicalLatticeIsRefusedByKey) {
+  const std::string mmb = read_text("scenarios/validation/mmb_50_coarse.toml");
+  const auto at = mmb.find("length = 30.25");
+  ASSERT_NE(at, std::string::npos);
+  for (const auto& [value, key] :
+       std::vector<std::pair<std::string, std::string>>{{"1" + std::string(44, '1') + "5.25", "specimen.length"},
+                                                        {"25000.25", "specimen.length"}}) {
+    std::string text = mmb;
+    text.replace(at, 14, "length = " + value);
+    try {
+      (void)io::parse_validation_scenario(text, "mmb.toml");
+      ADD_FAILURE() << "length = " << value << " was accepted";
+    } catch (const io::ScenarioError& e) {
+      EXPECT_EQ(e.key(), key) << e.what();
+      EXPECT_TRUE(has(e.what(), "at most")) << e.what();
+    }
+  }
+  // A long beam of a few million bodies is still fine.
+  std::string text = mmb;
+  text.replace(at, 14, "length = 300.25");
+  EXPECT_NO_THROW((void)io::parse_validation_scenario(text, "mmb.toml"));
 }
 
 }  // namespace
