@@ -20,6 +20,7 @@
 #include "physics/fracture_book.hpp"
 #include "physics/transgranular.hpp"
 #include "physics/world.hpp"
+#include "bench_disc.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
@@ -29,58 +30,19 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr double kDilation = 0.05e-3, kRho = 3100.0;
-
 }  // namespace
 
 int main(int argc, char** argv) {
   const int grains = argc > 1 ? std::atoi(argv[1]) : 10000;
   const std::filesystem::path dir = argc > 2 ? argv[2] : std::filesystem::temp_directory_path();
 
-  // The disc (bench_fracture.cpp's make_disc).
-  geometry::SpecimenDef def;
-  const double diameter = 15e-3 * std::sqrt(grains / 187.0);
-  def.outline = geometry::Outline::disc(diameter, 5e-3);
-  def.keep = geometry::KeepRule::centre_inside;
-  def.r = 0.6e-3;
-  def.r_bar = 0.5e-3;
-  def.t = def.t_bar = 5e-3;
-  def.seed = 7;
-  WorldSettings ws;
-  ws.gravity.setZero();
-  ws.dt = 1.5e-5;
-  ws.particle_particle.kn = 5.0;
-  ws.particle_particle.ks = 2.0;
-  ws.particle_particle.c_res = 2.0;
-  ws.particle_wall.kn = 10.0;
-  ws.particle_wall.ks = 2.0;
-  ws.particle_wall.c_res = 10.0;
-  ws.local_damping = 0.7;
+  // The disc of bench_fracture.cpp, every grain registered for splitting.
   const auto t_build = Clock::now();
-  const geometry::Specimen specimen = geometry::build_specimen(def);
-  World world(ws);
-  const RigidShape shape = make_rigid_shape(specimen.prism, kDilation);
-  const auto sh = world.add_shape(shape);
-  double lo = 1e9, hi = -1e9;
-  for (const auto& g : specimen.grains) {
-    world.add_body(sh, kRho, g.site.centre + shape.centroid, shape.orientation_for(), {}, {}, g.id);
-    lo = std::min(lo, g.site.centre.y());
-    hi = std::max(hi, g.site.centre.y());
-  }
-  const double reach = def.r_bar + kDilation;
-  const double cx = diameter / 2;
-  world.add_wall(Wall::platen("bottom", {cx, lo - reach, 2.5e-3}, {0, 1, 0}, {1, 0, 0}, diameter, 5e-3));
-  world.add_wall(Wall::platen("top", {cx, hi + reach, 2.5e-3}, {0, -1, 0}, {1, 0, 0}, diameter, 5e-3));
-  world.wall(0).velocity = {0, 5e-3, 0};
-  world.wall(1).velocity = {0, -5e-3, 0};
-  const double area = M_PI * kDilation * kDilation;
-  const std::size_t bonds = world.initialise_bonds({5.0 / area, 2.0 / area, 1e3, 1e3}, 0.08e-3);
-  FractureBook book(kDilation, 0.01);
-  book.add_shape(sh, std::make_shared<const geometry::ExactPolyhedron>(specimen.prism));
-  for (const BodyId id : world.body_ids()) {
-    const int g = world.info(id).grain_id;
-    book.add_grain(world, id, g, specimen.grains[static_cast<std::size_t>(g)].orientation);
-  }
+  bench::Disc disc = bench::make_disc(grains, true);
+  World& world = disc.world;
+  FractureBook& book = *disc.book;
+  const geometry::Specimen& specimen = disc.specimen;
+  const std::size_t bonds = world.bonds().size();
   // Squeeze it with the gate open, so grains split and the book holds fragments too.
   FractureParams fp;
   fp.sigma_f_hyd = -1e30;

@@ -18,72 +18,17 @@
 #include "physics/fracture_book.hpp"
 #include "physics/transgranular.hpp"
 #include "physics/world.hpp"
+#include "bench_disc.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
+using cleave::bench::Disc;
+using cleave::bench::make_disc;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-constexpr double kDilation = 0.05e-3, kRho = 3100.0;
-
-struct Disc {
-  geometry::Specimen specimen;
-  World world;
-  std::unique_ptr<FractureBook> book;
-};
-
-/// The Brazilian disc of scenarios/brazilian.toml (r = 0.6 mm, r_bar = 0.5 mm, 5 mm thick)
-/// widened to hold about `grains` grains, bonded across its 0.073 mm gaps, between two
-/// platens closing at 5 mm/s.
-Disc make_disc(int grains, bool fracture) {
-  geometry::SpecimenDef def;
-  const double diameter = 15e-3 * std::sqrt(grains / 187.0);
-  def.outline = geometry::Outline::disc(diameter, 5e-3);
-  def.keep = geometry::KeepRule::centre_inside;
-  def.r = 0.6e-3;
-  def.r_bar = 0.5e-3;
-  def.t = def.t_bar = 5e-3;
-  def.seed = 7;
-  WorldSettings ws;
-  ws.gravity.setZero();
-  ws.dt = 1.5e-5;
-  ws.particle_particle.kn = 5.0;
-  ws.particle_particle.ks = 2.0;
-  ws.particle_particle.c_res = 2.0;
-  ws.particle_wall.kn = 10.0;
-  ws.particle_wall.ks = 2.0;
-  ws.particle_wall.c_res = 10.0;
-  ws.local_damping = 0.7;
-  Disc d{geometry::build_specimen(def), World(ws), nullptr};
-  const RigidShape shape = make_rigid_shape(d.specimen.prism, kDilation);
-  const auto sh = d.world.add_shape(shape);
-  double lo = 1e9, hi = -1e9;
-  for (const auto& g : d.specimen.grains) {
-    d.world.add_body(sh, kRho, g.site.centre + shape.centroid, shape.orientation_for(), {}, {}, g.id);
-    lo = std::min(lo, g.site.centre.y());
-    hi = std::max(hi, g.site.centre.y());
-  }
-  const double reach = def.r_bar + kDilation;
-  const double cx = diameter / 2;
-  d.world.add_wall(Wall::platen("bottom", {cx, lo - reach, 2.5e-3}, {0, 1, 0}, {1, 0, 0}, diameter, 5e-3));
-  d.world.add_wall(Wall::platen("top", {cx, hi + reach, 2.5e-3}, {0, -1, 0}, {1, 0, 0}, diameter, 5e-3));
-  d.world.wall(0).velocity = {0, 5e-3, 0};
-  d.world.wall(1).velocity = {0, -5e-3, 0};
-  const double area = M_PI * kDilation * kDilation;
-  d.world.initialise_bonds({5.0 / area, 2.0 / area, 1e3, 1e3}, 0.08e-3);
-  if (fracture) {
-    d.book = std::make_unique<FractureBook>(kDilation, 0.01);
-    d.book->add_shape(sh, std::make_shared<const geometry::ExactPolyhedron>(d.specimen.prism));
-    for (const BodyId id : d.world.body_ids()) {
-      const int g = d.world.info(id).grain_id;
-      d.book->add_grain(d.world, id, g, d.specimen.grains[static_cast<std::size_t>(g)].orientation);
-    }
-  }
-  return d;
-}
 
 }  // namespace
 
