@@ -478,13 +478,16 @@ std::string provenance_of(const fs::path& out, const std::string& key) {
   return cleave::io::read_manifest(out).provenance.at(key);
 }
 
-void expect_run_finishes(const std::string& scenario,
-                         const std::vector<std::pair<std::string, std::string>>& provenance = {}) {
+/// Runs the scenario and checks it as a user would; returns its manifest.
+cleave::io::Manifest expect_run_finishes(
+    const std::string& scenario, const std::vector<std::pair<std::string, std::string>>& provenance = {}) {
   const fs::path out = fs::temp_directory_path() / ("cleave_test_custom_" + scenario);
   fs::remove_all(out);
   const std::string cmd = std::string(CLEAVE_BINARY) + " run --quiet " + CLEAVE_SOURCE_DIR +
                           "/scenarios/" + scenario + ".toml --out " + out.string();
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const int rc = std::system(cmd.c_str());
+  EXPECT_EQ(rc, 0) << cmd;
+  if (rc != 0) return {};
   const std::string manifest = read_text(out / "run.toml");
   EXPECT_TRUE(manifest.find("\nstatus = \"finished\"") != std::string::npos ||
               manifest.find("\nstatus = 'finished'") != std::string::npos)
@@ -492,13 +495,21 @@ void expect_run_finishes(const std::string& scenario,
   for (const auto& [key, value] : provenance) EXPECT_EQ(provenance_of(out, key), value) << key;
   const std::string check = std::string(CLEAVE_BINARY) + " check volume " + out.string() + " > /dev/null";
   EXPECT_EQ(std::system(check.c_str()), 0) << check;
+  cleave::io::Manifest m = cleave::io::read_manifest(out);
   fs::remove_all(out);
+  return m;
 }
 
-TEST(CustomGrainRun, MeshGrainsScenarioRunsAndChecks) { expect_run_finishes("mesh_grains"); }
+TEST(CustomGrainRun, MeshGrainsScenarioRunsAndChecks) {
+  const cleave::io::Manifest m = expect_run_finishes("mesh_grains");
+  EXPECT_EQ(m.status, "finished");
+  EXPECT_EQ(m.facts.at("grains"), "3");  // two octahedra and a brick
+}
 TEST(CustomGrainRun, VoronoiScenarioRunsAndChecks) {
   // Both seeds that made the specimen (scenarios/voronoi.toml: points 11, orientations 12).
-  expect_run_finishes("voronoi", {{"voronoi_seed", "11"}, {"seed", "12"}});
+  const cleave::io::Manifest m = expect_run_finishes("voronoi", {{"voronoi_seed", "11"}, {"seed", "12"}});
+  EXPECT_EQ(m.status, "finished");
+  EXPECT_EQ(m.facts.at("grains"), "9");
 }
 
 }  // namespace
