@@ -25,12 +25,8 @@
 using namespace cleave;
 using namespace cleave::physics;
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-}  // namespace
+using cleave::bench::Clock;
+using cleave::bench::since;
 
 int main(int argc, char** argv) {
   const int grains = argc > 1 ? std::atoi(argv[1]) : 10000;

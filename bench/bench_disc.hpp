@@ -5,6 +5,7 @@
 /// `grains` prisms, bonded across its 0.073 mm gaps, between two platens closing at 5 mm/s;
 /// with `fracture`, every grain registered for transgranular splitting.
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -15,6 +16,12 @@
 namespace cleave::bench {
 
 using namespace cleave::physics;
+
+using Clock = std::chrono::steady_clock;
+/// Seconds since t0.
+inline double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 inline constexpr double kDilation = 0.05e-3, kRho = 3100.0;
 
