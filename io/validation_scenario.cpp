@@ -18,7 +18,7 @@ constexpr std::string_view kRequired[] = {"specimen", "material", "loading", "va
 constexpr std::string_view kScenarioKeys[] = {"name", "description", "length_unit"};
 constexpr std::string_view kSpecimenKeys[] = {"test",          "length",          "breadth",
                                               "height",        "initial_crack",   "particle_radius",
-                                              "mode_mix",      "bending_springs"};
+                                              "mode_mix",      "bending_springs", "effective_areas"};
 constexpr std::string_view kMaterialKeys[] = {
     "young", "poisson", "density", "cohesive_strength", "fracture_energy",
     "g_Ic",  "g_IIc",   "contact_penalty", "friction"};
@@ -76,6 +76,7 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
            rig.kind == physics::BeamTestKind::dcb ? "must be shorter than the beam"
                                                   : "must end before mid-span");
   rig.link_bending = t.number("bending_springs", Range::non_negative(), 1.0).value;
+  rig.tiled_areas = t.choose<bool>("effective_areas", {{"tiled", true}, {"paper", false}}, true);
   if (rig.kind == physics::BeamTestKind::mmb) {
     rig.mode_mix = t.number("mode_mix", Range{0.0, 1.0, true, true}).value;
   } else if (const toml::node* node = t.find("mode_mix")) {
@@ -208,9 +209,10 @@ std::string validation_scenario_as_run(const ValidationScenario& v) {
                      toml_string(v.name), toml_string(v.description));
   out += fmt::format(
       "[specimen]\ntest = \"{}\"\nlength = {}\nbreadth = {}\nheight = {}\ninitial_crack = {}\n"
-      "particle_radius = {}\nbending_springs = {}\n",
+      "particle_radius = {}\nbending_springs = {}\neffective_areas = \"{}\"\n",
       test, toml_number(r.length), toml_number(r.breadth), toml_number(r.height),
-      toml_number(r.initial_crack), toml_number(r.radius), toml_number(r.link_bending));
+      toml_number(r.initial_crack), toml_number(r.radius), toml_number(r.link_bending),
+      r.tiled_areas ? "tiled" : "paper");
   if (r.kind == physics::BeamTestKind::mmb) out += fmt::format("mode_mix = {}\n", toml_number(r.mode_mix));
   out += fmt::format(
       "\n[material]\nyoung = {}\npoisson = {}\ndensity = {}\ncohesive_strength = {}\n"

@@ -13,6 +13,8 @@
 ///                     mode_mix = 0.5 (MMB only, required there: beta = G_II/G_T in (0, 1))
 ///                     bending_springs = 1 (>= 0: the links' bending springs as a multiple of
 ///                     E (2r)^3 / 12; 0 gives the paper's lattice, see physics/cubic_lattice.hpp)
+///                     effective_areas = "tiled" (default: eq. 10's areas scaled to tile a
+///                     plane, physics::tiled_areas) or "paper" (eq. 10 as it stands)
 ///   [material]        young (Pa), poisson ([0, 0.25)), density (kg/m^3),
 ///                     cohesive_strength (Pa), fracture_energy (G_c of the weak plane, N/m):
 ///                     required; g_Ic, g_IIc (N/m, for the closed forms; default

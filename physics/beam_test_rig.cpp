@@ -40,6 +40,7 @@ CubicLatticeDef beam_lattice(const BeamRigDef& def) {
   ld.notch_x = def.radius + def.initial_crack;
   ld.global_damping = def.global_damping;
   ld.link_bending = def.link_bending;
+  ld.tiled_areas = def.tiled_areas;
   return ld;
 }
 

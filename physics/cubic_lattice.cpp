@@ -42,6 +42,13 @@ LatticeSprings lattice_springs(double E, double nu, double r) {
   return s;
 }
 
+LatticeSprings tiled_areas(LatticeSprings s, double r) {
+  const double scale = 4.0 * r * r / (s.area1 + 4.0 * s.area2);
+  s.area1 *= scale;
+  s.area2 *= scale;
+  return s;
+}
+
 SurfaceCompensation surface_compensation(const LatticeSprings& s, double nu) {
   const double b = nu / (1.0 - nu);
   SurfaceCompensation c;
@@ -63,6 +70,7 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     throw std::invalid_argument("lattice: Poisson's ratio must lie in [0, 0.25) (eq. 3)");
   const double r = def.radius;
   springs_ = lattice_springs(mat.young, mat.poisson, r);
+  if (def.tiled_areas) springs_ = tiled_areas(springs_, r);
   cohesive1_ = {springs_.kn1, springs_.ks1, springs_.area1, mat.sigma_c, mat.g_c};
   cohesive2_ = {springs_.kn2, springs_.ks2, springs_.area2, mat.sigma_c, mat.g_c};
   const bool weak = def.weak_layer > 0 && def.weak_layer < nz_;
@@ -130,7 +138,7 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
                             std::max(iz, jz) == def.weak_layer;
               if (order == 1 && !l.breakable)
                 l.kb = def.link_bending * mat.young * 8.0 * r * r * r / 12.0;
-              if (l.breakable && 0.5 * (x0_[i].x() + x0_[j].x()) < def.notch_x)
+              if (l.breakable && 0.5 * (x0_[i].x() + x0_[j].x()) < def.notch_x - 1e-6 * r)
                 l.state.phase = LinkPhase::contact;
               links_.push_back(l);
             }

@@ -75,6 +75,15 @@ struct LatticeSprings {
 };
 LatticeSprings lattice_springs(double young, double poisson, double radius);
 
+/// Eq. 10's areas scaled by one factor, 144 / (41 pi) = 1.118, so that the links joining a
+/// bulk body to the next layer (one first neighbour, four second neighbours) share out the
+/// cell face (2r)^2 between them: a crack plane then dissipates G_c per unit area (each link
+/// opens through A G_c) and carries sigma_c before it softens. With the paper's areas as
+/// they stand the links across a plane sum to 0.894 of it: the plane's fracture energy is
+/// 0.894 G_c and a crack grows at sqrt(0.894) = 0.946 of the load that eq. 60 gives.
+/// The ratio of first to second neighbour area (9/8) is the paper's.
+LatticeSprings tiled_areas(LatticeSprings springs, double radius);
+
 /// The stiffness added to a link lying in a free surface (see above): normal and shear, for a
 /// link along an edge of the surface's cells (first neighbours) and for one along a diagonal
 /// of them (second neighbours). Derivation, per body on a face of normal z and in units of
@@ -97,12 +106,17 @@ struct CubicLatticeDef {
   /// The weak plane lies between layers weak_layer - 1 and weak_layer (z index); links that
   /// cross it may crack. 0 or nz: no weak plane.
   int weak_layer = 0;
-  /// Links across the weak plane whose midpoint has x < notch_x start decohered (the notch).
+  /// Links across the weak plane whose midpoint lies before notch_x start decohered (the
+  /// notch). A link whose midpoint lies at notch_x (within 1e-6 r, so that the rounding of
+  /// r + a0 cannot decide) stays connective.
   double notch_x = 0.0;
   double global_damping = 0.0;  ///< c (1/s) of the mass-proportional damping
   /// Bending springs of the connective first-neighbour links, as a multiple of E (2r)^3 / 12
   /// (see the file comment); 0 gives the paper's lattice of point springs alone.
   double link_bending = 1.0;
+  /// Effective areas that tile the plane (see tiled_areas): true by default; false gives the
+  /// paper's areas of eq. 10 as they stand.
+  bool tiled_areas = true;
 };
 
 /// One link (eq. 1): bodies i < j, rest length, shear separation and its cohesive state.

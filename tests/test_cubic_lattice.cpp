@@ -57,6 +57,69 @@ TEST(LatticeSprings, Eq3StiffnessesAndEffectiveAreas) {
   EXPECT_DOUBLE_EQ(s.area2, 2 * M_PI * r * r / 9);
 }
 
+TEST(LatticeSprings, TiledAreasShareOutTheCellFaceAmongTheLinksAcrossAPlane) {
+  // Whatever crosses a plane between two layers of a bulk body's column must carry the cell
+  // face (2r)^2: then a crack there dissipates G_c per unit area. Sum the areas of the links
+  // the lattice actually builds from the middle body of a 3 x 3 x 2 block to the layer above.
+  CubicLatticeDef def;
+  def.nx = def.ny = 3;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.weak_layer = 1;
+  const double r = def.radius;
+  for (const bool tiled : {true, false}) {
+    def.tiled_areas = tiled;
+    CubicLattice lat(def);
+    const int centre = lat.index(1, 1, 0);
+    const LatticeSprings paper = lattice_springs(def.material.young, def.material.poisson, r);
+    double area = 0.0;
+    int crossing = 0;
+    for (const LatticeLink& l : lat.links()) {
+      if (!l.breakable || (l.i != centre && l.j != centre)) continue;
+      ++crossing;
+      area += l.kind == 1 ? lat.springs().area1 : lat.springs().area2;
+    }
+    EXPECT_EQ(crossing, 5);  // one first and four second neighbours (no third: k = 0)
+    if (tiled) {
+      EXPECT_NEAR(area, 4 * r * r, 1e-12 * r * r);
+      EXPECT_DOUBLE_EQ(lat.springs().area1 / lat.springs().area2, paper.area1 / paper.area2);
+    } else {
+      EXPECT_NEAR(area, 41 * M_PI / 36 * r * r, 1e-12 * r * r);  // 0.894 of the face
+      EXPECT_DOUBLE_EQ(lat.springs().area1, paper.area1);
+    }
+  }
+}
+
+TEST(BeamLattice, TheNotchEndsAtTheCrackLengthWhateverTheRoundingOfRPlusA0) {
+  // The paper's DCB: r = 0.125 mm, a0 = 9 mm from the load line at x = r. The link at the
+  // crack tip (column 36, centre x = 73 r) lies exactly at r + a0, which in double rounds
+  // to one ulp above 73 r: it must stay connective, with everything before it decohered.
+  // Checked in whole cells against every link across the plane.
+  BeamRigDef rig;
+  rig.kind = BeamTestKind::dcb;
+  rig.radius = 0.125e-3;
+  rig.length = 30e-3;
+  rig.breadth = 2e-3;
+  rig.height = 2e-3;
+  rig.material = paper_material();
+  for (const double a0_mm : {9.0, 6.0, 12.0, 8.75}) {
+    rig.initial_crack = a0_mm * 1e-3;
+    CubicLattice lat(beam_lattice(rig));
+    const long tip2 = std::lround(2 * a0_mm / 0.25);  // twice the tip column
+    int cut = 0, intact = 0;
+    for (const LatticeLink& l : lat.links()) {
+      if (!l.breakable) continue;
+      const long ix = l.i % lat.def().nx, jx = l.j % lat.def().nx;
+      const bool before = ix + jx < tip2;  // midpoint column < tip column
+      EXPECT_EQ(l.state.phase == LinkPhase::contact, before) << "a0 " << a0_mm << " link " << ix << "-" << jx;
+      (before ? cut : intact) += 1;
+    }
+    EXPECT_GT(cut, 0);
+    EXPECT_GT(intact, 0);
+  }
+}
+
 class CauchyBorn : public ::testing::TestWithParam<int> {};
 
 TEST_P(CauchyBorn, ABulkBodyStoresTheIsotropicStrainEnergyOfItsCell) {
@@ -96,7 +159,7 @@ INSTANTIATE_TEST_SUITE_P(Strains, CauchyBorn, ::testing::Values(0, 1, 2, 3));
 
 TEST(CohesiveLatticeLink, PullingTwoCubesApartDissipatesGcTimesTheEffectiveArea) {
   // Two cubes stacked across the weak plane, one first-neighbour link between them (eq. 3,
-  // A = pi r^2 / 4). The work to open it to decohesion is A (G_c + sigma_c dn0 / 2).
+  // A = the lattice's first-neighbour area). The work to open it to decohesion is A (G_c + sigma_c dn0 / 2).
   CubicLatticeDef def;
   def.nx = def.ny = 1;
   def.nz = 2;

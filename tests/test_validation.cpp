@@ -108,9 +108,10 @@ TEST(CoarseValidation, DcbStageIFollowsCorrectedBeamTheoryAndPeaksAtTheLefmLoad)
   // The LEFM peak (eqs 59-60): P a_eff = sqrt(B' E I G_Ic), B' = B - 2r.
   const double p_peak = std::sqrt((B - 2 * r_) * EI * 260.0) / a;
   const double d_peak = p_peak / slope;
-  // Stated bounds: stage I mean within 12%, peak within 15% (measured: 8.5%, 8.5%).
-  EXPECT_LT(mean_error(r, 0.1 * d_peak, 0.9 * d_peak, [&](double d) { return slope * d; }), 0.12);
-  EXPECT_NEAR(peak_load(r, 2 * d_peak) / p_peak, 1.0, 0.15);
+  // Stated bounds: stage I mean within 8%, peak within 22% (measured: 4.7%, +19.7%; the peak
+  // is high because B - 2r halves this 2-cube strip: see dcb_coarse.toml).
+  EXPECT_LT(mean_error(r, 0.1 * d_peak, 0.9 * d_peak, [&](double d) { return slope * d; }), 0.08);
+  EXPECT_NEAR(peak_load(r, 2 * d_peak) / p_peak, 1.0, 0.22);
   // What a user opens: the curves, the errors, the plot and the provenance.
   for (const char* f : {"analytic.csv", "errors.csv", "load_deflection.svg", "run.toml",
                         "scenario_as_run.toml"})
@@ -128,21 +129,21 @@ TEST(CoarseValidation, EnfStageIFollowsCorrectedBeamTheory) {
   const double slope = 96 * EI / (2 * L * L * L + 3 * a * a * a) * 1e-3;  // eq. 63
   const double p_peak = std::sqrt(64 * (B - 2 * r_) * EI * 1002.0 / 3) / a;
   const double d_peak = p_peak / slope;
-  // Stated bounds: stage I mean within 8%, peak within 8% (measured: 3.8%, 2.4%).
+  // Stated bounds: stage I mean within 8%, peak within 10% (measured: 3.0%, 7.3%).
   EXPECT_LT(mean_error(r, 0.1 * d_peak, 0.9 * d_peak, [&](double d) { return slope * d; }), 0.08);
-  EXPECT_NEAR(peak_load(r, 2 * d_peak) / p_peak, 1.0, 0.08);
+  EXPECT_NEAR(peak_load(r, 2 * d_peak) / p_peak, 1.0, 0.10);
   fs::remove_all(r.dir);
 }
 
 // Coarse MMB at beta = 50 %: the command's verdict and its error table (stage I mean within
-// 18%, peak within 8%; measured 13.9% and 0.8%: the mixed-mode cohesive zone grows early).
+// 15%, peak within 10%; measured 9.7% and 7.1%: the mixed-mode cohesive zone grows early).
 TEST(CoarseValidation, Mmb50PassesItsStatedBounds) {
   const ValidationRun r = validate("mmb_50_coarse");
   EXPECT_EQ(r.outcome.code, 0) << r.outcome.output;
   const auto errors = read_csv(r.dir / "errors.csv");
   ASSERT_EQ(errors.size(), 2u);
-  EXPECT_LT(errors[0][4], 0.18);  // stage I mean error
-  EXPECT_LT(errors[1][4], 0.08);  // peak
+  EXPECT_LT(errors[0][4], 0.15);  // stage I mean error
+  EXPECT_LT(errors[1][4], 0.10);  // peak
   fs::remove_all(r.dir);
 }
 
@@ -203,7 +204,36 @@ TEST(ValidationScenarioAsRun, EveryShippedScenarioReadsBackEqual) {
     EXPECT_EQ(a.records, b.records);
     EXPECT_EQ(a.stages, b.stages);
     EXPECT_EQ(a.mean_measure, b.mean_measure);
+    EXPECT_EQ(ra.tiled_areas, rb.tiled_areas);
     ++checked;
   }
   EXPECT_GE(checked, 8);
+}
+
+TEST(ValidationScenario, EffectiveAreasAreTiledUnlessThePapersAreAskedFor) {
+  std::ifstream in(std::string(CLEAVE_SOURCE_DIR) + "/scenarios/validation/dcb_coarse.toml");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string dcb = buffer.str();
+  EXPECT_TRUE(cleave::io::parse_validation_scenario(dcb, "dcb.toml").rig.tiled_areas);
+  const auto with_key = [&](const std::string& value) {
+    std::string s = dcb;
+    const auto pos = s.find("[material]");
+    s.insert(pos, "effective_areas = " + value + "\n\n");
+    return s;
+  };
+  const auto paper = cleave::io::parse_validation_scenario(with_key("\"paper\""), "dcb.toml");
+  EXPECT_FALSE(paper.rig.tiled_areas);
+  // The as-run copy keeps the choice.
+  EXPECT_FALSE(cleave::io::parse_validation_scenario(cleave::io::validation_scenario_as_run(paper), "as_run.toml")
+                   .rig.tiled_areas);
+  try {
+    (void)cleave::io::parse_validation_scenario(with_key("\"square\""), "dcb.toml");
+    FAIL() << "an unknown effective_areas was accepted";
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("dcb.toml:"), std::string::npos) << what;
+    EXPECT_NE(what.find("effective_areas"), std::string::npos) << what;
+    EXPECT_NE(what.find("tiled"), std::string::npos) << what;
+  }
 }
