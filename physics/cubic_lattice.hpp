@@ -78,10 +78,12 @@ LatticeSprings lattice_springs(double young, double poisson, double radius);
 /// Eq. 10's areas scaled by one factor, 144 / (41 pi) = 1.118, so that the links joining a
 /// bulk body to the next layer (one first neighbour, four second neighbours) share out the
 /// cell face (2r)^2 between them: a crack plane then dissipates G_c per unit area (each link
-/// opens through A G_c) and carries sigma_c before it softens. With the paper's areas as
-/// they stand the links across a plane sum to 0.894 of it: the plane's fracture energy is
-/// 0.894 G_c and a crack grows at sqrt(0.894) = 0.946 of the load that eq. 60 gives.
-/// The ratio of first to second neighbour area (9/8) is the paper's.
+/// opens through A G_c). With the paper's areas as they stand the links across a plane sum
+/// to 0.894 of it: the plane's fracture energy is 0.894 G_c and a crack grows at
+/// sqrt(0.894) = 0.946 of the load that eq. 60 gives. The ratio of first to second
+/// neighbour area (9/8) is the paper's. (Under a uniaxial stress across the plane the links
+/// still begin to soften before the bulk stress reaches sigma_c: the first neighbours at
+/// 0.66 sigma_c, the second, whose slip counts fully in eq. 32's circle, at 0.57.)
 LatticeSprings tiled_areas(LatticeSprings springs, double radius);
 
 /// The stiffness added to a link lying in a free surface (see above): normal and shear, for a
