@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_helpers.hpp"
+#include "io/toml_reader.hpp"
 #include "io/validation_scenario.hpp"
 
 #include <sys/wait.h>
@@ -96,6 +97,12 @@ double peak_load(const ValidationRun& r, double until) {
   return peak;
 }
 
+/// The text of the shipped coarse DCB scenario (a missing file is an error, not "").
+std::string shipped_dcb_coarse() {
+  return cleave::io::toml_reader::read_scenario_text(std::string(CLEAVE_SOURCE_DIR) +
+                                                     "/scenarios/validation/dcb_coarse.toml");
+}
+
 }  // namespace
 
 // Coarse DCB: a 0.5 mm strip of the paper's beam (2h = 2 mm, a0 = 9 mm, r = 0.125 mm).
@@ -151,10 +158,7 @@ TEST(CoarseValidation, BadScenarioNamesFileLineAndKeyAndWritesNoResult) {
   const fs::path dir = fs::temp_directory_path() / ("cleave_validation_bad_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::ifstream in(std::string(CLEAVE_SOURCE_DIR) + "/scenarios/validation/dcb_coarse.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
+  std::string s = shipped_dcb_coarse();
   const auto pos = s.find("velocity = 0.3");
   ASSERT_NE(pos, std::string::npos);
   s.replace(pos, 14, "velocity = -0.3");
@@ -211,10 +215,7 @@ TEST(ValidationScenarioAsRun, EveryShippedScenarioReadsBackEqual) {
 }
 
 TEST(ValidationScenario, EffectiveAreasAreTiledUnlessThePapersAreAskedFor) {
-  std::ifstream in(std::string(CLEAVE_SOURCE_DIR) + "/scenarios/validation/dcb_coarse.toml");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string dcb = buffer.str();
+  const std::string dcb = shipped_dcb_coarse();
   EXPECT_TRUE(cleave::io::parse_validation_scenario(dcb, "dcb.toml").rig.tiled_areas);
   const auto with_key = [&](const std::string& value) {
     std::string s = dcb;
