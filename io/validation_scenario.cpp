@@ -18,7 +18,8 @@ constexpr std::string_view kRequired[] = {"specimen", "material", "loading", "va
 constexpr std::string_view kScenarioKeys[] = {"name", "description", "length_unit"};
 constexpr std::string_view kSpecimenKeys[] = {"test",          "length",          "breadth",
                                               "height",        "initial_crack",   "particle_radius",
-                                              "mode_mix",      "bending_springs", "effective_areas"};
+                                              "mode_mix",      "bending_springs", "effective_areas",
+                                              "intact_length"};
 constexpr std::string_view kMaterialKeys[] = {
     "young", "poisson", "density", "cohesive_strength", "fracture_energy",
     "g_Ic",  "g_IIc",   "contact_penalty", "friction"};
@@ -75,6 +76,20 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
     t.fail(*a0.node, "initial_crack",
            rig.kind == physics::BeamTestKind::dcb ? "must be shorter than the beam"
                                                   : "must end before mid-span");
+  if (const toml::node* node = t.find("intact_length")) {
+    if (rig.kind != physics::BeamTestKind::dcb)
+      t.fail(*node, "intact_length", "only a DCB has an intact length beyond the weak plane");
+    rig.intact_length = unit * t.number("intact_length", Range::non_negative()).value;
+    const double count = rig.intact_length / (2.0 * rig.radius);
+    if (!(count <= kMaxCells) || std::abs(count - std::round(count)) > 1e-6 * std::max(count, 1.0))
+      t.fail(*node, "intact_length",
+             fmt::format("must be a whole number of particle diameters 2r = {} {} (at most {:g})",
+                         2.0 * rig.radius / unit, unit == 1e-3 ? "mm" : "length units", kMaxCells));
+    if (bodies / std::round(rig.length / (2.0 * rig.radius)) *
+            std::round((rig.length + rig.intact_length) / (2.0 * rig.radius)) > kMaxBodies)
+      t.fail(*node, "intact_length",
+             fmt::format("the lattice would hold more than {:g} bodies", kMaxBodies));
+  }
   rig.link_bending = t.number("bending_springs", Range::non_negative(), 1.0).value;
   rig.tiled_areas = t.choose<bool>("effective_areas", {{"tiled", true}, {"paper", false}}, true);
   if (rig.kind == physics::BeamTestKind::mmb) {
@@ -214,6 +229,8 @@ std::string validation_scenario_as_run(const ValidationScenario& v) {
       toml_number(r.initial_crack), toml_number(r.radius), toml_number(r.link_bending),
       r.tiled_areas ? "tiled" : "paper");
   if (r.kind == physics::BeamTestKind::mmb) out += fmt::format("mode_mix = {}\n", toml_number(r.mode_mix));
+  if (r.kind == physics::BeamTestKind::dcb)
+    out += fmt::format("intact_length = {}\n", toml_number(r.intact_length));
   out += fmt::format(
       "\n[material]\nyoung = {}\npoisson = {}\ndensity = {}\ncohesive_strength = {}\n"
       "fracture_energy = {}\ng_Ic = {}\ng_IIc = {}\ncontact_penalty = {}\nfriction = {}\n",

@@ -15,6 +15,8 @@
 ///                     E (2r)^3 / 12; 0 gives the paper's lattice, see physics/cubic_lattice.hpp)
 ///                     effective_areas = "tiled" (default: eq. 10's areas scaled to tile a
 ///                     plane, physics::tiled_areas) or "paper" (eq. 10 as it stands)
+///                     intact_length = 0 (DCB only; length unit, a whole number of 2r: the
+///                     beam goes on uncracked this far beyond the weak plane to the clamp)
 ///   [material]        young (Pa), poisson ([0, 0.25)), density (kg/m^3),
 ///                     cohesive_strength (Pa), fracture_energy (G_c of the weak plane, N/m):
 ///                     required; g_Ic, g_IIc (N/m, for the closed forms; default

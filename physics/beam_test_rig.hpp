@@ -8,9 +8,11 @@
 ///
 /// Set-ups (x along the beam, z up; lines of bodies run across the breadth):
 /// - DCB: the top and bottom lines of the left end are pulled apart at v each (Delta is their
-///   opening, P the mean of their reactions); the right-end cross-section is clamped, so a
-///   fully split arm is a cantilever (stage III of eq. 61). The notch runs a0 from the load
-///   line; the analytic length L is the distance from the load line to the clamp.
+///   opening, P the mean of their reactions); the right-end cross-section is clamped. The
+///   weak plane runs `length` from the left end, then (intact_length > 0) the beam goes on
+///   uncracked to the clamp, so that a fully split arm is a cantilever rooted in elastic
+///   material (stage III of eq. 61). The notch runs a0 from the load line; the analytic
+///   length L is the distance from the load line to the last column of the weak plane.
 /// - ENF: the bottom lines at both ends rest on supports (z held; the left one also in x);
 ///   the top line at mid-span is pushed down at v (Delta is its travel, P its reaction); the
 ///   notch runs a0 from the left support; the analytic half span L is support to load line.
@@ -22,6 +24,7 @@
 ///   opening at the left end (eq. 68), P the lever's load.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "physics/beam_theory.hpp"
@@ -36,6 +39,11 @@ struct BeamRigDef {
   double height = 0.0;         ///< 2h (m)
   double initial_crack = 0.0;  ///< a0 (m), from the load line (DCB, MMB) or support (ENF)
   double radius = 0.0;         ///< r (m): bodies are cubes of side 2r
+  /// DCB: uncracked beam beyond the weak plane's end (m), clamped at its far end; 0 clamps
+  /// the last column of the weak plane itself. Corrected beam theory's stage III (eq. 61,
+  /// a = L + chi_I h) has the split arms rooted in elastic material, not in a rigid clamp,
+  /// and a crack cannot run into a clamp: the clamped section's links never open.
+  double intact_length = 0.0;
   double mode_mix = 0.5;       ///< MMB: beta = G_II / G_T
   double link_bending = 1.0;   ///< CubicLatticeDef::link_bending (0: the paper's lattice)
   bool tiled_areas = true;     ///< CubicLatticeDef::tiled_areas (false: eq. 10's areas as they stand)
@@ -101,10 +109,23 @@ struct StageErrors {
   double from = 0.0, to = 0.0;  ///< the deflections compared (m)
   int points = 0;
   double mean_error = 0.0, max_error = 0.0;  ///< relative load errors |P - P_cf| / P_cf
+  /// The split stage (split_stage) only, else NaN: the slope P / Delta of the line through
+  /// the origin fitted to the measured points (least squares), and its relative error
+  /// against 1 / split_compliance.
+  double slope = std::numeric_limits<double>::quiet_NaN();
+  double slope_error = std::numeric_limits<double>::quiet_NaN();
 };
 /// Compares the measured loads with analytic_load over the stage's deflection range (from
 /// stage_range), leaving out `margin` of the range at either end (the corners of LEFM that a
 /// cohesive zone rounds off; an open-ended stage loses it at its start only).
+/// The split stage (DCB III, ENF IV) is instead the measured points at which the crack has
+/// reached the end of the weak plane, whenever that happened, against P = Delta /
+/// split_compliance, and their slope; none if it never got there. Reached means: fully
+/// decohered to within one arm thickness h of the end (crack >= split_crack - h), the
+/// length scale below which beam theory does not place a crack tip (its corrections chi h
+/// are of that size). The DCB needs the allowance: near the intact beam the opening of an
+/// arrested tip falls to zero, so the last links stay cohesive until the load is far higher
+/// (their share of the load fades as it grows).
 StageErrors compare_with_closed_form(const BeamTest& test, const std::vector<BeamReading>& curve,
                                      int stage, double margin);
 

@@ -275,6 +275,34 @@ std::pair<double, double> stage_range(const BeamTest& test, int stage) {
   return {kNaN, kNaN};
 }
 
+int split_stage(BeamTestKind kind) {
+  switch (kind) {
+    case BeamTestKind::dcb: return 3;
+    case BeamTestKind::enf: return 4;
+    case BeamTestKind::mmb: return 0;
+  }
+  return 0;
+}
+
+double split_compliance(const BeamTest& test) {
+  const Beam b(test);
+  switch (test.kind) {
+    case BeamTestKind::dcb: return b.compliance(test.L);  // eq. 61
+    case BeamTestKind::enf: return test.L * test.L * test.L / (12.0 * b.EI);  // eq. 65
+    case BeamTestKind::mmb: return kNaN;
+  }
+  return kNaN;
+}
+
+double split_crack(const BeamTest& test) {
+  switch (test.kind) {
+    case BeamTestKind::dcb: return test.L;
+    case BeamTestKind::enf: return 2.0 * test.L;
+    case BeamTestKind::mmb: return kNaN;
+  }
+  return kNaN;
+}
+
 std::optional<double> analytic_load(const BeamTest& test, int stage, double delta) {
   const auto [lo, hi] = stage_range(test, stage);
   // A stage's ends are computed along different formulas; forgive rounding there.
@@ -321,7 +349,7 @@ std::vector<CurvePoint> analytic_curve(const BeamTest& test, double delta_max, i
     if (stop) break;
   }
   if (test.kind == BeamTestKind::enf) {  // eq. 65: the split beam, as a reference line
-    const double c = test.L * test.L * test.L / (12.0 * b.EI);
+    const double c = split_compliance(test);
     for (int i = 0; i < n; ++i) {
       const double d = delta_max * i / (n - 1);
       out.push_back({d, d / c, 4, 2.0 * test.L});

@@ -21,8 +21,10 @@
 ///   a_II > L, with b = 2L - a_II, C = (8L^3 - 3 b^3) / (96EI) (eq. 64) and
 ///   G_II = 3 P^2 b^2 / (64 B' E I). Stages II and III meet at a_II = L (5 P L^3 / (96EI)).
 ///   As b -> 0 the load of stage III grows without bound and its curve approaches the split
-///   beam's line C = L^3 / (12EI) (eq. 65, stage IV) from below: on the LEFM path stage IV is
-///   a limit, never reached at finite load (see analytic_curve and stage_range).
+///   beam's line C = L^3 / (12EI) (eq. 65, stage IV) from above (stage III is the stiffer):
+///   on the LEFM path stage IV is a limit, never reached at finite load (see analytic_curve
+///   and stage_range). A lattice's crack does run through at a finite load (the paper's runs
+///   do past Delta = 2 mm); its stage IV is the part of its curve after that (split_stage).
 /// - MMB (eq. 66): the lever load P splits into an opening pair P_I = (3C - L) P / (4L) on
 ///   the arms' loaded ends and an ENF-like load P_II = (C + L) P / L whose end reaction is
 ///   shared equally by the two arms. The two parts deform the arms antisymmetrically and
@@ -122,5 +124,18 @@ std::optional<double> analytic_load(const BeamTest& test, int stage, double delt
 /// as ENF stage II when the snap-back jumps past the mid-span, ENF stage IV, or a stage the
 /// test does not have).
 std::pair<double, double> stage_range(const BeamTest& test, int stage);
+
+/// The stage on which the beam is split along the whole weak plane and loaded as stationary
+/// beams: DCB stage III (the arms clamped at a = L, eq. 61) and ENF stage IV (two beams on
+/// top of each other, eq. 65); 0 for the MMB, whose path ends before that.
+int split_stage(BeamTestKind kind);
+
+/// The compliance Delta / P of the split beam of split_stage: 2 (L + chi_I h)^3 / (3EI) for
+/// the DCB (eq. 61), L^3 / (12EI) for the ENF (eq. 65). NaN for the MMB.
+double split_compliance(const BeamTest& test);
+
+/// The crack length at which the beam is split along the whole weak plane: L for the DCB
+/// (from the load line), 2L for the ENF (from the left support). NaN for the MMB.
+double split_crack(const BeamTest& test);
 
 }  // namespace cleave::physics

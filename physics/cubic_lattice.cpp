@@ -135,7 +135,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
                 l.face_ks = order == 1 ? comp.ks_edge : comp.ks_diagonal;
               }
               l.breakable = weak && std::min(iz, jz) == def.weak_layer - 1 &&
-                            std::max(iz, jz) == def.weak_layer;
+                            std::max(iz, jz) == def.weak_layer &&
+                            0.5 * (x0_[i].x() + x0_[j].x()) <= def.weak_end_x + 1e-6 * r;
               if (order == 1 && !l.breakable)
                 l.kb = def.link_bending * mat.young * 8.0 * r * r * r / 12.0;
               if (l.breakable && 0.5 * (x0_[i].x() + x0_[j].x()) < def.notch_x - 1e-6 * r)
@@ -185,7 +186,10 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     const int half = kStencil / 2;
     for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
       const LatticeLink& l = links_[k];
-      if (!l.breakable) continue;
+      // Every link across the plane, the bulk ones beyond its end included (never in contact,
+      // they keep those pairs out of the face contacts).
+      const int layer = nx_ * ny_;
+      if (l.i / layer != def.weak_layer - 1 || l.j / layer != def.weak_layer) continue;
       const int lower = l.i, upper_body = l.j;  // i < j: i lies in the lower layer
       const int ux = upper_body % nx_, uy = (upper_body / nx_) % ny_;
       const int lx = lower % nx_, ly = (lower / nx_) % ny_;
@@ -408,12 +412,30 @@ void CubicLattice::face_contacts(double dt) {
           state = {};
           continue;
         }
-        const double fraction = fx * fy;
+        // The axis of least penetration (the separating axes of two nearly aligned cubes):
+        // the faces, as a rule; a side face when a cube comes in from the side deeper than it
+        // overlaps sideways (a beam's end sliding past the end of the beam below it), which
+        // the faces' Hertz law would meet with the full depth at once.
+        Eigen::Vector3d axis = nrm;
+        double depth = overlap, fraction = fx * fy;
+        const double side_x = 2.0 * r * fx, side_y = 2.0 * r * fy;  // sideways overlaps
+        if (side_x < depth || side_y < depth) {
+          const double fz = std::min(1.0, overlap / (2.0 * r));
+          if (side_x <= side_y) {
+            axis = (t.dot(Rd.col(0)) >= 0.0 ? 1.0 : -1.0) * Rd.col(0);
+            depth = side_x;
+            fraction = fz * fy;
+          } else {
+            axis = (t.dot(Rd.col(1)) >= 0.0 ? 1.0 : -1.0) * Rd.col(1);
+            depth = side_y;
+            fraction = fz * fx;
+          }
+        }
         // The contact point: between the faces, over the middle of their common patch.
         const Eigen::Vector3d c = x_[bd] + 0.5 * (s * nrm) + 0.5 * t;
         const Eigen::Vector3d rb = c - x_[bu], ra = c - x_[bd];
         const Eigen::Vector3d vrel = (v_[bu] + w_[bu].cross(rb)) - (v_[bd] + w_[bd].cross(ra));
-        const HertzMindlinForce hm = hertz_mindlin_force(hertz_, overlap, nrm, vrel, state, dt);
+        const HertzMindlinForce hm = hertz_mindlin_force(hertz_, depth, axis, vrel, state, dt);
         const Eigen::Vector3d fb = fraction * hm.force;
         contact_force_[slot] = fb;
         contact_moment_up_[slot] = rb.cross(fb);

@@ -38,6 +38,9 @@
 /// - Decohered faces touch as cube faces: the overlap along the mean face normal enters the
 ///   Hertz law (eq. 34, with the spheres' r* = r/2) scaled by the overlapping fraction of the
 ///   two faces, and Mindlin's tangential spring (eq. 40) with a Coulomb cap (our addition).
+///   A cube that comes in from the side, deeper than it overlaps sideways, touches by its
+///   side face instead (the axis of least penetration), as a beam's end does when it slides
+///   past the end of the beam below it.
 /// - Integration is the central-difference (leapfrog) scheme of sec. 6 (eqs 48-55) with
 ///   mass-proportional global damping, semi-implicit: v+ = ((1 - c dt/2) v- + dt F/m) / (1 +
 ///   c dt/2). A cube's inertia is isotropic (I = m (2r)^2 / 6), so the spin needs no frame.
@@ -50,6 +53,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "physics/cohesive_law.hpp"
@@ -112,6 +116,9 @@ struct CubicLatticeDef {
   /// notch). A link whose midpoint lies at notch_x (within 1e-6 r, so that the rounding of
   /// r + a0 cannot decide) stays connective.
   double notch_x = 0.0;
+  /// Links across the weak plane whose midpoint lies beyond weak_end_x (by more than 1e-6 r)
+  /// are bulk links that never crack: the weak plane ends there (infinity: it runs through).
+  double weak_end_x = std::numeric_limits<double>::infinity();
   double global_damping = 0.0;  ///< c (1/s) of the mass-proportional damping
   /// Bending springs of the connective first-neighbour links, as a multiple of E (2r)^3 / 12
   /// (see the file comment); 0 gives the paper's lattice of point springs alone.

@@ -356,3 +356,23 @@ TEST(BeamTheory, InconsistentTestsAreRejected) {
   t.C = 0.3 * kHalfSpan;  // P_I < 0: the lever closes the crack
   EXPECT_THROW(analytic_curve(t, 1e-3, 10), std::invalid_argument);
 }
+
+TEST(BeamTheory, SplitBeamsAreTheDcbArmsClampedAtLAndTheEnfsTwoStackedBeams) {
+  // DCB stage III (eq. 61): two cantilevers L + chi_I h long, C = 2 (L + chi_I h)^3 / (3EI).
+  // By hand: L + chi_I h = 30.64514535 mm, cubed 2.8779620e-5 m^3 -> C = 9.5932067e-4 m/N.
+  EXPECT_EQ(split_stage(BeamTestKind::dcb), 3);
+  EXPECT_NEAR(split_compliance(dcb()), 9.5932067e-4, 1e-11);
+  EXPECT_DOUBLE_EQ(split_crack(dcb()), 30e-3);
+  // ENF stage IV (eq. 65): two beams of EI each on a span 2L, C = (2L)^3 / (48 * 2EI).
+  // By hand: 15.125 mm cubed = 3.4600801e-6 m^3 / (12 * 0.02) = 1.4417000e-5 m/N.
+  EXPECT_EQ(split_stage(BeamTestKind::enf), 4);
+  EXPECT_NEAR(split_compliance(enf()), 1.4417000e-5, 1e-12);
+  EXPECT_DOUBLE_EQ(split_crack(enf()), 2 * kHalfSpan);
+  // The MMB's path ends before its beam splits.
+  EXPECT_EQ(split_stage(BeamTestKind::mmb), 0);
+  EXPECT_TRUE(std::isnan(split_compliance(mmb(0.5))));
+  // The ENF's stage III lies above the split line (stiffer) and meets it only in the limit.
+  const auto c = analytic_curve(enf(), 3e-3, 50);
+  for (const CurvePoint& p : c)
+    if (p.stage == 3) EXPECT_GT(p.load, p.delta / split_compliance(enf()));
+}

@@ -120,6 +120,42 @@ TEST(BeamLattice, TheNotchEndsAtTheCrackLengthWhateverTheRoundingOfRPlusA0) {
   }
 }
 
+TEST(BeamLattice, TheWeakPlaneEndsWhereTheIntactBeamBegins) {
+  // A DCB 30 mm long with 3 mm of intact beam beyond it: every link across the mid-plane
+  // up to the weak plane's last column (centre x = 30 mm - r) may crack, none beyond it,
+  // and those beyond it are bulk links (first neighbours get bending springs).
+  BeamRigDef rig;
+  rig.kind = BeamTestKind::dcb;
+  rig.radius = 0.125e-3;
+  rig.length = 30e-3;
+  rig.intact_length = 3e-3;
+  rig.breadth = 0.5e-3;
+  rig.height = 2e-3;
+  rig.initial_crack = 9e-3;
+  rig.material = paper_material();
+  const CubicLatticeDef def = beam_lattice(rig);
+  EXPECT_EQ(def.nx, 132);  // 120 + 12 columns of 0.25 mm
+  CubicLattice lat(def);
+  const int layer = def.nx * def.ny;
+  int weak = 0, bulk = 0;
+  for (const LatticeLink& l : lat.links()) {
+    if (l.i / layer != def.weak_layer - 1 || l.j / layer != def.weak_layer) continue;
+    const long ix = l.i % def.nx, jx = l.j % def.nx;
+    const bool within = ix + jx <= 2 * 119;  // midpoint at or before column 119
+    EXPECT_EQ(l.breakable, within) << "link " << ix << "-" << jx;
+    if (!within && l.kind == 1) EXPECT_GT(l.kb, 0.0) << "bulk link " << ix << "-" << jx;
+    (within ? weak : bulk) += 1;
+  }
+  // Per row across the breadth: 120 verticals + 119 x-diagonal pairs within; 12 + 12 pairs
+  // beyond (the pair straddling columns 119-120 lies beyond).
+  EXPECT_GT(weak, 0);
+  EXPECT_GT(bulk, 0);
+  BeamTestRig dcb(rig);
+  EXPECT_DOUBLE_EQ(dcb.analytic().L, 29.75e-3);  // load line to the last weak column
+  rig.kind = BeamTestKind::enf;
+  EXPECT_THROW(beam_lattice(rig), std::invalid_argument);
+}
+
 class CauchyBorn : public ::testing::TestWithParam<int> {};
 
 TEST_P(CauchyBorn, ABulkBodyStoresTheIsotropicStrainEnergyOfItsCell) {
@@ -319,4 +355,71 @@ TEST(CantileverBending, WideArmsNeedTheCalibratedSpringsOfTheValidations) {
               calibrated);
   EXPECT_LT(derived, 0.98);
   EXPECT_NEAR(calibrated, 1.0, 0.01);
+}
+
+TEST(SplitBeamStage, IsJudgedOnlyAfterTheCrackRanThroughAndByItsSlope) {
+  // Synthetic readings of the DCB: before the crack reaches L (within h) they lie on a
+  // stiffer line, after it on P = s Delta / C with C of eq. 61; the slope is a line's
+  // through the origin.
+  BeamTest t{BeamTestKind::dcb, 120e9, 0.2, 2e-3, 1e-3, 30e-3, 9e-3, 0.125e-3, 260.0, 1002.0};
+  const double C = split_compliance(t);
+  for (const double s : {1.0, 1.03, 0.9}) {
+    std::vector<BeamReading> curve;
+    for (int i = 1; i <= 40; ++i) {
+      BeamReading r;
+      r.delta = 0.1e-3 * i;
+      const bool split = i > 25;
+      // Split: decohered to within h = 1 mm of L (the last links still cohesive).
+      r.crack = split ? 29.2e-3 : 28.8e-3;
+      r.process_zone = 30e-3;
+      r.load = (split ? s : 1.4) * r.delta / C;
+      curve.push_back(r);
+    }
+    const StageErrors e = compare_with_closed_form(t, curve, 3, 0.1);
+    EXPECT_EQ(e.points, 15);
+    EXPECT_NEAR(e.from, 2.6e-3, 1e-12);
+    EXPECT_NEAR(e.to, 4.0e-3, 1e-12);
+    EXPECT_NEAR(e.slope * C, s, 1e-9);
+    EXPECT_NEAR(e.slope_error, std::abs(s - 1.0), 1e-9);
+    EXPECT_NEAR(e.mean_error, std::abs(s - 1.0), 1e-9);
+  }
+  // A crack that never ran through leaves nothing to compare.
+  std::vector<BeamReading> stuck(10);
+  for (int i = 0; i < 10; ++i) stuck[i] = {0, 0.0, 1e-3 * (i + 1), 1.0 * (i + 1), 28.75e-3, 30e-3};
+  const StageErrors none = compare_with_closed_form(t, stuck, 3, 0.1);
+  EXPECT_EQ(none.points, 0);
+  EXPECT_TRUE(std::isnan(none.slope_error));
+}
+
+TEST(CubeFaceContact, ACubeComingInFromTheSideTouchesByItsSideFace) {
+  // One cube over another across a notch: moved sideways off the lower face, down by r/2,
+  // then back towards it by e = r/20. Its side face now overlaps the lower cube's by e
+  // while its bottom lies r/2 below the lower top face: the least penetration is sideways,
+  // so the force is eq. 34 at depth e along x over the side faces' common patch (a quarter
+  // of a face: r/2 of its height 2r, all its breadth), with nothing along z.
+  CubicLatticeDef def;
+  def.nx = def.ny = 1;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.weak_layer = 1;
+  def.notch_x = 1.0;
+  CubicLattice lat(def);
+  lat.prescribe(0, 15u);
+  lat.prescribe(1, 15u);
+  const double r = def.radius, dt = 1e-9, e = r / 20;
+  const auto move = [&](double dx, double dz) {
+    lat.set_velocity(1, 0, dx / (100 * dt));
+    lat.set_velocity(1, 2, dz / (100 * dt));
+    for (int i = 0; i < 100; ++i) lat.step(dt);
+  };
+  move(2 * r + 0.01 * r, 0.0);
+  move(0.0, -0.5 * r);
+  EXPECT_EQ(lat.forces()[1].norm(), 0.0);  // beside it, not yet touching
+  move(-0.01 * r - e, 0.0);
+  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9);
+  const double hertz = 4.0 / 3.0 * E_star * std::sqrt(r / 2) * std::pow(e, 1.5);
+  EXPECT_NEAR(lat.forces()[1].x(), 0.25 * hertz, 1e-6 * hertz);
+  EXPECT_NEAR(lat.forces()[1].z(), 0.0, 1e-9 * hertz);
+  EXPECT_NEAR(lat.forces()[0].x(), -0.25 * hertz, 1e-6 * hertz);
 }

@@ -192,7 +192,8 @@ TEST(ValidationScenarioAsRun, EveryShippedScenarioReadsBackEqual) {
     for (auto [x, y] : {std::pair{ra.length, rb.length}, {ra.breadth, rb.breadth},
                         {ra.height, rb.height}, {ra.initial_crack, rb.initial_crack},
                         {ra.radius, rb.radius}, {ra.mode_mix, rb.mode_mix},
-                        {ra.link_bending, rb.link_bending}, {ra.material.young, rb.material.young},
+                        {ra.link_bending, rb.link_bending}, {ra.intact_length, rb.intact_length},
+                        {ra.material.young, rb.material.young},
                         {ra.material.poisson, rb.material.poisson},
                         {ra.material.density, rb.material.density},
                         {ra.material.sigma_c, rb.material.sigma_c}, {ra.material.g_c, rb.material.g_c},
@@ -237,4 +238,40 @@ TEST(ValidationScenario, EffectiveAreasAreTiledUnlessThePapersAreAskedFor) {
     EXPECT_NE(what.find("effective_areas"), std::string::npos) << what;
     EXPECT_NE(what.find("tiled"), std::string::npos) << what;
   }
+}
+
+TEST(ValidationScenario, IntactLengthIsForTheDcbInWholeCellsAndRunsAsWritten) {
+  // The shipped coarse DCB with its intact_length (and the comment under it) taken out.
+  std::string dcb = shipped_dcb_coarse();
+  const auto from = dcb.find("intact_length"), to = dcb.find("bending_springs");
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_LT(from, to);
+  dcb.erase(from, to - from);
+  const auto with_key = [&](const std::string& text, const std::string& line) {
+    std::string s = text;
+    s.insert(s.find("[material]"), line + "\n\n");
+    return s;
+  };
+  EXPECT_EQ(cleave::io::parse_validation_scenario(dcb, "dcb.toml").rig.intact_length, 0.0);
+  const auto v = cleave::io::parse_validation_scenario(with_key(dcb, "intact_length = 3.0"), "dcb.toml");
+  EXPECT_DOUBLE_EQ(v.rig.intact_length, 3e-3);
+  EXPECT_EQ(cleave::io::parse_validation_scenario(cleave::io::validation_scenario_as_run(v), "as_run.toml")
+                .rig.intact_length,
+            v.rig.intact_length);
+  const auto rejects = [&](const std::string& text, const std::string& file, const std::string& words) {
+    try {
+      (void)cleave::io::parse_validation_scenario(text, file);
+      ADD_FAILURE() << "accepted: " << words;
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file + ":"), std::string::npos) << what;
+      EXPECT_NE(what.find("intact_length"), std::string::npos) << what;
+      EXPECT_NE(what.find(words), std::string::npos) << what;
+    }
+  };
+  rejects(with_key(dcb, "intact_length = 3.1"), "dcb.toml", "whole number");
+  rejects(with_key(dcb, "intact_length = -1.0"), "dcb.toml", "intact_length");
+  const std::string enf = cleave::io::toml_reader::read_scenario_text(
+      std::string(CLEAVE_SOURCE_DIR) + "/scenarios/validation/enf_coarse.toml");
+  rejects(with_key(enf, "intact_length = 3.0"), "enf.toml", "only a DCB");
 }
