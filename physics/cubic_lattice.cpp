@@ -181,6 +181,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     contact_force_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
     contact_moment_up_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
     contact_moment_down_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
+    contact_centre_.resize(upper);
+    for (int u = 0; u < upper; ++u) contact_centre_[u] = {u % nx_, u / nx_};
     // The link (if any) between each upper body and the lower body of each stencil slot.
     stencil_link_.assign(upper * kStencil * kStencil, -1);
     const int half = kStencil / 2;
@@ -375,17 +377,45 @@ void CubicLattice::face_contacts(double dt) {
     const int ix = u % nx_, iy = u / nx_;
     const int bu = index(ix, iy, up);
     const Eigen::Matrix3d& Ru = rotation_[upper_count + u];
+    // The stencil follows the slip of the faces: it is centred on the lower body nearest
+    // under this one, walked from last step's (the faces slip far less than a cube a step).
+    // Once a beam is split, nothing bounds how far its halves slide along each other.
+    int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
+    const Eigen::Vector3d& xu = x_[bu];
+    const auto dx = [&](int jx) { return std::abs(x_[index(jx, cy, down)].x() - xu.x()); };
+    while (cx + 1 < nx_ && dx(cx + 1) < dx(cx)) ++cx;
+    while (cx > 0 && dx(cx - 1) < dx(cx)) --cx;
+    const auto dy = [&](int jy) { return std::abs(x_[index(cx, jy, down)].y() - xu.y()); };
+    while (cy + 1 < ny_ && dy(cy + 1) < dy(cy)) ++cy;
+    while (cy > 0 && dy(cy - 1) < dy(cy)) --cy;
+    if (cx != contact_centre_[u][0] || cy != contact_centre_[u][1]) {
+      // The same lower bodies keep their contact state in their new slots.
+      const int mx = cx - contact_centre_[u][0], my = cy - contact_centre_[u][1];
+      std::array<HertzMindlinState, kStencil * kStencil> moved{};
+      for (int sy = 0; sy < kStencil; ++sy)
+        for (int sx = 0; sx < kStencil; ++sx) {
+          const int ox = sx + mx, oy = sy + my;
+          if (ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil)
+            moved[sy * kStencil + sx] = contact_state_[u * kStencil * kStencil + oy * kStencil + ox];
+        }
+      std::copy(moved.begin(), moved.end(), contact_state_.begin() + u * kStencil * kStencil);
+      contact_centre_[u] = {cx, cy};
+    }
     for (int sy = 0; sy < kStencil; ++sy)
       for (int sx = 0; sx < kStencil; ++sx) {
         const int slot = u * kStencil * kStencil + sy * kStencil + sx;
-        const int jx = ix + sx - half, jy = iy + sy - half;
+        const int jx = cx + sx - half, jy = cy + sy - half;
         contact_force_[slot].setZero();
         contact_moment_up_[slot].setZero();
         contact_moment_down_[slot].setZero();
         if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
         const int bd = index(jx, jy, down);
-        // A pair with a live spring between them is held by it.
-        const int link = stencil_link_[slot];
+        // A pair with a live spring between them is held by it (links join neighbours in
+        // the rest lattice, so by offsets from this body's own column).
+        const int ox = jx - ix + half, oy = jy - iy + half;
+        const int link = ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil
+                             ? stencil_link_[u * kStencil * kStencil + oy * kStencil + ox]
+                             : -1;
         const bool linked = link >= 0 && links_[link].state.phase != LinkPhase::contact;
         HertzMindlinState& state = contact_state_[slot];
         if (linked) {
@@ -442,8 +472,8 @@ void CubicLattice::face_contacts(double dt) {
         contact_moment_down_[slot] = ra.cross(-fb);
       }
   }
-  // Gather in a fixed order: each upper body its 25 slots, each lower body the 25 slots that
-  // name it.
+  // Gather in a fixed order: each upper body its 25 slots, then the lower bodies' shares in
+  // the same order (serial: any thread count sums alike).
   for (int u = 0; u < upper_count; ++u) {
     const int ix = u % nx_, iy = u / nx_;
     const int bu = index(ix, iy, up);
@@ -453,14 +483,14 @@ void CubicLattice::face_contacts(double dt) {
       m_[bu] += contact_moment_up_[slot];
     }
   }
-  for (int l = 0; l < upper_count; ++l) {
-    const int jx = l % nx_, jy = l / nx_;
-    const int bd = index(jx, jy, down);
+  for (int u = 0; u < upper_count; ++u) {
+    const int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
     for (int sy = 0; sy < kStencil; ++sy)
       for (int sx = 0; sx < kStencil; ++sx) {
-        const int ix = jx - (sx - half), iy = jy - (sy - half);
-        if (ix < 0 || iy < 0 || ix >= nx_ || iy >= ny_) continue;
-        const int slot = (ix + nx_ * iy) * kStencil * kStencil + sy * kStencil + sx;
+        const int jx = cx + sx - half, jy = cy + sy - half;
+        if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
+        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
+        const int bd = index(jx, jy, down);
         f_[bd] -= contact_force_[slot];
         m_[bd] += contact_moment_down_[slot];
       }

@@ -40,7 +40,9 @@
 ///   two faces, and Mindlin's tangential spring (eq. 40) with a Coulomb cap (our addition).
 ///   A cube that comes in from the side, deeper than it overlaps sideways, touches by its
 ///   side face instead (the axis of least penetration), as a beam's end does when it slides
-///   past the end of the beam below it.
+///   past the end of the beam below it. Each upper face is tested against the 5 x 5 lower
+///   faces around the one nearest under it, found anew each step, so the halves of a split
+///   beam keep touching however far they slide along each other.
 /// - Integration is the central-difference (leapfrog) scheme of sec. 6 (eqs 48-55) with
 ///   mass-proportional global damping, semi-implicit: v+ = ((1 - c dt/2) v- + dt F/m) / (1 +
 ///   c dt/2). A cube's inertia is isotropic (I = m (2r)^2 / 6), so the spin needs no frame.
@@ -220,11 +222,13 @@ class CubicLattice {
   std::vector<int> incident_start_, incident_;
   std::vector<Eigen::Vector3d> link_force_, link_moment_;  // on j; moment on both
   std::vector<Eigen::Vector3d> link_couple_;               // bending couple on j (-: on i)
-  // Face contacts across the weak plane: body above, stencil slot (5 x 5 offsets below).
+  // Face contacts across the weak plane: body above, stencil slot (5 x 5 lower bodies around
+  // the one nearest under it, contact_centre_, which follows the faces' slip).
   static constexpr int kStencil = 5;
   std::vector<HertzMindlinState> contact_state_;           // per upper body x 25
   std::vector<Eigen::Vector3d> contact_force_, contact_moment_up_, contact_moment_down_;
-  std::vector<int> stencil_link_;
+  std::vector<std::array<int, 2>> contact_centre_;         // per upper body: (jx, jy) below
+  std::vector<int> stencil_link_;  // per upper body x 25 offsets from its own (ix, iy)
   // Bodies next to the weak plane: how free each is (mean damage of its links across the
   // plane, 1 for decohered ones), by body index (0 elsewhere).
   std::vector<double> freedom_;

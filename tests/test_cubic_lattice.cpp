@@ -143,11 +143,11 @@ TEST(BeamLattice, TheWeakPlaneEndsWhereTheIntactBeamBegins) {
     const long ix = l.i % def.nx, jx = l.j % def.nx;
     const bool within = ix + jx <= 2 * 119;  // midpoint at or before column 119
     EXPECT_EQ(l.breakable, within) << "link " << ix << "-" << jx;
-    if (!within && l.kind == 1) EXPECT_GT(l.kb, 0.0) << "bulk link " << ix << "-" << jx;
+    if (!within && l.kind == 1) {
+      EXPECT_GT(l.kb, 0.0) << "bulk link " << ix << "-" << jx;
+    }
     (within ? weak : bulk) += 1;
   }
-  // Per row across the breadth: 120 verticals + 119 x-diagonal pairs within; 12 + 12 pairs
-  // beyond (the pair straddling columns 119-120 lies beyond).
   EXPECT_GT(weak, 0);
   EXPECT_GT(bulk, 0);
   BeamTestRig dcb(rig);
@@ -389,6 +389,39 @@ TEST(SplitBeamStage, IsJudgedOnlyAfterTheCrackRanThroughAndByItsSlope) {
   const StageErrors none = compare_with_closed_form(t, stuck, 3, 0.1);
   EXPECT_EQ(none.points, 0);
   EXPECT_TRUE(std::isnan(none.slope_error));
+}
+
+TEST(CubeFaceContact, FacesSlidFarAlongEachOtherStillTouch) {
+  // Two layers of ten cubes, decohered everywhere, pressed together by delta and then slid
+  // along each other by five cubes (a split beam's halves slide that far): the upper cubes
+  // still over the lower layer feel eq. 34 in full, the ones beyond its end nothing, and
+  // the lower cubes under them the reaction.
+  CubicLatticeDef def;
+  def.nx = 10;
+  def.ny = 1;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.weak_layer = 1;
+  def.notch_x = 1.0;
+  CubicLattice lat(def);
+  const double r = def.radius, delta = 1e-7, dt = 1e-9;
+  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9);
+  const double hertz = 4.0 / 3.0 * E_star * std::sqrt(r / 2) * std::pow(delta, 1.5);
+  for (int b = 0; b < lat.size(); ++b) lat.prescribe(b, 15u);
+  for (int ix = 0; ix < 10; ++ix) lat.set_velocity(lat.index(ix, 0, 1), 2, -delta / (100 * dt));
+  for (int i = 0; i < 100; ++i) lat.step(dt);
+  for (int ix = 0; ix < 10; ++ix) {
+    lat.set_velocity(lat.index(ix, 0, 1), 2, 0.0);
+    lat.set_velocity(lat.index(ix, 0, 1), 0, 10 * r / (2000 * dt));
+  }
+  for (int i = 0; i < 2000; ++i) lat.step(dt);
+  for (int ix = 0; ix < 10; ++ix) {
+    const double f_up = lat.forces()[lat.index(ix, 0, 1)].z();
+    const double f_down = lat.forces()[lat.index(ix, 0, 0)].z();
+    EXPECT_NEAR(f_up, ix < 5 ? hertz : 0.0, 1e-6 * hertz) << "upper cube " << ix;
+    EXPECT_NEAR(f_down, ix >= 5 ? -hertz : 0.0, 1e-6 * hertz) << "lower cube " << ix;
+  }
 }
 
 TEST(CubeFaceContact, ACubeComingInFromTheSideTouchesByItsSideFace) {
