@@ -23,8 +23,9 @@
 ///   As b -> 0 the load of stage III grows without bound and its curve approaches the split
 ///   beam's line C = L^3 / (12EI) (eq. 65, stage IV) from above (stage III is the stiffer):
 ///   on the LEFM path stage IV is a limit, never reached at finite load (see analytic_curve
-///   and stage_range). A lattice's crack does run through at a finite load (the paper's runs
-///   do past Delta = 2 mm); its stage IV is the part of its curve after that (split_stage).
+///   and stage_range); with the paper's ENF the crack comes within h of the far support only
+///   at Delta = 17 mm. Should a simulated crack run through earlier (the paper's runs did
+///   past Delta = 2 mm), its stage IV is the part of its curve after that (split_stage).
 /// - MMB (eq. 66): the lever load P splits into an opening pair P_I = (3C - L) P / (4L) on
 ///   the arms' loaded ends and an ENF-like load P_II = (C + L) P / L whose end reaction is
 ///   shared equally by the two arms. The two parts deform the arms antisymmetrically and
