@@ -44,6 +44,39 @@ double isotropic_energy_density(const Eigen::Matrix3d& e, double E, double nu) {
   return 0.5 * lambda * e.trace() * e.trace() + mu * (e.array() * e.array()).sum();
 }
 
+/// The paper's DCB (sec. 7.1: 30 x B x 2 mm, a0 = 9 mm, r = 0.125 mm) as a rig definition.
+BeamRigDef paper_dcb(double breadth) {
+  BeamRigDef rig;
+  rig.kind = BeamTestKind::dcb;
+  rig.radius = 0.125e-3;
+  rig.length = 30e-3;
+  rig.breadth = breadth;
+  rig.height = 2e-3;
+  rig.initial_crack = 9e-3;
+  rig.material = paper_material();
+  return rig;
+}
+
+/// Two layers of nx cubes (one across) either side of a weak plane that starts decohered
+/// everywhere: the set-up of the crack-face contact tests.
+CubicLatticeDef decohered_layers(int nx) {
+  CubicLatticeDef def;
+  def.nx = nx;
+  def.ny = 1;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.weak_layer = 1;
+  def.notch_x = 1.0;  // everything across the plane starts in contact
+  return def;
+}
+
+/// Eq. 34 between two of the paper's cubes face to face (E* of equal solids, r* = r/2).
+double hertz_force(double r, double overlap) {
+  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9);
+  return 4.0 / 3.0 * E_star * std::sqrt(r / 2) * std::pow(overlap, 1.5);
+}
+
 }  // namespace
 
 TEST(LatticeSprings, Eq3StiffnessesAndEffectiveAreas) {
@@ -96,13 +129,7 @@ TEST(BeamLattice, TheNotchEndsAtTheCrackLengthWhateverTheRoundingOfRPlusA0) {
   // crack tip (column 36, centre x = 73 r) lies exactly at r + a0, which in double rounds
   // to one ulp above 73 r: it must stay connective, with everything before it decohered.
   // Checked in whole cells against every link across the plane.
-  BeamRigDef rig;
-  rig.kind = BeamTestKind::dcb;
-  rig.radius = 0.125e-3;
-  rig.length = 30e-3;
-  rig.breadth = 2e-3;
-  rig.height = 2e-3;
-  rig.material = paper_material();
+  BeamRigDef rig = paper_dcb(2e-3);
   for (const double a0_mm : {9.0, 6.0, 12.0, 8.75}) {
     rig.initial_crack = a0_mm * 1e-3;
     CubicLattice lat(beam_lattice(rig));
@@ -124,15 +151,8 @@ TEST(BeamLattice, TheWeakPlaneEndsWhereTheIntactBeamBegins) {
   // A DCB 30 mm long with 3 mm of intact beam beyond it: every link across the mid-plane
   // up to the weak plane's last column (centre x = 30 mm - r) may crack, none beyond it,
   // and those beyond it are bulk links (first neighbours get bending springs).
-  BeamRigDef rig;
-  rig.kind = BeamTestKind::dcb;
-  rig.radius = 0.125e-3;
-  rig.length = 30e-3;
+  BeamRigDef rig = paper_dcb(0.5e-3);
   rig.intact_length = 3e-3;
-  rig.breadth = 0.5e-3;
-  rig.height = 2e-3;
-  rig.initial_crack = 9e-3;
-  rig.material = paper_material();
   const CubicLatticeDef def = beam_lattice(rig);
   EXPECT_EQ(def.nx, 132);  // 120 + 12 columns of 0.25 mm
   CubicLattice lat(def);
@@ -229,18 +249,10 @@ TEST(CubeFaceContact, HertzLawOverTheFacesCommonPatch) {
   // Two cubes across a notch (the link starts decohered): pressed together by delta, the
   // force is eq. 34 with r* = r/2 (equal cubes); shifted sideways by half a side, half of
   // each face touches and the force halves; frictionless, no tangential force.
-  CubicLatticeDef def;
-  def.nx = 2;
-  def.ny = 1;
-  def.nz = 2;
-  def.radius = 0.125e-3;
-  def.material = paper_material();
-  def.weak_layer = 1;
-  def.notch_x = 1.0;  // everything across the plane starts in contact
+  const CubicLatticeDef def = decohered_layers(2);
   CubicLattice lat(def);
   const double r = def.radius, delta = 1e-7;
-  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9), r_star = r / 2;
-  const double hertz = 4.0 / 3.0 * E_star * std::sqrt(r_star) * std::pow(delta, 1.5);
+  const double hertz = hertz_force(r, delta);
   for (int b = 0; b < lat.size(); ++b) lat.prescribe(b, 15u);
   // Upper layer down by delta over 100 steps.
   const int top0 = lat.index(0, 0, 1), top1 = lat.index(1, 0, 1);
@@ -396,18 +408,10 @@ TEST(CubeFaceContact, FacesSlidFarAlongEachOtherStillTouch) {
   // along each other by five cubes (a split beam's halves slide that far): the upper cubes
   // still over the lower layer feel eq. 34 in full, the ones beyond its end nothing, and
   // the lower cubes under them the reaction.
-  CubicLatticeDef def;
-  def.nx = 10;
-  def.ny = 1;
-  def.nz = 2;
-  def.radius = 0.125e-3;
-  def.material = paper_material();
-  def.weak_layer = 1;
-  def.notch_x = 1.0;
+  const CubicLatticeDef def = decohered_layers(10);
   CubicLattice lat(def);
   const double r = def.radius, delta = 1e-7, dt = 1e-9;
-  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9);
-  const double hertz = 4.0 / 3.0 * E_star * std::sqrt(r / 2) * std::pow(delta, 1.5);
+  const double hertz = hertz_force(r, delta);
   for (int b = 0; b < lat.size(); ++b) lat.prescribe(b, 15u);
   for (int ix = 0; ix < 10; ++ix) lat.set_velocity(lat.index(ix, 0, 1), 2, -delta / (100 * dt));
   for (int i = 0; i < 100; ++i) lat.step(dt);
@@ -430,13 +434,7 @@ TEST(CubeFaceContact, ACubeComingInFromTheSideTouchesByItsSideFace) {
   // while its bottom lies r/2 below the lower top face: the least penetration is sideways,
   // so the force is eq. 34 at depth e along x over the side faces' common patch (a quarter
   // of a face: r/2 of its height 2r, all its breadth), with nothing along z.
-  CubicLatticeDef def;
-  def.nx = def.ny = 1;
-  def.nz = 2;
-  def.radius = 0.125e-3;
-  def.material = paper_material();
-  def.weak_layer = 1;
-  def.notch_x = 1.0;
+  const CubicLatticeDef def = decohered_layers(1);
   CubicLattice lat(def);
   lat.prescribe(0, 15u);
   lat.prescribe(1, 15u);
@@ -450,8 +448,7 @@ TEST(CubeFaceContact, ACubeComingInFromTheSideTouchesByItsSideFace) {
   move(0.0, -0.5 * r);
   EXPECT_EQ(lat.forces()[1].norm(), 0.0);  // beside it, not yet touching
   move(-0.01 * r - e, 0.0);
-  const double E_star = 1.0 / (2 * (1 - 0.04) / 120e9);
-  const double hertz = 4.0 / 3.0 * E_star * std::sqrt(r / 2) * std::pow(e, 1.5);
+  const double hertz = hertz_force(r, e);
   EXPECT_NEAR(lat.forces()[1].x(), 0.25 * hertz, 1e-6 * hertz);
   EXPECT_NEAR(lat.forces()[1].z(), 0.0, 1e-9 * hertz);
   EXPECT_NEAR(lat.forces()[0].x(), -0.25 * hertz, 1e-6 * hertz);
