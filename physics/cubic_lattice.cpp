@@ -186,11 +186,11 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     // The link (if any) between each upper body and the lower body of each stencil slot.
     stencil_link_.assign(upper * kStencil * kStencil, -1);
     const int half = kStencil / 2;
+    const int layer = nx_ * ny_;
     for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
       const LatticeLink& l = links_[k];
       // Every link across the plane, the bulk ones beyond its end included (never in contact,
       // they keep those pairs out of the face contacts).
-      const int layer = nx_ * ny_;
       if (l.i / layer != def.weak_layer - 1 || l.j / layer != def.weak_layer) continue;
       const int lower = l.i, upper_body = l.j;  // i < j: i lies in the lower layer
       const int ux = upper_body % nx_, uy = (upper_body / nx_) % ny_;
@@ -472,24 +472,18 @@ void CubicLattice::face_contacts(double dt) {
         contact_moment_down_[slot] = ra.cross(-fb);
       }
   }
-  // Gather in a fixed order: each upper body its 25 slots, then the lower bodies' shares in
-  // the same order (serial: any thread count sums alike).
+  // Gather serially in a fixed order (any thread count sums alike): each upper body its 25
+  // slots, each slot's reaction to its lower body.
   for (int u = 0; u < upper_count; ++u) {
-    const int ix = u % nx_, iy = u / nx_;
-    const int bu = index(ix, iy, up);
-    for (int s = 0; s < kStencil * kStencil; ++s) {
-      const int slot = u * kStencil * kStencil + s;
-      f_[bu] += contact_force_[slot];
-      m_[bu] += contact_moment_up_[slot];
-    }
-  }
-  for (int u = 0; u < upper_count; ++u) {
+    const int bu = index(u % nx_, u / nx_, up);
     const int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
     for (int sy = 0; sy < kStencil; ++sy)
       for (int sx = 0; sx < kStencil; ++sx) {
+        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
+        f_[bu] += contact_force_[slot];
+        m_[bu] += contact_moment_up_[slot];
         const int jx = cx + sx - half, jy = cy + sy - half;
         if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
-        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
         const int bd = index(jx, jy, down);
         f_[bd] -= contact_force_[slot];
         m_[bd] += contact_moment_down_[slot];
