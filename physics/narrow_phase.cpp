@@ -382,8 +382,16 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
   if (eb.size() > kMaxEdges || ea.size() > kMaxEdges) return;
   std::array<bool, kMaxEdges> near_b;
   std::array<std::uint8_t, kMaxEdges> patches_of_b{};  // bit k: on patch k's face of B
+  std::array<Eigen::Vector3d, kMaxEdges> mid_b;         // midpoints and half lengths of B's
+  std::array<double, kMaxEdges> half_b;                 // near edges, for the bound below
   for (std::size_t j = 0; j < eb.size(); ++j) {
     near_b[j] = edge_near(b_to_a, eb[j], reach);
+    if (near_b[j]) {
+      const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
+      const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
+      mid_b[j] = 0.5 * (p2 + q2);
+      half_b[j] = 0.5 * (q2 - p2).norm();
+    }
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fb);
       if (eb[j].left_face == f || eb[j].right_face == f) patches_of_b[j] |= std::uint8_t(1u << k);
@@ -406,10 +414,10 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
       if (!near_b[j] || (patches_of_a & patches_of_b[j]) != 0) continue;  // patch has them
       // Two segments whose midpoints are further apart than their half lengths plus the
       // reach cannot touch.
+      const double bound = h1 + half_b[j] + reach;
+      if ((mid_b[j] - m1).squaredNorm() > bound * bound) continue;
       const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
       const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-      const double bound = h1 + 0.5 * (q2 - p2).norm() + reach;
-      if ((0.5 * (p2 + q2) - m1).squaredNorm() > bound * bound) continue;
       if (d1.cross(b.edge_directions[j]).squaredNorm() < 1e-12) continue;  // parallel
       const std::uint32_t code_j = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j));
       auto hit = cylinder_cylinder(p1, q1, a.radius, p2, q2, b.radius, margin);

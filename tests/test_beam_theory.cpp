@@ -373,6 +373,8 @@ TEST(BeamTheory, SplitBeamsAreTheDcbArmsClampedAtLAndTheEnfsTwoStackedBeams) {
   EXPECT_TRUE(std::isnan(split_compliance(mmb(0.5))));
   // The ENF's stage III lies above the split line (stiffer) and meets it only in the limit.
   const auto c = analytic_curve(enf(), 3e-3, 50);
-  for (const CurvePoint& p : c)
-    if (p.stage == 3) EXPECT_GT(p.load, p.delta / split_compliance(enf()));
+  for (const CurvePoint& p : c) {
+    if (p.stage != 3) continue;
+    EXPECT_GT(p.load, p.delta / split_compliance(enf()));
+  }
 }
