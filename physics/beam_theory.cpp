@@ -352,7 +352,7 @@ std::vector<CurvePoint> analytic_curve(const BeamTest& test, double delta_max, i
     const double c = split_compliance(test);
     for (int i = 0; i < n; ++i) {
       const double d = delta_max * i / (n - 1);
-      out.push_back({d, d / c, 4, 2.0 * test.L});
+      out.push_back({d, d / c, 4, split_crack(test)});
     }
   }
   return out;
