@@ -1,14 +1,19 @@
-// DEM step cost: a settled pile and falling grains of N hexagonal prisms.
-//   ./build/bench/cleave_bench_dynamics [N ...]       (default: 168 1000 10000 100000)
+// DEM step cost: a poured pile, a packed box and falling grains of N hexagonal prisms.
+//   ./build/bench/cleave_bench_dynamics [--full-search] [poured|packed|falling ...] [N ...]
+//   (default: all three cases, N = 168 1000 10000 100000)
 // For each case, in its own child process (so peak memory is its own): build the world,
-// take a few warm-up steps, time a fixed number of steps and print microseconds per step,
-// nanoseconds per primitive contact, touching body pairs and contacts per body, the cost
-// per touching pair, and the peak resident memory. Finally the exponent of a log-log fit
-// of step time against N.
+// take a few warm-up steps, time a fixed number of steps at the stable time step and print
+// microseconds per step, nanoseconds per primitive contact, touching body pairs and
+// contacts per body, the cost per touching pair, and the peak resident memory. Finally the
+// exponent of a log-log fit of step time against N. --full-search turns the narrow phase's
+// near-feature cache off (WorldSettings::feature_skin = 0), for comparison.
 //
-// Settled pile: a box of prisms on the honeycomb lattice (r = t = 1 mm) resting on a floor,
-// every grain pressed 5 um into its neighbours' dilated surfaces, under gravity: every
-// grain touches its in-plane and stacked neighbours, as in a pile at rest.
+// Poured pile (the settled pile): prisms of random orientation poured into a box and left
+// to settle under gravity (pour); N above 1,000 are copies of one poured 1,000-prism pile
+// side by side, settled again together.
+// Packed box (the worst case): a box of prisms on the honeycomb lattice (r = t = 1 mm) on a
+// floor, every grain pressed 5 um into its neighbours' dilated surfaces: every grain touches
+// its 6 in-plane and 2 stacked neighbours face to face, 5 contacts a pair.
 // Falling grains: the same lattice with 0.2 mm gaps, high above the floor: bounding spheres
 // overlap, so the broad phase and the narrow phase's early outs are what is measured.
 
@@ -21,23 +26,51 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "geometry/specimen.hpp"
+#include "geometry/rng.hpp"
+#include "physics/contact_law.hpp"
 #include "physics/world.hpp"
 
 using namespace cleave;
 
 namespace {
 
-constexpr double kR = 1e-3, kT = 1e-3, kDilation = 0.05e-3;
+constexpr double kR = 1e-3, kT = 1e-3, kDilation = 0.05e-3, kRho = 3100.0;
+constexpr int kTile = 1000;  // bodies poured at once for the poured pile
+double g_feature_skin = 0.5;  // WorldSettings::feature_skin of every case (--full-search: 0)
 
 struct Result {
   double us_per_step = 0, contacts = 0, touching_pairs = 0, bodies = 0, peak_mib = 0;
 };
+
+/// Every case's contact parameters (table 2.3's particle set, mu_s = 0.3) and the stable
+/// step for them. The timed steps run at this step, so that the bodies move as they would.
+physics::WorldSettings bench_settings(const physics::RigidShape& shape) {
+  physics::WorldSettings ws;
+  ws.gravity = {0, 0, -9.81};
+  ws.particle_particle.kn = 5000;
+  ws.particle_particle.ks = 2000;
+  ws.particle_particle.c_res = 2;
+  ws.particle_particle.mu_s = 0.3;
+  ws.particle_wall = ws.particle_particle;
+  ws.local_damping = 0.7;  // the poured pile's settling
+  ws.feature_skin = g_feature_skin;
+  // The stable step as cleave's scenario check computes it (io/world_setup.cpp): 0.2 of
+  // 2 sqrt(m/k) for translation and for rotation about the weakest axis, with the stiffest
+  // spring C_res K_n acting at the bounding radius.
+  const double k = ws.particle_particle.c_res * ws.particle_particle.kn;
+  const double arm = shape.bounding_radius();
+  ws.dt = 0.2 * std::min(physics::critical_time_step(kRho * shape.volume, k),
+                         physics::critical_time_step(kRho * shape.principal_moments.minCoeff(), k * arm * arm));
+  return ws;
+}
 
 physics::World make_case(int n, bool settled, int& bodies) {
   // A box of about n cells: 4 layers, square footprint.
@@ -51,18 +84,14 @@ physics::World make_case(int n, bool settled, int& bodies) {
   def.r_bar = kR - (2 * kDilation - press) / std::sqrt(3.0);
   def.t_bar = kT - (2 * kDilation - press);
   const geometry::Specimen s = geometry::build_specimen(def);
-  physics::WorldSettings ws;
-  ws.gravity = {0, 0, -9.81};
-  // A tiny step keeps the configuration (and so the contact count) what it was built as
-  // over the timed steps: the cost of a step does not depend on dt.
-  ws.dt = 1e-8;
-  ws.particle_particle.kn = 5000;
-  ws.particle_particle.ks = 2000;
-  ws.particle_particle.c_res = 2;
-  ws.particle_particle.mu_s = 0.3;
-  ws.particle_wall = ws.particle_particle;
-  physics::World world(ws);
   const physics::RigidShape shape = physics::make_rigid_shape(s.prism, kDilation);
+  physics::WorldSettings ws = bench_settings(shape);
+  ws.local_damping = 0.0;
+  // A tiny step keeps the configuration (and so the contact count) what it was built as
+  // over the timed steps (at the stable step the pressed box springs apart): a step's cost
+  // does not depend on dt, but with nothing moving every pair's near-feature cache holds.
+  ws.dt = 1e-8;
+  physics::World world(ws);
   const auto sh = world.add_shape(shape);
   const double lift = settled ? (kDilation - press / 2) : 0.05;
   for (const auto& g : s.grains) {
@@ -74,10 +103,93 @@ physics::World make_case(int n, bool settled, int& bodies) {
   return world;
 }
 
-Result run_case(int n, bool settled) {
+physics::RigidShape poured_shape() {
+  geometry::SpecimenDef def;
+  def.outline = geometry::Outline::box(3 * kR, 3 * kR, kT);
+  def.r = kR;
+  def.t = kT;
+  def.r_bar = kR - 2 * kDilation / std::sqrt(3.0);
+  def.t_bar = kT - 2 * kDilation;
+  return physics::make_rigid_shape(geometry::build_specimen(def).prism, kDilation);
+}
+
+/// A poured pile's bodies, positions relative to its box's corner.
+struct Pile {
+  std::vector<physics::BodyState> bodies;
+  double side = 0;  ///< the box's inner side
+  int steps = 0;    ///< steps taken to pour it
+  double seconds = 0;
+};
+
+/// Pours n prisms of random orientation (uniform rotations, fixed seed), from a loose grid
+/// of 2.3 mm pitch about 6 layers high, into a square box of four side walls and a floor,
+/// under gravity with local damping 0.7, until the kinetic energy is below 1e-4 of the
+/// potential energy released (at least 20,000 steps; about 1e-4 is where a pile of
+/// frictional prisms keeps creeping).
+Pile pour(int n) {
+  const physics::RigidShape shape = poured_shape();
+  physics::World world(bench_settings(shape));
+  const auto sh = world.add_shape(shape);
+  const double pitch = 2.3e-3;
+  const int m = static_cast<int>(std::ceil(std::sqrt(n / 6.0)));
+  Pile pile;
+  pile.side = m * pitch;
+  geometry::SplitMix64 rng(2026);
+  for (int i = 0; i < n; ++i) {
+    const int layer = i / (m * m), k = i % (m * m);
+    const Eigen::Vector3d x((k % m + 0.5) * pitch, (k / m + 0.5) * pitch, (layer + 0.5) * pitch);
+    const double u1 = rng.uniform(), u2 = 2 * M_PI * rng.uniform(), u3 = 2 * M_PI * rng.uniform();
+    const Eigen::Quaterniond q(std::sqrt(u1) * std::cos(u3), std::sqrt(1 - u1) * std::sin(u2),
+                               std::sqrt(1 - u1) * std::cos(u2), std::sqrt(u1) * std::sin(u3));
+    world.add_body(sh, kRho, x, q);
+  }
+  world.add_wall(physics::Wall::plane("floor", {0, 0, 0}, {0, 0, 1}));
+  world.add_wall(physics::Wall::plane("x0", {0, 0, 0}, {1, 0, 0}));
+  world.add_wall(physics::Wall::plane("x1", {pile.side, 0, 0}, {-1, 0, 0}));
+  world.add_wall(physics::Wall::plane("y0", {0, 0, 0}, {0, 1, 0}));
+  world.add_wall(physics::Wall::plane("y1", {0, pile.side, 0}, {0, -1, 0}));
+  const double pe0 = world.potential_energy();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int step = 1;; ++step) {
+    world.step();
+    if (step % 1000 == 0) {
+      const double ratio = world.kinetic_energy() / (pe0 - world.potential_energy());
+      if ((step >= 20000 && ratio < 1e-4) || step >= 150000) {
+        pile.steps = step;
+        break;
+      }
+    }
+  }
+  pile.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (const auto& id : world.body_ids()) pile.bodies.push_back(world.state(id));
+  return pile;
+}
+
+/// Poured pile of n prisms: copies of one poured tile side by side on one floor (a tile's
+/// side walls are left out; 0.5 mm between tiles), then 2,000 steps for the copies to
+/// take up their shear springs again.
+physics::World make_poured(int n, const Pile& tile, int& bodies) {
+  const physics::RigidShape shape = poured_shape();
+  physics::World world(bench_settings(shape));
+  const auto sh = world.add_shape(shape);
+  const int per_tile = static_cast<int>(tile.bodies.size());
+  const int tiles = (n + per_tile - 1) / per_tile;
+  const int columns = static_cast<int>(std::ceil(std::sqrt(tiles)));
+  const double pitch = tile.side + 0.5e-3;
+  for (int t = 0; t < tiles; ++t) {
+    const Eigen::Vector3d offset((t % columns) * pitch, (t / columns) * pitch, 0.0);
+    for (const auto& b : tile.bodies) world.add_body(sh, kRho, b.x + offset, b.q, b.v, b.w);
+  }
+  world.add_wall(physics::Wall::plane("floor", {0, 0, 0}, {0, 0, 1}));
+  for (int i = 0; i < 2000; ++i) world.step();
+  bodies = tiles * per_tile;
+  return world;
+}
+
+Result run_case(int n, int kind, const Pile& tile) {
   Result r;
   int bodies = 0;
-  physics::World world = make_case(n, settled, bodies);
+  physics::World world = kind == 2 ? make_poured(n, tile, bodies) : make_case(n, kind == 0, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
   const int steps = std::clamp(static_cast<int>(2e5 / std::max(1, bodies)), 3, 200);
@@ -104,35 +216,97 @@ Result run_case(int n, bool settled) {
   return r;
 }
 
+
+/// Runs `work` in a child process and returns the bytes it produced (OpenMP's threads do
+/// not survive a fork, so everything that steps a world runs in a child of its own; each
+/// child's peak memory is its own too). Exits on failure.
+template <class Work>
+std::string in_child(Work work) {
+  int fd[2];
+  if (pipe(fd) != 0) std::exit(1);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    const std::string bytes = work();
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t k = write(fd[1], bytes.data() + done, bytes.size() - done);
+      if (k <= 0) std::_Exit(1);
+      done += static_cast<std::size_t>(k);
+    }
+    std::_Exit(0);
+  }
+  close(fd[1]);
+  std::string bytes;
+  char buffer[65536];
+  for (ssize_t k; (k = read(fd[0], buffer, sizeof buffer)) > 0;) bytes.append(buffer, static_cast<std::size_t>(k));
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty()) {
+    std::fprintf(stderr, "a benchmark child failed\n");
+    std::exit(1);
+  }
+  return bytes;
+}
+
+template <class T>
+std::string as_bytes(const T& value) {
+  return std::string(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<int> sizes;
-  for (int i = 1; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
+  std::vector<int> sizes, kinds;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--full-search") {
+      g_feature_skin = 0.0;
+    } else if (arg == "poured" || arg == "packed" || arg == "falling") {
+      kinds.push_back(arg == "poured" ? 2 : arg == "packed" ? 0 : 1);
+    } else {
+      sizes.push_back(std::atoi(argv[i]));
+    }
+  }
   if (sizes.empty()) sizes = {168, 1000, 10000, 100000};
+  if (kinds.empty()) kinds = {2, 0, 1};
+  std::printf("near-feature cache: %s\n", g_feature_skin > 0 ? "on (feature_skin 0.5)" : "off (--full-search)");
   std::printf("%-8s %8s %12s %14s %14s %12s %16s %10s\n", "case", "bodies", "us/step",
               "ns/contact", "touching pairs", "contacts/body", "us/pair/step", "peak MiB");
-  for (const bool settled : {true, false}) {
+  // The poured piles: one per size below a tile, one tile for the rest.
+  std::map<int, Pile> piles;
+  for (int n : sizes) {
+    const int size = std::min(n, kTile);
+    if (piles.count(size) != 0 || std::find(kinds.begin(), kinds.end(), 2) == kinds.end()) continue;
+    const std::string bytes = in_child([size] {
+      const Pile p = pour(size);
+      std::string out = as_bytes(p.side) + as_bytes(p.steps) + as_bytes(p.seconds);
+      for (const auto& b : p.bodies) out += as_bytes(b);
+      return out;
+    });
+    Pile& p = piles[size];
+    std::size_t at = 0;
+    auto take = [&](auto& value) {
+      std::memcpy(static_cast<void*>(&value), bytes.data() + at, sizeof value);
+      at += sizeof value;
+    };
+    take(p.side);
+    take(p.steps);
+    take(p.seconds);
+    while (at + sizeof(physics::BodyState) <= bytes.size()) take(p.bodies.emplace_back());
+    std::printf("(poured %d prisms in %d steps, %.0f s)\n", size, p.steps, p.seconds);
+    std::fflush(stdout);
+  }
+  for (const int kind : kinds) {
+    const bool settled = kind != 1;
     std::vector<std::pair<double, double>> fit;  // (log N, log us/step)
     for (int n : sizes) {
-      int fd[2];
-      if (pipe(fd) != 0) return 1;
-      const pid_t pid = fork();
-      if (pid == 0) {
-        close(fd[0]);
-        const Result r = run_case(n, settled);
-        if (write(fd[1], &r, sizeof r) != static_cast<ssize_t>(sizeof r)) std::_Exit(1);
-        std::_Exit(0);
-      }
-      close(fd[1]);
+      const Pile& tile = kind == 2 ? piles.at(std::min(n, kTile)) : Pile{};
+      const std::string bytes = in_child([&] { return as_bytes(run_case(n, kind, tile)); });
       Result r;
-      const bool ok = read(fd[0], &r, sizeof r) == static_cast<ssize_t>(sizeof r);
-      close(fd[0]);
-      int status = 0;
-      waitpid(pid, &status, 0);
-      if (!ok) return 1;
+      std::memcpy(&r, bytes.data(), sizeof r);
       std::printf("%-8s %8.0f %12.1f %14.1f %14.0f %12.2f %16.3f %10.1f\n",
-                  settled ? "settled" : "falling", r.bodies, r.us_per_step,
+                  kind == 2 ? "poured" : settled ? "packed" : "falling", r.bodies, r.us_per_step,
                   r.contacts > 0 ? 1e3 * r.us_per_step / r.contacts : 0.0, r.touching_pairs,
                   r.contacts / r.bodies, r.touching_pairs > 0 ? r.us_per_step / r.touching_pairs : 0.0,
                   r.peak_mib);
@@ -149,7 +323,7 @@ int main(int argc, char** argv) {
       }
       const double k = static_cast<double>(fit.size());
       std::printf("%-8s cost per step ~ N^%.3f (least squares on log-log)\n",
-                  settled ? "settled" : "falling", (k * sxy - sx * sy) / (k * sxx - sx * sx));
+                  kind == 2 ? "poured" : settled ? "packed" : "falling", (k * sxy - sx * sy) / (k * sxx - sx * sx));
     }
   }
   return 0;

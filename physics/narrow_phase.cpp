@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <bit>
 #include <limits>
 
 namespace cleave::physics {
@@ -10,6 +11,7 @@ namespace cleave::physics {
 void PosedShape::update(const RigidShape& shape, const BodyState& state) {
   primitives = &shape.primitives;
   centre = state.x;
+  orientation = state.q;
   radius = shape.primitives.dilation_radius;
   const Eigen::Matrix3d R = state.q.toRotationMatrix();
   const auto& p = shape.primitives;
@@ -45,14 +47,18 @@ struct PlaneDistances {
   double at(std::size_t v, std::size_t f) const { return d[v * faces + f]; }
 };
 
-void plane_distances(const PosedShape& from, const PosedShape& to, PlaneDistances& out) {
+/// The rows of the vertices in `rows` (bit v: vertex v) only.
+void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t rows, PlaneDistances& out) {
   out.faces = to.face_normals.size();
-  for (std::size_t v = 0; v < from.vertices.size(); ++v) {
+  for (; rows != 0; rows &= rows - 1) {
+    const auto v = static_cast<std::size_t>(std::countr_zero(rows));
     for (std::size_t f = 0; f < out.faces; ++f) {
       out.d[v * out.faces + f] = to.face_normals[f].dot(from.vertices[v]) - to.face_offsets[f];
     }
   }
 }
+
+std::uint64_t all_bits(std::size_t n) { return n >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1; }
 
 /// Polygon of face f of `s` as a small array of world points.
 struct FacePolygon {
@@ -307,44 +313,66 @@ bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, doub
   return true;
 }
 
-}  // namespace
+/// A convex polyhedron has at most 3 V - 6 edges.
+constexpr std::size_t kMaxEdges = 3 * kMaxVertices;
+static_assert(kMaxVertices <= 64 && kMaxEdges <= 192, "feature masks are 64 and 192 bits");
+using EdgeMask = std::array<std::uint64_t, 3>;
+bool has_edge(const EdgeMask& m, std::size_t e) { return ((m[e >> 6] >> (e & 63)) & 1u) != 0; }
+EdgeMask all_edges(std::size_t n) {
+  return {all_bits(n), n > 64 ? all_bits(n - 64) : 0, n > 128 ? all_bits(n - 128) : 0};
+}
 
-void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
-                         std::vector<FeatureContact>& out) {
-  if (a.vertices.size() > kMaxVertices || b.vertices.size() > kMaxVertices ||
-      a.face_normals.size() > kMaxFaces || b.face_normals.size() > kMaxFaces) {
-    return;  // shapes beyond the fixed buffers are not produced by cleave
-  }
+/// The features the search looks at: everything (the full search) or a pair's cached near
+/// features. Rows are the vertices whose plane distances have been computed.
+struct FeatureSet {
+  std::uint64_t vertices_a, vertices_b;
+  EdgeMask edges_a, edges_b;
+  const std::array<std::uint8_t, 2>* face_pairs = nullptr;  ///< nullptr: every face pair
+  std::size_t face_pair_count = 0;
+};
+
+/// Whether face fa of A and face fb of B face each other (outward normals opposite within
+/// about 6 degrees) with each face's nearest corner within `reach` of the other's plane
+/// and not deeper than `reach` behind it.
+bool faces_facing(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
+                  const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double reach) {
+  if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos) return false;
+  double da = std::numeric_limits<double>::infinity(), db = da;
+  for (int v : a.primitives->faces[fa].vertices) da = std::min(da, a_to_b.at(v, fb));
+  for (int v : b.primitives->faces[fb].vertices) db = std::min(db, b_to_a.at(v, fa));
+  return !(da >= reach || db >= reach || da < -reach || db < -reach);
+}
+
+/// The search over the features of `set`, the distance tables holding their rows.
+void contacts_over(const PosedShape& a, const PosedShape& b, double margin, const FeatureSet& set,
+                   const PlaneDistances& a_to_b, const PlaneDistances& b_to_a,
+                   std::vector<FeatureContact>& out) {
   const double reach = a.radius + b.radius + margin;
-  // Boxes first: far cheaper than the face tests, and enough for most pairs of elongated
-  // bodies whose bounding spheres overlap.
-  if ((a.lo.array() - reach > b.hi.array()).any() || (b.lo.array() - reach > a.hi.array()).any()) {
-    return;
-  }
-  if (separated_by_facing_face(a, b, reach) || separated_by_facing_face(b, a, reach)) return;
-  PlaneDistances a_to_b, b_to_a;
-  plane_distances(a, b, a_to_b);  // A's vertices against B's faces
-  plane_distances(b, a, b_to_a);  // B's vertices against A's faces
-
   // Face-to-face touches first: their patches replace the vertex and edge contacts of the
-  // two faces.
-  static_assert(kMaxVertices <= 64, "corner bit masks are 64 bits");
+  // two faces. Each face of A takes the first face of B it faces, if any.
   std::array<Patch, 8> patches;
   std::size_t n_patches = 0;
   std::uint64_t covered_a = 0, covered_b = 0;
-  for (std::size_t fa = 0; fa < a.face_normals.size() && n_patches < patches.size(); ++fa) {
-    for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
-      if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos) continue;
-      const auto& ia = a.primitives->faces[fa].vertices;
-      const auto& ib = b.primitives->faces[fb].vertices;
-      double da = std::numeric_limits<double>::infinity(), db = da;
-      for (int v : ia) da = std::min(da, a_to_b.at(v, fb));
-      for (int v : ib) db = std::min(db, b_to_a.at(v, fa));
-      if (da >= reach || db >= reach || da < -reach || db < -reach) continue;
-      const std::size_t before = out.size();
-      face_patch(a, fa, b, fb, a_to_b, b_to_a, margin, out, covered_a, covered_b);
-      if (out.size() > before) patches[n_patches++] = {fa, fb};
-      break;
+  auto try_patch = [&](std::size_t fa, std::size_t fb) {
+    if (!faces_facing(a, fa, b, fb, a_to_b, b_to_a, reach)) return false;
+    const std::size_t before = out.size();
+    face_patch(a, fa, b, fb, a_to_b, b_to_a, margin, out, covered_a, covered_b);
+    if (out.size() > before) patches[n_patches++] = {fa, fb};
+    return true;
+  };
+  if (set.face_pairs == nullptr) {
+    for (std::size_t fa = 0; fa < a.face_normals.size() && n_patches < patches.size(); ++fa) {
+      for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
+        if (try_patch(fa, fb)) break;
+      }
+    }
+  } else {
+    for (std::size_t k = 0; k < set.face_pair_count && n_patches < patches.size();) {
+      const std::uint8_t fa = set.face_pairs[k][0];
+      bool taken = false;
+      for (; k < set.face_pair_count && set.face_pairs[k][0] == fa; ++k) {
+        if (!taken) taken = try_patch(fa, set.face_pairs[k][1]);
+      }
     }
   }
   auto in_patch_a = [&](std::uint32_t code_a, std::uint32_t code_b) {
@@ -359,15 +387,15 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
 
   PrimitiveContact c;
   std::uint32_t feature = 0;
-  for (std::size_t v = 0; v < a.vertices.size(); ++v) {
-    if ((covered_a >> v) & 1u) continue;
+  for (std::uint64_t m = set.vertices_a & ~covered_a; m != 0; m &= m - 1) {
+    const auto v = static_cast<std::size_t>(std::countr_zero(m));
     if (vertex_against(a, v, b, a_to_b, margin, true, feature, c)) {
       const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
       if (!in_patch_a(code, feature)) out.push_back({code, feature, c});
     }
   }
-  for (std::size_t v = 0; v < b.vertices.size(); ++v) {
-    if ((covered_b >> v) & 1u) continue;
+  for (std::uint64_t m = set.vertices_b & ~covered_b; m != 0; m &= m - 1) {
+    const auto v = static_cast<std::size_t>(std::countr_zero(m));
     if (vertex_against(b, v, a, b_to_a, margin, false, feature, c)) {
       c.normal = -c.normal;  // from A towards B
       const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
@@ -378,27 +406,24 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
   // face, are worked out once per pair rather than once per edge pair.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
-  constexpr std::size_t kMaxEdges = 2 * kMaxVertices;
-  if (eb.size() > kMaxEdges || ea.size() > kMaxEdges) return;
   std::array<bool, kMaxEdges> near_b;
   std::array<std::uint8_t, kMaxEdges> patches_of_b{};  // bit k: on patch k's face of B
   std::array<Eigen::Vector3d, kMaxEdges> mid_b;         // midpoints and half lengths of B's
   std::array<double, kMaxEdges> half_b;                 // near edges, for the bound below
   for (std::size_t j = 0; j < eb.size(); ++j) {
-    near_b[j] = edge_near(b_to_a, eb[j], reach);
-    if (near_b[j]) {
-      const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
-      const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-      mid_b[j] = 0.5 * (p2 + q2);
-      half_b[j] = 0.5 * (q2 - p2).norm();
-    }
+    near_b[j] = has_edge(set.edges_b, j) && edge_near(b_to_a, eb[j], reach);
+    if (!near_b[j]) continue;
+    const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
+    const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
+    mid_b[j] = 0.5 * (p2 + q2);
+    half_b[j] = 0.5 * (q2 - p2).norm();
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fb);
       if (eb[j].left_face == f || eb[j].right_face == f) patches_of_b[j] |= std::uint8_t(1u << k);
     }
   }
   for (std::size_t i = 0; i < ea.size(); ++i) {
-    if (!edge_near(a_to_b, ea[i], reach)) continue;
+    if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i], reach)) continue;
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
     const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
     const Eigen::Vector3d& d1 = a.edge_directions[i];
@@ -428,6 +453,151 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
       out.push_back({code_i, code_j, *hit});
     }
   }
+}
+
+bool within_buffers(const PosedShape& a, const PosedShape& b) {
+  return a.vertices.size() <= kMaxVertices && b.vertices.size() <= kMaxVertices &&
+         a.face_normals.size() <= kMaxFaces && b.face_normals.size() <= kMaxFaces &&
+         a.primitives->edges.size() <= kMaxEdges && b.primitives->edges.size() <= kMaxEdges;
+}
+
+/// The broad early outs: boxes, then a separating face plane from either side. When one
+/// holds for `reach`, no feature of A is within `reach` of B.
+bool early_out(const PosedShape& a, const PosedShape& b, double reach) {
+  // Boxes first: far cheaper than the face tests, and enough for most pairs of elongated
+  // bodies whose bounding spheres overlap. Most pairs found by the bounding-sphere search
+  // end at the face test, before the full distance tables are built.
+  if ((a.lo.array() - reach > b.hi.array()).any() || (b.lo.array() - reach > a.hi.array()).any()) {
+    return true;
+  }
+  return separated_by_facing_face(a, b, reach) || separated_by_facing_face(b, a, reach);
+}
+
+FeatureSet every_feature(const PosedShape& a, const PosedShape& b) {
+  return {all_bits(a.vertices.size()), all_bits(b.vertices.size()), all_edges(a.primitives->edges.size()),
+          all_edges(b.primitives->edges.size())};
+}
+
+/// B's pose relative to A: A's orientation^-1 B's, and B's centre from A's in A's frame.
+void relative_pose(const PosedShape& a, const PosedShape& b, Eigen::Quaterniond& q, Eigen::Vector3d& t) {
+  const Eigen::Quaterniond inv = a.orientation.conjugate();
+  q = inv * b.orientation;
+  t = inv * (b.centre - a.centre);
+}
+
+/// Fills `near` with the features within reach + skin, from full distance tables.
+void cache_near_features(const PosedShape& a, const PosedShape& b, double reach, double skin,
+                         const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, NearFeatures& near) {
+  relative_pose(a, b, near.q_rel, near.t_rel);
+  near.lever = a.primitives->bounding_radius + b.primitives->bounding_radius + near.t_rel.norm() + skin;
+  const double wide = reach + skin;
+  auto vertices_within = [wide](std::size_t n, const PlaneDistances& dist) {
+    std::uint64_t m = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      double dmax = -std::numeric_limits<double>::infinity();
+      for (std::size_t f = 0; f < dist.faces; ++f) dmax = std::max(dmax, dist.at(v, f));
+      if (dmax < wide) m |= std::uint64_t{1} << v;
+    }
+    return m;
+  };
+  near.vertices_a = vertices_within(a.vertices.size(), a_to_b);
+  near.vertices_b = vertices_within(b.vertices.size(), b_to_a);
+  near.rows_a = near.vertices_a;
+  near.rows_b = near.vertices_b;
+  auto edges_within = [wide](const std::vector<geometry::ContactEdge>& edges, const PlaneDistances& dist,
+                             std::uint64_t& rows) {
+    EdgeMask m{};
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      if (!edge_near(dist, edges[e], wide)) continue;
+      m[e >> 6] |= std::uint64_t{1} << (e & 63);
+      rows |= (std::uint64_t{1} << edges[e].a) | (std::uint64_t{1} << edges[e].b);
+    }
+    return m;
+  };
+  near.edges_a = edges_within(a.primitives->edges, a_to_b, near.rows_a);
+  near.edges_b = edges_within(b.primitives->edges, b_to_a, near.rows_b);
+  // A normal turns by at most 2 |dq| <= skin / (2 lever) while the cache is used; the
+  // face test's thresholds are widened by the skin.
+  const double turn = skin / near.lever;
+  near.face_pair_count = 0;
+  for (std::size_t fa = 0; fa < a.face_normals.size(); ++fa) {
+    for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
+      if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos + turn) continue;
+      double da = std::numeric_limits<double>::infinity(), db = da;
+      for (int v : a.primitives->faces[fa].vertices) da = std::min(da, a_to_b.at(v, fb));
+      for (int v : b.primitives->faces[fb].vertices) db = std::min(db, b_to_a.at(v, fa));
+      if (da >= wide || db >= wide || da < -wide || db < -wide) continue;
+      if (near.face_pair_count == near.face_pairs.size()) {  // too many to cache
+        near.skin = 0.0;
+        return;
+      }
+      near.face_pairs[near.face_pair_count++] = {static_cast<std::uint8_t>(fa), static_cast<std::uint8_t>(fb)};
+      for (int v : a.primitives->faces[fa].vertices) near.rows_a |= std::uint64_t{1} << v;
+      for (int v : b.primitives->faces[fb].vertices) near.rows_b |= std::uint64_t{1} << v;
+    }
+  }
+  near.skin = skin;
+}
+
+/// Whether B has moved relative to A by less than half the cached skin: every distance
+/// between a point of A and a point of B has changed by at most |dt| + 2 |dq| lever.
+bool near_features_hold(const PosedShape& a, const PosedShape& b, const NearFeatures& near) {
+  if (near.skin <= 0.0) return false;
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+  relative_pose(a, b, q, t);
+  // |q1 - q0| = 2 sin(theta / 4) on the nearer sign; a unit vector turns by
+  // 2 sin(theta / 2) <= 2 |q1 - q0|.
+  const double dq = std::min((q.coeffs() - near.q_rel.coeffs()).norm(), (q.coeffs() + near.q_rel.coeffs()).norm());
+  return (t - near.t_rel).norm() + 2.0 * dq * near.lever < 0.5 * near.skin;
+}
+
+}  // namespace
+
+void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
+                         std::vector<FeatureContact>& out) {
+  if (!within_buffers(a, b)) return;  // shapes beyond the fixed buffers are not produced by cleave
+  if (early_out(a, b, a.radius + b.radius + margin)) return;
+  const FeatureSet all = every_feature(a, b);
+  PlaneDistances a_to_b, b_to_a;
+  plane_distances(a, b, all.vertices_a, a_to_b);  // A's vertices against B's faces
+  plane_distances(b, a, all.vertices_b, b_to_a);  // B's vertices against A's faces
+  contacts_over(a, b, margin, all, a_to_b, b_to_a, out);
+}
+
+bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near,
+                         std::vector<FeatureContact>& out) {
+  if (!within_buffers(a, b)) return false;
+  const double reach = a.radius + b.radius;
+  PlaneDistances a_to_b, b_to_a;
+  if (near_features_hold(a, b, near)) {
+    const bool none = near.vertices_a == 0 && near.vertices_b == 0 && near.edges_a == EdgeMask{} &&
+                      near.edges_b == EdgeMask{} && near.face_pair_count == 0;
+    if (none || early_out(a, b, reach)) return true;
+    plane_distances(a, b, near.rows_a, a_to_b);
+    plane_distances(b, a, near.rows_b, b_to_a);
+    const FeatureSet set{near.vertices_a, near.vertices_b, near.edges_a, near.edges_b,
+                         near.face_pairs.data(), near.face_pair_count};
+    contacts_over(a, b, 0.0, set, a_to_b, b_to_a, out);
+    return true;
+  }
+  // A full search, caching what lies within reach + skin. A pair apart by the skin on top
+  // of the reach caches nothing, which stays right while the cache holds.
+  relative_pose(a, b, near.q_rel, near.t_rel);
+  if (early_out(a, b, reach + skin)) {
+    near.lever = a.primitives->bounding_radius + b.primitives->bounding_radius + near.t_rel.norm() + skin;
+    near.vertices_a = near.vertices_b = near.rows_a = near.rows_b = 0;
+    near.edges_a = near.edges_b = EdgeMask{};
+    near.face_pair_count = 0;
+    near.skin = skin;
+    return false;
+  }
+  const FeatureSet all = every_feature(a, b);
+  plane_distances(a, b, all.vertices_a, a_to_b);
+  plane_distances(b, a, all.vertices_b, b_to_a);
+  cache_near_features(a, b, reach, skin, a_to_b, b_to_a, near);
+  if (!early_out(a, b, reach)) contacts_over(a, b, 0.0, all, a_to_b, b_to_a, out);
+  return false;
 }
 
 }  // namespace cleave::physics

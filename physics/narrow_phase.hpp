@@ -24,6 +24,7 @@
 /// face it is least deep under, so fast bodies are pushed back out rather than lost.
 
 #include <Eigen/Dense>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +38,7 @@ namespace cleave::physics {
 struct PosedShape {
   const geometry::ContactPrimitives* primitives = nullptr;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< principal frame -> world
   std::vector<Eigen::Vector3d> vertices;      ///< world
   std::vector<Eigen::Vector3d> face_normals;  ///< world, outward
   std::vector<double> face_offsets;           ///< normal . x = offset on each face
@@ -62,6 +64,32 @@ struct FeatureContact {
 
 /// Appends every contact between A and B with penetration > -margin, in a fixed order.
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
+                         std::vector<FeatureContact>& out);
+
+/// The features of a pair that a full search found within reach plus a skin `skin` of each
+/// other, and the pose of B relative to A at that search. While B has moved relative to A
+/// by less than half the skin (every distance between a point of A and a point of B, every
+/// plane distance and every face normal's turn bounded from the relative pose), no other
+/// feature can come within reach, so a search over these alone finds exactly the contacts
+/// the full search would: the same contacts in the same order, bit for bit.
+struct NearFeatures {
+  Eigen::Quaterniond q_rel = Eigen::Quaterniond::Identity();  ///< A's orientation^-1 B's
+  Eigen::Vector3d t_rel = Eigen::Vector3d::Zero();  ///< B's centre from A's, in A's frame
+  double lever = 0.0;  ///< bounds |a point of A or B - B's centre|, and B's radius, meanwhile
+  double skin = 0.0;   ///< 0: nothing cached
+  std::uint64_t vertices_a = 0, vertices_b = 0;  ///< vertices that may come within reach
+  std::uint64_t rows_a = 0, rows_b = 0;          ///< vertices whose plane distances are read
+  std::array<std::uint64_t, 3> edges_a{}, edges_b{};  ///< edges that may come within reach
+  /// Face pairs that may turn into a face-to-face patch, ascending (face of A, face of B).
+  std::array<std::array<std::uint8_t, 2>, 12> face_pairs{};
+  std::uint8_t face_pair_count = 0;
+};
+
+/// polyhedron_contacts with margin 0 through `near`: searches the cached features while the
+/// relative motion since they were found allows, otherwise searches in full and caches the
+/// features within `skin` (m) of reach. The result is always that of the full search.
+/// Returns true when the cached features were searched.
+bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near,
                          std::vector<FeatureContact>& out);
 
 }  // namespace cleave::physics

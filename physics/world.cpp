@@ -334,6 +334,7 @@ void World::body_contacts(int nt) {
     }
     skin_ = live_slots_.empty() ? 0.0 : settings_.search_skin * smallest;
     search_.find_pairs(spheres_, skin_, pairs_);
+    near_.clear();
     searched_at_.clear();
     for (std::uint32_t slot : live_slots_) searched_at_.push_back(states_[slot].x);
     pairs_current_ = true;
@@ -344,6 +345,10 @@ void World::body_contacts(int nt) {
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   thread_pending_.resize(static_cast<std::size_t>(nt));
   for (auto& part : thread_pending_) part.clear();
+  // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
+  // them gives what the full search would, bit for bit, and skips what cannot touch.
+  const bool cached = settings_.feature_skin > 0.0;
+  if (cached) near_.resize(n);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const auto [t, begin, end] = thread_block(n);
@@ -352,7 +357,12 @@ void World::body_contacts(int nt) {
     for (std::size_t p = begin; p < end; ++p) {
       const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
       features.clear();
-      polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+      if (cached) {
+        const double skin = settings_.feature_skin * (posed_[a].radius + posed_[b].radius);
+        polyhedron_contacts(posed_[a], posed_[b], skin, near_[p], features);
+      } else {
+        polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+      }
       // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
       std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
         return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);

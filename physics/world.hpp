@@ -42,6 +42,11 @@ struct WorldSettings {
   /// default for quasi-static loading). It removes kinetic energy without viscosity, so a
   /// slowly loaded specimen stays near equilibrium; it is not in the seed's model.
   double local_damping = 0.0;
+  /// Skin of each pair's near-feature cache (narrow_phase.hpp), as a fraction of the sum of
+  /// the pair's dilation radii: the features found within reach plus this skin are the only
+  /// ones searched while the pair's relative motion stays under half of it (0: every pair
+  /// searched in full every step). It changes speed only: results are bit-identical.
+  double feature_skin = 0.5;
 };
 
 /// A bond between two bodies (sec. 2.3.3): eqs 2.9-2.16 act at the bond point in parallel
@@ -174,6 +179,12 @@ class World {
   [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
   [[nodiscard]] Wall& wall(std::size_t i) { return walls_.at(i); }
 
+  /// Sets WorldSettings::feature_skin (speed only: results are bit-identical for any value).
+  void set_feature_skin(double fraction) {
+    settings_.feature_skin = fraction;
+    near_.clear();
+  }
+
   /// Advances the world by one time step.
   void step();
   /// Contacts of the last force evaluation.
@@ -251,6 +262,7 @@ class World {
   std::vector<std::uint32_t> live_slots_;
   std::vector<BoundingSphere> spheres_;
   std::vector<BodyPair> pairs_;
+  std::vector<NearFeatures> near_;  // by pair; cleared with each new pair list and on load
   std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
   double skin_ = 0.0;                         // margin of the last search
   bool pairs_current_ = false;

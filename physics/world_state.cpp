@@ -140,7 +140,7 @@ struct Fnv {
 
 void World::save_state(StateWriter& w) const {
   w.put(kWorldLayout);
-  // Settings (threads stay the loader's: results do not depend on them).
+  // Settings (threads and the feature skin stay the loader's: results do not depend on them).
   w.put(settings_.gravity);
   w.put(settings_.dt);
   put_params(w, settings_.particle_particle);
@@ -267,6 +267,7 @@ void World::load_state(StateReader& r) {
   }
   WorldSettings ws;
   ws.threads = settings_.threads;
+  ws.feature_skin = settings_.feature_skin;
   ws.gravity = r.vec3();
   ws.dt = r.get<double>();
   ws.particle_particle = get_params(r);
@@ -414,6 +415,7 @@ void World::load_state(StateReader& r) {
   skin_ = skin;
   searched_at_ = std::move(searched_at);
   pairs_ = std::move(pairs);
+  near_.clear();
   history_ = std::move(history);
   next_history_.clear();
   records_ = std::move(records);

@@ -154,3 +154,98 @@ TEST(NoDoubleCounting, RandomTouchingPosesNeverReportOnePointTwice) {
   }
   EXPECT_GT(total, 3000);
 }
+
+namespace {
+Eigen::Quaterniond random_turn(geometry::SplitMix64& rng, double angle) {
+  const Eigen::Vector3d axis(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+}
+
+bool same_contacts(const std::vector<FeatureContact>& x, const std::vector<FeatureContact>& y) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto &p = x[i], &q = y[i];
+    if (p.feature_a != q.feature_a || p.feature_b != q.feature_b || p.contact.point != q.contact.point ||
+        p.contact.normal != q.contact.normal || p.contact.penetration != q.contact.penetration) {
+      return false;
+    }
+  }
+  return true;
+}
+}  // namespace
+
+// The near-feature cache against the full search as its brute-force reference: pairs of a
+// prism, a thin slab and a large prism brought into touch at random, then moved for 40
+// steps by random relative and common motions from a nanometre to past the skin. Every
+// step the cached search must give the full search's contacts bit for bit, and it must
+// have been the cached features that were searched in most steps.
+TEST(NearFeatureCache, GivesTheFullSearchsContactsBitForBit) {
+  const std::vector<RigidShape> shapes = {
+      prism(), make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kR, 0.2 * kT), kRho),
+      make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(3 * kR, kT), kRho)};
+  geometry::SplitMix64 rng(2026);
+  int steps = 0, cached = 0, touching = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const RigidShape& sa = shapes[trial % 3];
+    const RigidShape& sb = shapes[(trial / 3) % 3];
+    Eigen::Vector3d dir(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+    dir.normalize();
+    BodyState a, b;
+    a.q = random_turn(rng, 2 * M_PI * rng.uniform());
+    b.q = random_turn(rng, 2 * M_PI * rng.uniform());
+    if (trial % 2 == 1) {
+      // Faces nearly opposite, about the face-to-face threshold of 6 degrees, B coming in
+      // along one of A's principal axes.
+      b.q = random_turn(rng, (5.0 + 2.0 * rng.uniform()) * M_PI / 180) * a.q;
+      dir = a.q * (Eigen::Vector3d::Unit(static_cast<int>(rng.below(3))) * (rng.below(2) != 0 ? 1.0 : -1.0) +
+                   0.2 * dir);
+      dir.normalize();
+    }
+    // In along the line of centres to the first contact, then up to 40 um further.
+    double d = sa.bounding_radius() + sb.bounding_radius();
+    auto posed = [](const RigidShape& s, const BodyState& st) {
+      PosedShape p;
+      p.update(s, st);
+      return p;
+    };
+    for (b.x = d * dir; d > 0 && contacts(posed(sa, a), posed(sb, b)).empty(); b.x = d * dir) d -= 2e-6;
+    b.x = (d - 40e-6 * rng.uniform()) * dir;
+    NearFeatures near;
+    const double skin = 0.5 * 2 * kRho;
+    for (int step = 0; step < 40; ++step) {
+      // Log-uniform sizes: most moves far below the skin, some beyond it.
+      const double move = std::pow(10.0, -9 + 5 * rng.uniform());
+      const double turn = std::pow(10.0, -8 + 7 * rng.uniform());
+      switch (rng.below(3)) {
+        case 0:  // B alone
+          b.x += move * Eigen::Vector3d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+          b.q = random_turn(rng, turn) * b.q;
+          break;
+        case 1:  // A alone
+          a.x += move * Eigen::Vector3d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+          a.q = random_turn(rng, turn) * a.q;
+          break;
+        default: {  // both as one rigid body, turned about a far point: world boxes change
+          const Eigen::Quaterniond r = random_turn(rng, 100 * turn);
+          const Eigen::Vector3d pivot(0.01, -0.02, 0.005);
+          a.x = pivot + r * (a.x - pivot);
+          b.x = pivot + r * (b.x - pivot);
+          a.q = r * a.q;
+          b.q = r * b.q;
+        }
+      }
+      a.q.normalize();
+      b.q.normalize();
+      const PosedShape pa = posed(sa, a), pb = posed(sb, b);
+      std::vector<FeatureContact> with_cache;
+      cached += polyhedron_contacts(pa, pb, skin, near, with_cache) ? 1 : 0;
+      const std::vector<FeatureContact> full = contacts(pa, pb);
+      touching += full.empty() ? 0 : 1;
+      ++steps;
+      ASSERT_TRUE(same_contacts(with_cache, full))
+          << "trial " << trial << " step " << step << ": " << with_cache.size() << " vs " << full.size();
+    }
+  }
+  EXPECT_GT(touching, steps / 2);
+  EXPECT_GT(cached, steps / 2);
+}
