@@ -192,7 +192,7 @@ Result run_case(int n, int kind, const Pile& tile) {
   physics::World world = kind == 2 ? make_poured(n, tile, bodies) : make_case(n, kind == 0, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
-  const int steps = std::clamp(static_cast<int>(2e5 / std::max(1, bodies)), 3, 200);
+  const int steps = std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
   const auto t0 = std::chrono::steady_clock::now();
   double contacts = 0, pairs = 0;
   for (int i = 0; i < steps; ++i) {

@@ -57,7 +57,25 @@ ContactPrimitives make_contact_primitives(const PolygonMesh& shape, const Eigen:
           static_cast<int>(f);
     }
   }
+  index_face_rims(out);
   return out;
+}
+
+bool index_face_rims(ContactPrimitives& p) {
+  std::map<std::pair<int, int>, int> edge_of;
+  for (std::size_t e = 0; e < p.edges.size(); ++e) edge_of[{p.edges[e].a, p.edges[e].b}] = static_cast<int>(e);
+  bool complete = true;
+  for (auto& face : p.faces) {
+    face.rim.clear();
+    const auto& loop = face.vertices;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const int a = loop[i], b = loop[(i + 1) % loop.size()];
+      const auto it = edge_of.find({std::min(a, b), std::max(a, b)});
+      complete = complete && it != edge_of.end();
+      face.rim.push_back(it != edge_of.end() ? it->second : -1);
+    }
+  }
+  return complete;
 }
 
 }  // namespace cleave::geometry

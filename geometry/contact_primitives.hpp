@@ -20,6 +20,7 @@ namespace cleave::geometry {
 
 struct ContactFace {
   std::vector<int> vertices;          ///< CCW seen from outside
+  std::vector<int> rim;               ///< edge i: index of the edge vertices[i] -> vertices[i + 1]
   Eigen::Vector3d normal;             ///< outward unit normal
   double offset = 0.0;                ///< normal . x = offset on the face plane
   Eigen::Vector3d centroid;           ///< area centroid of the face
@@ -49,6 +50,9 @@ struct ContactPrimitives {
   /// max |vertex| + dilation_radius.
   double bounding_radius = 0.0;
 };
+
+/// Fills every face's `rim` from the edge list; false when a side of a face is not an edge.
+bool index_face_rims(ContactPrimitives& p);
 
 /// Contact primitives of a closed, outward, convex polygon mesh given in its shape frame;
 /// `centroid` (shape frame) becomes the origin. Throws std::invalid_argument for a

@@ -9,6 +9,11 @@
 namespace cleave::physics {
 
 void PosedShape::update(const RigidShape& shape, const BodyState& state) {
+  if (primitives != nullptr) {
+    travel += (state.x - centre).norm();
+    turn += std::min((state.q.coeffs() - orientation.coeffs()).norm(),
+                     (state.q.coeffs() + orientation.coeffs()).norm());
+  }
   primitives = &shape.primitives;
   centre = state.x;
   orientation = state.q;
@@ -171,20 +176,33 @@ bool edge_near(const PlaneDistances& dist, const geometry::ContactEdge& E, doubl
   return true;
 }
 
-/// Whether the projection of x along `normal` lies inside the convex polygon `poly` (CCW
-/// seen from the side `normal` points to); `closed` admits points on the boundary (within
-/// a tolerance relative to the polygon's size).
-bool projects_inside(const FacePolygon& poly, const Eigen::Vector3d& normal, const Eigen::Vector3d& x,
-                     bool closed) {
-  for (std::size_t i = 0; i < poly.n; ++i) {
-    const Eigen::Vector3d& a = poly.pts[i];
-    const Eigen::Vector3d edge = poly.pts[(i + 1) % poly.n] - a;
-    const double side = edge.cross(x - a).dot(normal);
-    const double tol = 1e-9 * edge.squaredNorm();
-    if (closed ? side < -tol : side <= tol) return false;
+/// A face polygon's rim as planes through its sides, parallel to the face normal, for
+/// repeated inside tests: x projects along the normal onto side i's inner side when
+/// m_i . x - c_i >= 0, with m_i = n x (p_{i+1} - p_i) (the sides run CCW seen from where n
+/// points) and c_i = m_i . p_i. A tolerance relative to the side's length admits (closed)
+/// or excludes (open) points on the rim.
+struct RimPlanes {
+  std::array<Eigen::Vector3d, kMaxVertices> m;
+  std::array<double, kMaxVertices> c, tol;
+  std::size_t n = 0;
+
+  RimPlanes(const FacePolygon& poly, const Eigen::Vector3d& normal) : n(poly.n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d edge = poly.pts[(i + 1) % n] - poly.pts[i];
+      m[i] = normal.cross(edge);
+      c[i] = m[i].dot(poly.pts[i]);
+      tol[i] = 1e-9 * edge.squaredNorm();
+    }
   }
-  return true;
-}
+  /// Whether x projects inside (closed: the rim included).
+  bool inside(const Eigen::Vector3d& x, bool closed) const {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double side = m[i].dot(x) - c[i];
+      if (closed ? side < -tol[i] : side <= tol[i]) return false;
+    }
+    return true;
+  }
+};
 
 /// The face pair of a face-to-face touch: nearly opposite outward normals (within about 6
 /// degrees) and planes within reach of each other's corners.
@@ -215,10 +233,11 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   const auto& ia = a.primitives->faces[fa].vertices;
   const auto& ib = b.primitives->faces[fb].vertices;
   // A's corners over B's face (boundary included), along B's normal.
+  const RimPlanes rim_b(pb, nb);
   for (std::size_t i = 0; i < pa.n; ++i) {
     const double d = a_to_b.at(ia[i], fb);
     const double pen = radii - d;
-    if (pen <= -margin || !projects_inside(pb, nb, pa.pts[i], true)) continue;
+    if (pen <= -margin || !rim_b.inside(pa.pts[i], true)) continue;
     PrimitiveContact c{pa.pts[i] - (a.radius - 0.5 * pen) * nb, -nb, pen};
     out.push_back({feature_code(FeatureKind::vertex, ia[i]), feature_code(FeatureKind::face, fb), c});
     covered_a |= std::uint64_t{1} << ia[i];
@@ -226,48 +245,55 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   // B's corners over A's face (boundary excluded: a shared corner is counted once, above).
   // A corner of B on the rim of A's face gets no contact of its own, but it is covered all
   // the same: whatever touches there is A's corner or A's rim, both part of this patch.
+  const RimPlanes rim_a(pa, na);
   for (std::size_t i = 0; i < pb.n; ++i) {
     const double d = b_to_a.at(ib[i], fa);
     const double pen = radii - d;
-    if (pen <= -margin || !projects_inside(pa, na, pb.pts[i], true)) continue;
+    if (pen <= -margin || !rim_a.inside(pb.pts[i], true)) continue;
     covered_b |= std::uint64_t{1} << ib[i];
-    if (!projects_inside(pa, na, pb.pts[i], false)) continue;
+    if (!rim_a.inside(pb.pts[i], false)) continue;
     PrimitiveContact c{pb.pts[i] - (b.radius - 0.5 * pen) * na, na, pen};
     out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[i]), c});
   }
-  // Rim crossings, seen along n: strictly inside both edges.
-  const auto& ea = a.primitives->edges;
-  const auto& eb = b.primitives->edges;
+  // Rim crossings, seen along n: strictly inside both edges. The rims are solved in the
+  // plane across n, in coordinates (u, v) with u x v = n, so that the 2-D cross product of
+  // two projected vectors is the triple product with n.
+  const Eigen::Vector3d u = n.unitOrthogonal();
+  const Eigen::Vector3d v = n.cross(u);
+  std::array<Eigen::Vector2d, kMaxVertices> qa2, qb2, da2, db2;
+  std::array<double, kMaxVertices> la, lb;  // side lengths
   for (std::size_t i = 0; i < pa.n; ++i) {
-    const Eigen::Vector3d& p1 = pa.pts[i];
-    const Eigen::Vector3d d1 = pa.pts[(i + 1) % pa.n] - p1;
+    const Eigen::Vector3d d = pa.pts[(i + 1) % pa.n] - pa.pts[i];
+    qa2[i] = {u.dot(pa.pts[i]), v.dot(pa.pts[i])};
+    da2[i] = {u.dot(d), v.dot(d)};
+    la[i] = d.norm();
+  }
+  for (std::size_t j = 0; j < pb.n; ++j) {
+    const Eigen::Vector3d d = pb.pts[(j + 1) % pb.n] - pb.pts[j];
+    qb2[j] = {u.dot(pb.pts[j]), v.dot(pb.pts[j])};
+    db2[j] = {u.dot(d), v.dot(d)};
+    lb[j] = d.norm();
+  }
+  auto cross2 = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
+  const auto& rim_ia = a.primitives->faces[fa].rim;
+  const auto& rim_ib = b.primitives->faces[fb].rim;
+  for (std::size_t i = 0; i < pa.n; ++i) {
     for (std::size_t j = 0; j < pb.n; ++j) {
-      const Eigen::Vector3d& p2 = pb.pts[j];
-      const Eigen::Vector3d d2 = pb.pts[(j + 1) % pb.n] - p2;
-      // Solve p1 + s d1 = p2 + t d2 in the plane across n.
-      const double den = d1.cross(d2).dot(n);
-      if (std::abs(den) <= 1e-12 * d1.norm() * d2.norm()) continue;  // parallel rims
-      const Eigen::Vector3d w = p2 - p1;
-      const double s = w.cross(d2).dot(n) / den;
-      const double t = w.cross(d1).dot(n) / den;
+      const double den = cross2(da2[i], db2[j]);
+      if (std::abs(den) <= 1e-12 * la[i] * lb[j]) continue;  // parallel rims
+      const Eigen::Vector2d w = qb2[j] - qa2[i];
+      const double s = cross2(w, db2[j]) / den;
+      const double t = cross2(w, da2[i]) / den;
       // Strictly inside both rims: a crossing at a corner is that corner's contact.
       constexpr double eps = 1e-9;
       if (!(s > eps && s < 1.0 - eps && t > eps && t < 1.0 - eps)) continue;
-      const Eigen::Vector3d qa = p1 + s * d1, qb = p2 + t * d2;
+      const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[(i + 1) % pa.n] - pa.pts[i]);
+      const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[(j + 1) % pb.n] - pb.pts[j]);
       const double pen = radii - (qb - qa).dot(n);
       if (pen <= -margin) continue;
-      // The edges' indices in the primitives' edge list.
-      auto edge_index = [](const std::vector<geometry::ContactEdge>& edges, int u, int v) {
-        const int lo = std::min(u, v), hi = std::max(u, v);
-        for (std::size_t e = 0; e < edges.size(); ++e) {
-          if (edges[e].a == lo && edges[e].b == hi) return static_cast<std::uint32_t>(e);
-        }
-        return static_cast<std::uint32_t>(edges.size());
-      };
-      const std::uint32_t ka = edge_index(ea, ia[i], ia[(i + 1) % pa.n]);
-      const std::uint32_t kb = edge_index(eb, ib[j], ib[(j + 1) % pb.n]);
       PrimitiveContact c{qa + (a.radius - 0.5 * pen) * n, n, pen};
-      out.push_back({feature_code(FeatureKind::edge, ka), feature_code(FeatureKind::edge, kb), c});
+      out.push_back({feature_code(FeatureKind::edge, static_cast<std::uint32_t>(rim_ia[i])),
+                     feature_code(FeatureKind::edge, static_cast<std::uint32_t>(rim_ib[j])), c});
     }
   }
 }
@@ -478,18 +504,17 @@ FeatureSet every_feature(const PosedShape& a, const PosedShape& b) {
           all_edges(b.primitives->edges.size())};
 }
 
-/// B's pose relative to A: A's orientation^-1 B's, and B's centre from A's in A's frame.
-void relative_pose(const PosedShape& a, const PosedShape& b, Eigen::Quaterniond& q, Eigen::Vector3d& t) {
-  const Eigen::Quaterniond inv = a.orientation.conjugate();
-  q = inv * b.orientation;
-  t = inv * (b.centre - a.centre);
+/// The motion bounds and lever of a search at this pose.
+void start_near_features(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near) {
+  near.travel = a.travel + b.travel;
+  near.turn = a.turn + b.turn;
+  near.lever = a.primitives->bounding_radius + b.primitives->bounding_radius + (b.centre - a.centre).norm() + skin;
 }
 
 /// Fills `near` with the features within reach + skin, from full distance tables.
 void cache_near_features(const PosedShape& a, const PosedShape& b, double reach, double skin,
                          const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, NearFeatures& near) {
-  relative_pose(a, b, near.q_rel, near.t_rel);
-  near.lever = a.primitives->bounding_radius + b.primitives->bounding_radius + near.t_rel.norm() + skin;
+  start_near_features(a, b, skin, near);
   const double wide = reach + skin;
   auto vertices_within = [wide](std::size_t n, const PlaneDistances& dist) {
     std::uint64_t m = 0;
@@ -516,8 +541,8 @@ void cache_near_features(const PosedShape& a, const PosedShape& b, double reach,
   };
   near.edges_a = edges_within(a.primitives->edges, a_to_b, near.rows_a);
   near.edges_b = edges_within(b.primitives->edges, b_to_a, near.rows_b);
-  // A normal turns by at most 2 |dq| <= skin / (2 lever) while the cache is used; the
-  // face test's thresholds are widened by the skin.
+  // A normal turns by at most 2 (turn of A + turn of B) < skin / (2 lever) while the cache
+  // holds; the face test's thresholds are widened by the skin.
   const double turn = skin / near.lever;
   near.face_pair_count = 0;
   for (std::size_t fa = 0; fa < a.face_normals.size(); ++fa) {
@@ -539,17 +564,15 @@ void cache_near_features(const PosedShape& a, const PosedShape& b, double reach,
   near.skin = skin;
 }
 
-/// Whether B has moved relative to A by less than half the cached skin: every distance
-/// between a point of A and a point of B has changed by at most |dt| + 2 |dq| lever.
+/// Whether the bodies have moved since the search by less than half the cached skin. A
+/// point of A moves by at most A's travel plus twice its distance from A's centre times A's
+/// turn. The distance of a point p from a face plane of B, n . (p - c_B) - h, changes by at
+/// most |dn| |p - c_B| + |dp| + |dc_B|, with |dn| <= 2 B's turn; the lever bounds |p - c_B|
+/// and the distances from A's centre while this holds.
 bool near_features_hold(const PosedShape& a, const PosedShape& b, const NearFeatures& near) {
   if (near.skin <= 0.0) return false;
-  Eigen::Quaterniond q;
-  Eigen::Vector3d t;
-  relative_pose(a, b, q, t);
-  // |q1 - q0| = 2 sin(theta / 4) on the nearer sign; a unit vector turns by
-  // 2 sin(theta / 2) <= 2 |q1 - q0|.
-  const double dq = std::min((q.coeffs() - near.q_rel.coeffs()).norm(), (q.coeffs() + near.q_rel.coeffs()).norm());
-  return (t - near.t_rel).norm() + 2.0 * dq * near.lever < 0.5 * near.skin;
+  const double moved = (a.travel + b.travel - near.travel) + 2.0 * near.lever * (a.turn + b.turn - near.turn);
+  return moved < 0.5 * near.skin;
 }
 
 }  // namespace
@@ -583,9 +606,8 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   }
   // A full search, caching what lies within reach + skin. A pair apart by the skin on top
   // of the reach caches nothing, which stays right while the cache holds.
-  relative_pose(a, b, near.q_rel, near.t_rel);
   if (early_out(a, b, reach + skin)) {
-    near.lever = a.primitives->bounding_radius + b.primitives->bounding_radius + near.t_rel.norm() + skin;
+    start_near_features(a, b, skin, near);
     near.vertices_a = near.vertices_b = near.rows_a = near.rows_b = 0;
     near.edges_a = near.edges_b = EdgeMask{};
     near.face_pair_count = 0;

@@ -46,6 +46,11 @@ struct PosedShape {
   double radius = 0.0;                        ///< dilation radius
   Eigen::Vector3d lo = Eigen::Vector3d::Zero();  ///< world box of the vertices (undilated)
   Eigen::Vector3d hi = Eigen::Vector3d::Zero();
+  /// Motion bounds summed over every update since the first: the centre's path length, and
+  /// the sum of |q_new - q_old| (nearer sign), which bounds half the chord any unit vector of
+  /// the body swept (a unit vector turned by theta moves 2 sin(theta/2) <= 2 |dq|). By the
+  /// triangle inequality they bound the net motion between any two updates.
+  double travel = 0.0, turn = 0.0;
 
   void update(const RigidShape& shape, const BodyState& state);
 };
@@ -67,15 +72,16 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
                          std::vector<FeatureContact>& out);
 
 /// The features of a pair that a full search found within reach plus a skin `skin` of each
-/// other, and the pose of B relative to A at that search. While B has moved relative to A
-/// by less than half the skin (every distance between a point of A and a point of B, every
-/// plane distance and every face normal's turn bounded from the relative pose), no other
-/// feature can come within reach, so a search over these alone finds exactly the contacts
-/// the full search would: the same contacts in the same order, bit for bit.
+/// other, and the bodies' motion bounds at that search. While the motion since then moves
+/// any distance between a point of A and a point of B, and any distance of a point of one
+/// from a face plane of the other, by less than half the skin (bounded by the travels plus
+/// twice the lever times the turns), no other feature can come within reach, so a search
+/// over these alone finds exactly the contacts the full search would: the same contacts in
+/// the same order, bit for bit.
 struct NearFeatures {
-  Eigen::Quaterniond q_rel = Eigen::Quaterniond::Identity();  ///< A's orientation^-1 B's
-  Eigen::Vector3d t_rel = Eigen::Vector3d::Zero();  ///< B's centre from A's, in A's frame
-  double lever = 0.0;  ///< bounds |a point of A or B - B's centre|, and B's radius, meanwhile
+  double travel = 0.0, turn = 0.0;  ///< A's plus B's PosedShape::travel and turn at the search
+  /// Bounds, while the cache holds, the distance of any point of A or B from either centre.
+  double lever = 0.0;
   double skin = 0.0;   ///< 0: nothing cached
   std::uint64_t vertices_a = 0, vertices_b = 0;  ///< vertices that may come within reach
   std::uint64_t rows_a = 0, rows_b = 0;          ///< vertices whose plane distances are read

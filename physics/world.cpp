@@ -502,7 +502,7 @@ void World::evaluate_contact(std::size_t k, std::size_t& cursor, std::size_t& bo
 void World::sum_forces() {
   // Sums in contact order, on one thread: the same result for any number of threads.
   const std::size_t n = pending_.size();
-  records_.clear();
+  records_current_ = false;  // contacts() makes them from this evaluation when asked
   for (std::size_t k = 0; k < n; ++k) {
     const Pending& p = pending_[k];
     const bool wall = (p.key.a & kWallFlag) != 0;
@@ -518,9 +518,23 @@ void World::sum_forces() {
       sa.f -= f.force;
       sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
     }
-    records_.push_back({a, b, wall, p.contact.point, p.contact.normal, overlaps_[k], f.force});
   }
   std::swap(history_, next_history_);
+}
+
+const std::vector<ContactRecord>& World::contacts() const {
+  if (!records_current_) {
+    records_.clear();
+    records_.reserve(pending_.size());
+    for (std::size_t k = 0; k < pending_.size(); ++k) {
+      const Pending& p = pending_[k];
+      const bool wall = (p.key.a & kWallFlag) != 0;
+      records_.push_back({p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
+                          forces_[k].force});
+    }
+    records_current_ = true;
+  }
+  return records_;
 }
 
 void World::step() {
@@ -549,7 +563,7 @@ std::vector<Eigen::Matrix3d> World::body_stresses() const {
   // Sum d (x) f per body from the contact records (contact order: deterministic), then
   // symmetrise and divide by 2V (eq. 2.17).
   std::vector<Eigen::Matrix3d> sum(states_.size(), Eigen::Matrix3d::Zero());
-  for (const ContactRecord& c : records_) {
+  for (const ContactRecord& c : contacts()) {
     sum[c.b] += (c.point - states_[c.b].x) * c.force.transpose();
     if (!c.wall) sum[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
   }

@@ -188,7 +188,8 @@ class World {
   /// Advances the world by one time step.
   void step();
   /// Contacts of the last force evaluation.
-  [[nodiscard]] const std::vector<ContactRecord>& contacts() const { return records_; }
+  /// (Made from the last evaluation on the first call after it: not for concurrent calls.)
+  [[nodiscard]] const std::vector<ContactRecord>& contacts() const;
   /// Slots of live bodies in ascending order, with their ids.
   [[nodiscard]] std::vector<BodyId> body_ids() const;
   /// The averaged stress (eq. 2.17, grain_stress.hpp) of every body from the contacts of
@@ -272,7 +273,8 @@ class World {
   std::vector<std::vector<Pending>> thread_pending_;
   std::vector<ContactForce> forces_;
   std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
-  std::vector<ContactRecord> records_;
+  mutable std::vector<ContactRecord> records_;  // contacts(), made when first asked for
+  mutable bool records_current_ = true;
   std::vector<Bond> bonds_;  // sorted by (a, b)
   /// Overlaps that count as zero between pairs that are not bonded (or no longer have the
   /// bond that stored them): pieces of one split, whose dilated surfaces overlap across

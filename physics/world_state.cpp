@@ -91,6 +91,7 @@ RigidShape get_shape(StateReader& r) {
   }
   p.dilation_radius = r.get<double>();
   p.bounding_radius = r.get<double>();
+  if (!geometry::index_face_rims(p)) r.fail("a side of a shape's face is not one of its edges");
   return s;
 }
 
@@ -200,8 +201,8 @@ void World::save_state(StateWriter& w) const {
     w.put(e.history.torsion);
     w.put(e.history.max_overlap);
   }
-  w.count(records_.size());
-  for (const ContactRecord& c : records_) {
+  w.count(contacts().size());
+  for (const ContactRecord& c : contacts()) {
     w.put(c.a);
     w.put(c.b);
     w.put(c.wall);
@@ -419,6 +420,7 @@ void World::load_state(StateReader& r) {
   history_ = std::move(history);
   next_history_.clear();
   records_ = std::move(records);
+  records_current_ = true;
   bonds_ = std::move(bonds);
   offsets_ = std::move(offsets);
   bond_params_ = bp;

@@ -214,7 +214,9 @@ TEST(DropTest, TheNearFeatureCacheChangesNoBit) {
     full.step();
     cached.step();
     touching_steps += full.contacts().empty() ? 0 : 1;
-    if (i % 1000 == 0) ASSERT_EQ(state_hash(full), state_hash(cached)) << "step " << i;
+    if (i % 1000 == 0) {
+      ASSERT_EQ(state_hash(full), state_hash(cached)) << "step " << i;
+    }
   }
   EXPECT_GT(touching_steps, 10000u);
   EXPECT_EQ(full.contacts().size(), cached.contacts().size());

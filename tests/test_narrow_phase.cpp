@@ -185,7 +185,7 @@ TEST(NearFeatureCache, GivesTheFullSearchsContactsBitForBit) {
       make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(3 * kR, kT), kRho)};
   geometry::SplitMix64 rng(2026);
   int steps = 0, cached = 0, touching = 0;
-  for (int trial = 0; trial < 600; ++trial) {
+  for (int trial = 0; trial < 1500; ++trial) {
     const RigidShape& sa = shapes[trial % 3];
     const RigidShape& sb = shapes[(trial / 3) % 3];
     Eigen::Vector3d dir(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
@@ -211,6 +211,7 @@ TEST(NearFeatureCache, GivesTheFullSearchsContactsBitForBit) {
     for (b.x = d * dir; d > 0 && contacts(posed(sa, a), posed(sb, b)).empty(); b.x = d * dir) d -= 2e-6;
     b.x = (d - 40e-6 * rng.uniform()) * dir;
     NearFeatures near;
+    PosedShape pa, pb;  // kept, so that their motion bounds add up step by step
     const double skin = 0.5 * 2 * kRho;
     for (int step = 0; step < 40; ++step) {
       // Log-uniform sizes: most moves far below the skin, some beyond it.
@@ -236,7 +237,8 @@ TEST(NearFeatureCache, GivesTheFullSearchsContactsBitForBit) {
       }
       a.q.normalize();
       b.q.normalize();
-      const PosedShape pa = posed(sa, a), pb = posed(sb, b);
+      pa.update(sa, a);
+      pb.update(sb, b);
       std::vector<FeatureContact> with_cache;
       cached += polyhedron_contacts(pa, pb, skin, near, with_cache) ? 1 : 0;
       const std::vector<FeatureContact> full = contacts(pa, pb);
