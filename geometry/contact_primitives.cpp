@@ -57,11 +57,13 @@ ContactPrimitives make_contact_primitives(const PolygonMesh& shape, const Eigen:
           static_cast<int>(f);
     }
   }
-  index_face_rims(out);
+  finish_primitives(out);
   return out;
 }
 
-bool index_face_rims(ContactPrimitives& p) {
+bool finish_primitives(ContactPrimitives& p) {
+  p.edge_units.clear();
+  for (const auto& e : p.edges) p.edge_units.push_back((p.vertices[e.b] - p.vertices[e.a]).normalized());
   std::map<std::pair<int, int>, int> edge_of;
   for (std::size_t e = 0; e < p.edges.size(); ++e) edge_of[{p.edges[e].a, p.edges[e].b}] = static_cast<int>(e);
   bool complete = true;

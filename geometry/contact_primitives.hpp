@@ -43,6 +43,7 @@ struct ContactPrimitives {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> vertices;
   std::vector<ContactEdge> edges;
+  std::vector<Eigen::Vector3d> edge_units;  ///< unit direction of each edge, a -> b
   std::vector<ContactFace> faces;
   std::vector<ContactTriangle> triangles;
   double dilation_radius = 0.0;
@@ -51,8 +52,9 @@ struct ContactPrimitives {
   double bounding_radius = 0.0;
 };
 
-/// Fills every face's `rim` from the edge list; false when a side of a face is not an edge.
-bool index_face_rims(ContactPrimitives& p);
+/// Fills what follows from the vertices, edges and faces: every face's `rim` and every
+/// edge's unit direction. Returns false when a side of a face is not an edge.
+bool finish_primitives(ContactPrimitives& p);
 
 /// Contact primitives of a closed, outward, convex polygon mesh given in its shape frame;
 /// `centroid` (shape frame) becomes the origin. Throws std::invalid_argument for a

@@ -24,12 +24,13 @@ namespace {
 void rotate_about(int k, double h, Eigen::Quaterniond& q, Eigen::Vector3d& pi,
                   const Eigen::Vector3d& inv_inertia) {
   const double theta = h * pi[k] * inv_inertia[k];
-  const double c = std::cos(theta), s = std::sin(theta);
+  // One sine and cosine, of the half angle (the quaternion's), give the whole angle's.
+  const double ch = std::cos(0.5 * theta), sh = std::sin(0.5 * theta);
+  const double c = 1.0 - 2.0 * sh * sh, s = 2.0 * sh * ch;
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const double pi_i = pi[i], pi_j = pi[j];
   pi[i] = c * pi_i + s * pi_j;
   pi[j] = -s * pi_i + c * pi_j;
-  const double ch = std::cos(0.5 * theta), sh = std::sin(0.5 * theta);
   Eigen::Quaterniond r(ch, 0.0, 0.0, 0.0);
   r.vec()[k] = sh;
   q = q * r;

@@ -35,7 +35,7 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
   }
   edge_directions.resize(p.edges.size());
   for (std::size_t e = 0; e < p.edges.size(); ++e) {
-    edge_directions[e] = (vertices[p.edges[e].b] - vertices[p.edges[e].a]).normalized();
+    edge_directions[e] = R * p.edge_units[e];
   }
 }
 
@@ -432,22 +432,28 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
   // face, are worked out once per pair rather than once per edge pair.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
-  std::array<bool, kMaxEdges> near_b;
-  std::array<std::uint8_t, kMaxEdges> patches_of_b{};  // bit k: on patch k's face of B
-  std::array<Eigen::Vector3d, kMaxEdges> mid_b;         // midpoints and half lengths of B's
-  std::array<double, kMaxEdges> half_b;                 // near edges, for the bound below
+  // B's near edges in ascending order, with their midpoints and half lengths (for the
+  // bound below) and the patches whose face of B they lie on (bit k: patch k).
+  std::array<std::uint8_t, kMaxEdges> near_b;
+  std::array<std::uint8_t, kMaxEdges> patches_of_b;
+  std::array<Eigen::Vector3d, kMaxEdges> mid_b;
+  std::array<double, kMaxEdges> half_b;
+  std::size_t n_near_b = 0;
   for (std::size_t j = 0; j < eb.size(); ++j) {
-    near_b[j] = has_edge(set.edges_b, j) && edge_near(b_to_a, eb[j], reach);
-    if (!near_b[j]) continue;
+    if (!has_edge(set.edges_b, j) || !edge_near(b_to_a, eb[j], reach)) continue;
     const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
     const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-    mid_b[j] = 0.5 * (p2 + q2);
-    half_b[j] = 0.5 * (q2 - p2).norm();
+    near_b[n_near_b] = static_cast<std::uint8_t>(j);
+    mid_b[n_near_b] = 0.5 * (p2 + q2);
+    half_b[n_near_b] = 0.5 * (q2 - p2).norm();
+    std::uint8_t on = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fb);
-      if (eb[j].left_face == f || eb[j].right_face == f) patches_of_b[j] |= std::uint8_t(1u << k);
+      if (eb[j].left_face == f || eb[j].right_face == f) on |= std::uint8_t(1u << k);
     }
+    patches_of_b[n_near_b++] = on;
   }
+  if (n_near_b == 0) return;
   for (std::size_t i = 0; i < ea.size(); ++i) {
     if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i], reach)) continue;
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
@@ -461,12 +467,13 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
       if (ea[i].left_face == f || ea[i].right_face == f) patches_of_a |= std::uint8_t(1u << k);
     }
     const std::uint32_t code_i = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i));
-    for (std::size_t j = 0; j < eb.size(); ++j) {
-      if (!near_b[j] || (patches_of_a & patches_of_b[j]) != 0) continue;  // patch has them
+    for (std::size_t k = 0; k < n_near_b; ++k) {
+      if ((patches_of_a & patches_of_b[k]) != 0) continue;  // the patch has them
       // Two segments whose midpoints are further apart than their half lengths plus the
       // reach cannot touch.
-      const double bound = h1 + half_b[j] + reach;
-      if ((mid_b[j] - m1).squaredNorm() > bound * bound) continue;
+      const double bound = h1 + half_b[k] + reach;
+      if ((mid_b[k] - m1).squaredNorm() > bound * bound) continue;
+      const std::size_t j = near_b[k];
       const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
       const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
       if (d1.cross(b.edge_directions[j]).squaredNorm() < 1e-12) continue;  // parallel

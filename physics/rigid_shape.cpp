@@ -23,6 +23,7 @@ RigidShape make_rigid_shape(const geometry::ExactPolyhedron& shape, double dilat
     f.centroid = to_principal * f.centroid;
   }
   p.origin = Eigen::Vector3d::Zero();
+  geometry::finish_primitives(p);  // edge directions in the principal frame
   out.primitives = std::move(p);
   return out;
 }

@@ -339,21 +339,26 @@ void World::body_contacts(int nt) {
     for (std::uint32_t slot : live_slots_) searched_at_.push_back(states_[slot].x);
     pairs_current_ = true;
   }
-  // Each thread takes a contiguous block of pairs; the blocks are joined in order, so the
-  // contact list (and everything after it) is the same for any number of threads.
+  // The pairs in chunks of consecutive pairs, handed to the threads as they come free (the
+  // cost of a pair varies a hundredfold); the chunks' contacts are joined in chunk order,
+  // so the contact list (and everything after it) is the same for any number of threads.
   const std::size_t n = pairs_.size();
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
-  thread_pending_.resize(static_cast<std::size_t>(nt));
-  for (auto& part : thread_pending_) part.clear();
+  constexpr std::size_t kChunk = 256;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  if (thread_pending_.size() < chunks) thread_pending_.resize(chunks);
   // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
   // them gives what the full search would, bit for bit, and skips what cannot touch.
   const bool cached = settings_.feature_skin > 0.0;
   if (cached) near_.resize(n);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    const auto [t, begin, end] = thread_block(n);
-    auto& out = thread_pending_[t];
     std::vector<FeatureContact> features;
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+    auto& out = thread_pending_[chunk];
+    out.clear();
+    const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
     for (std::size_t p = begin; p < end; ++p) {
       const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
       features.clear();
@@ -371,8 +376,19 @@ void World::body_contacts(int nt) {
         if (fc.contact.penetration > 0.0) out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
       }
     }
+    }
   }
-  for (const auto& part : thread_pending_) pending_.insert(pending_.end(), part.begin(), part.end());
+  // Joined in chunk order, each chunk copied to its place by whichever thread.
+  chunk_start_.assign(chunks + 1, 0);
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+    chunk_start_[chunk + 1] = chunk_start_[chunk] + thread_pending_[chunk].size();
+  }
+  pending_.resize(chunk_start_[chunks]);
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+    std::copy(thread_pending_[chunk].begin(), thread_pending_[chunk].end(),
+              pending_.begin() + static_cast<std::ptrdiff_t>(chunk_start_[chunk]));
+  }
 }
 
 void World::wall_contacts() {

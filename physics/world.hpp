@@ -270,7 +270,8 @@ class World {
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
   std::vector<Pending> pending_;
-  std::vector<std::vector<Pending>> thread_pending_;
+  std::vector<std::vector<Pending>> thread_pending_;  // by chunk of pairs (body_contacts)
+  std::vector<std::size_t> chunk_start_;              // where each chunk goes in pending_
   std::vector<ContactForce> forces_;
   std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
   mutable std::vector<ContactRecord> records_;  // contacts(), made when first asked for

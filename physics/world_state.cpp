@@ -91,7 +91,7 @@ RigidShape get_shape(StateReader& r) {
   }
   p.dilation_radius = r.get<double>();
   p.bounding_radius = r.get<double>();
-  if (!geometry::index_face_rims(p)) r.fail("a side of a shape's face is not one of its edges");
+  if (!geometry::finish_primitives(p)) r.fail("a side of a shape's face is not one of its edges");
   return s;
 }
 
