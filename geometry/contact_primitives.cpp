@@ -63,7 +63,12 @@ ContactPrimitives make_contact_primitives(const PolygonMesh& shape, const Eigen:
 
 bool finish_primitives(ContactPrimitives& p) {
   p.edge_units.clear();
-  for (const auto& e : p.edges) p.edge_units.push_back((p.vertices[e.b] - p.vertices[e.a]).normalized());
+  p.edge_lengths.clear();
+  for (const auto& e : p.edges) {
+    const Eigen::Vector3d d = p.vertices[e.b] - p.vertices[e.a];
+    p.edge_lengths.push_back(d.norm());
+    p.edge_units.push_back(d / p.edge_lengths.back());
+  }
   std::map<std::pair<int, int>, int> edge_of;
   for (std::size_t e = 0; e < p.edges.size(); ++e) edge_of[{p.edges[e].a, p.edges[e].b}] = static_cast<int>(e);
   bool complete = true;

@@ -44,6 +44,7 @@ struct ContactPrimitives {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<ContactEdge> edges;
   std::vector<Eigen::Vector3d> edge_units;  ///< unit direction of each edge, a -> b
+  std::vector<double> edge_lengths;
   std::vector<ContactFace> faces;
   std::vector<ContactTriangle> triangles;
   double dilation_radius = 0.0;
@@ -52,8 +53,8 @@ struct ContactPrimitives {
   double bounding_radius = 0.0;
 };
 
-/// Fills what follows from the vertices, edges and faces: every face's `rim` and every
-/// edge's unit direction. Returns false when a side of a face is not an edge.
+/// Fills what follows from the vertices, edges and faces: every face's `rim`, every edge's
+/// unit direction and length. Returns false when a side of a face is not an edge.
 bool finish_primitives(ContactPrimitives& p);
 
 /// Contact primitives of a closed, outward, convex polygon mesh given in its shape frame;

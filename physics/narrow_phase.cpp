@@ -49,17 +49,24 @@ constexpr std::size_t kMaxFaces = 32;
 struct PlaneDistances {
   std::size_t faces = 0;
   std::array<double, kMaxVertices * kMaxFaces> d;
+  /// Bit f of vertex v: the vertex is `reach` or more beyond face f's plane.
+  std::array<std::uint32_t, kMaxVertices> beyond;
   double at(std::size_t v, std::size_t f) const { return d[v * faces + f]; }
 };
 
 /// The rows of the vertices in `rows` (bit v: vertex v) only.
-void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t rows, PlaneDistances& out) {
+void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t rows, double reach,
+                     PlaneDistances& out) {
   out.faces = to.face_normals.size();
   for (; rows != 0; rows &= rows - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(rows));
+    std::uint32_t beyond = 0;
     for (std::size_t f = 0; f < out.faces; ++f) {
-      out.d[v * out.faces + f] = to.face_normals[f].dot(from.vertices[v]) - to.face_offsets[f];
+      const double d = to.face_normals[f].dot(from.vertices[v]) - to.face_offsets[f];
+      out.d[v * out.faces + f] = d;
+      beyond |= static_cast<std::uint32_t>(d >= reach) << f;
     }
+    out.beyond[v] = beyond;
   }
 }
 
@@ -168,12 +175,16 @@ bool in_normal_cone(const PosedShape& s, const geometry::ContactEdge& E, const E
 }
 
 /// Whether an edge of `s` can reach `other` at all: no face plane of `other` has both
-/// endpoints beyond reach.
+/// endpoints `reach` or more beyond it.
 bool edge_near(const PlaneDistances& dist, const geometry::ContactEdge& E, double reach) {
   for (std::size_t f = 0; f < dist.faces; ++f) {
     if (dist.at(E.a, f) >= reach && dist.at(E.b, f) >= reach) return false;
   }
   return true;
+}
+/// The same for the reach the distances were computed with, from their `beyond` masks.
+bool edge_near(const PlaneDistances& dist, const geometry::ContactEdge& E) {
+  return (dist.beyond[E.a] & dist.beyond[E.b]) == 0;
 }
 
 /// A face polygon's rim as planes through its sides, parallel to the face normal, for
@@ -260,33 +271,39 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   // two projected vectors is the triple product with n.
   const Eigen::Vector3d u = n.unitOrthogonal();
   const Eigen::Vector3d v = n.cross(u);
+  const auto& rim_ia = a.primitives->faces[fa].rim;
+  const auto& rim_ib = b.primitives->faces[fb].rim;
   std::array<Eigen::Vector2d, kMaxVertices> qa2, qb2, da2, db2;
-  std::array<double, kMaxVertices> la, lb;  // side lengths
   for (std::size_t i = 0; i < pa.n; ++i) {
     const Eigen::Vector3d d = pa.pts[(i + 1) % pa.n] - pa.pts[i];
     qa2[i] = {u.dot(pa.pts[i]), v.dot(pa.pts[i])};
     da2[i] = {u.dot(d), v.dot(d)};
-    la[i] = d.norm();
   }
   for (std::size_t j = 0; j < pb.n; ++j) {
     const Eigen::Vector3d d = pb.pts[(j + 1) % pb.n] - pb.pts[j];
     qb2[j] = {u.dot(pb.pts[j]), v.dot(pb.pts[j])};
     db2[j] = {u.dot(d), v.dot(d)};
-    lb[j] = d.norm();
   }
   auto cross2 = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
-  const auto& rim_ia = a.primitives->faces[fa].rim;
-  const auto& rim_ib = b.primitives->faces[fb].rim;
+  const auto& length_a = a.primitives->edge_lengths;
+  const auto& length_b = b.primitives->edge_lengths;
   for (std::size_t i = 0; i < pa.n; ++i) {
     for (std::size_t j = 0; j < pb.n; ++j) {
-      const double den = cross2(da2[i], db2[j]);
-      if (std::abs(den) <= 1e-12 * la[i] * lb[j]) continue;  // parallel rims
+      double den = cross2(da2[i], db2[j]);
+      if (std::abs(den) <= 1e-12 * length_a[rim_ia[i]] * length_b[rim_ib[j]]) continue;  // parallel
       const Eigen::Vector2d w = qb2[j] - qa2[i];
-      const double s = cross2(w, db2[j]) / den;
-      const double t = cross2(w, da2[i]) / den;
+      // s = s_den / den and t = t_den / den, compared without dividing (den made positive).
+      double s_den = cross2(w, db2[j]), t_den = cross2(w, da2[i]);
+      if (den < 0.0) {
+        den = -den;
+        s_den = -s_den;
+        t_den = -t_den;
+      }
       // Strictly inside both rims: a crossing at a corner is that corner's contact.
       constexpr double eps = 1e-9;
-      if (!(s > eps && s < 1.0 - eps && t > eps && t < 1.0 - eps)) continue;
+      const double lo = eps * den, hi = (1.0 - eps) * den;
+      if (!(s_den > lo && s_den < hi && t_den > lo && t_den < hi)) continue;
+      const double s = s_den / den, t = t_den / den;
       const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[(i + 1) % pa.n] - pa.pts[i]);
       const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[(j + 1) % pb.n] - pb.pts[j]);
       const double pen = radii - (qb - qa).dot(n);
@@ -440,12 +457,12 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
   std::array<double, kMaxEdges> half_b;
   std::size_t n_near_b = 0;
   for (std::size_t j = 0; j < eb.size(); ++j) {
-    if (!has_edge(set.edges_b, j) || !edge_near(b_to_a, eb[j], reach)) continue;
+    if (!has_edge(set.edges_b, j) || !edge_near(b_to_a, eb[j])) continue;
     const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
     const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
     near_b[n_near_b] = static_cast<std::uint8_t>(j);
     mid_b[n_near_b] = 0.5 * (p2 + q2);
-    half_b[n_near_b] = 0.5 * (q2 - p2).norm();
+    half_b[n_near_b] = 0.5 * b.primitives->edge_lengths[j];
     std::uint8_t on = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fb);
@@ -455,12 +472,12 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
   }
   if (n_near_b == 0) return;
   for (std::size_t i = 0; i < ea.size(); ++i) {
-    if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i], reach)) continue;
+    if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i])) continue;
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
     const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
     const Eigen::Vector3d& d1 = a.edge_directions[i];
     const Eigen::Vector3d m1 = 0.5 * (p1 + q1);
-    const double h1 = 0.5 * (q1 - p1).norm();
+    const double h1 = 0.5 * a.primitives->edge_lengths[i];
     std::uint8_t patches_of_a = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fa);
@@ -587,11 +604,12 @@ bool near_features_hold(const PosedShape& a, const PosedShape& b, const NearFeat
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
                          std::vector<FeatureContact>& out) {
   if (!within_buffers(a, b)) return;  // shapes beyond the fixed buffers are not produced by cleave
-  if (early_out(a, b, a.radius + b.radius + margin)) return;
+  const double reach = a.radius + b.radius + margin;
+  if (early_out(a, b, reach)) return;
   const FeatureSet all = every_feature(a, b);
   PlaneDistances a_to_b, b_to_a;
-  plane_distances(a, b, all.vertices_a, a_to_b);  // A's vertices against B's faces
-  plane_distances(b, a, all.vertices_b, b_to_a);  // B's vertices against A's faces
+  plane_distances(a, b, all.vertices_a, reach, a_to_b);  // A's vertices against B's faces
+  plane_distances(b, a, all.vertices_b, reach, b_to_a);  // B's vertices against A's faces
   contacts_over(a, b, margin, all, a_to_b, b_to_a, out);
 }
 
@@ -601,11 +619,12 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   const double reach = a.radius + b.radius;
   PlaneDistances a_to_b, b_to_a;
   if (near_features_hold(a, b, near)) {
-    const bool none = near.vertices_a == 0 && near.vertices_b == 0 && near.edges_a == EdgeMask{} &&
-                      near.edges_b == EdgeMask{} && near.face_pair_count == 0;
+    const bool none = (near.vertices_a | near.vertices_b | near.edges_a[0] | near.edges_a[1] | near.edges_a[2] |
+                       near.edges_b[0] | near.edges_b[1] | near.edges_b[2]) == 0 &&
+                      near.face_pair_count == 0;
     if (none || early_out(a, b, reach)) return true;
-    plane_distances(a, b, near.rows_a, a_to_b);
-    plane_distances(b, a, near.rows_b, b_to_a);
+    plane_distances(a, b, near.rows_a, reach, a_to_b);
+    plane_distances(b, a, near.rows_b, reach, b_to_a);
     const FeatureSet set{near.vertices_a, near.vertices_b, near.edges_a, near.edges_b,
                          near.face_pairs.data(), near.face_pair_count};
     contacts_over(a, b, 0.0, set, a_to_b, b_to_a, out);
@@ -622,8 +641,8 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
     return false;
   }
   const FeatureSet all = every_feature(a, b);
-  plane_distances(a, b, all.vertices_a, a_to_b);
-  plane_distances(b, a, all.vertices_b, b_to_a);
+  plane_distances(a, b, all.vertices_a, reach, a_to_b);
+  plane_distances(b, a, all.vertices_b, reach, b_to_a);
   cache_near_features(a, b, reach, skin, a_to_b, b_to_a, near);
   if (!early_out(a, b, reach)) contacts_over(a, b, 0.0, all, a_to_b, b_to_a, out);
   return false;
