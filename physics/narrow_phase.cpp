@@ -11,8 +11,8 @@ namespace cleave::physics {
 void PosedShape::update(const RigidShape& shape, const BodyState& state) {
   if (primitives != nullptr) {
     travel += (state.x - centre).norm();
-    turn += std::min((state.q.coeffs() - orientation.coeffs()).norm(),
-                     (state.q.coeffs() + orientation.coeffs()).norm());
+    turn += std::sqrt(std::min((state.q.coeffs() - orientation.coeffs()).squaredNorm(),
+                               (state.q.coeffs() + orientation.coeffs()).squaredNorm()));
   }
   primitives = &shape.primitives;
   centre = state.x;
