@@ -585,6 +585,9 @@ void cache_near_features(const PosedShape& a, const PosedShape& b, double reach,
       for (int v : b.primitives->faces[fb].vertices) near.rows_b |= std::uint64_t{1} << v;
     }
   }
+  near.none = (near.vertices_a | near.vertices_b | near.edges_a[0] | near.edges_a[1] | near.edges_a[2] |
+               near.edges_b[0] | near.edges_b[1] | near.edges_b[2]) == 0 &&
+              near.face_pair_count == 0;
   near.skin = skin;
 }
 
@@ -619,10 +622,7 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   const double reach = a.radius + b.radius;
   PlaneDistances a_to_b, b_to_a;
   if (near_features_hold(a, b, near)) {
-    const bool none = (near.vertices_a | near.vertices_b | near.edges_a[0] | near.edges_a[1] | near.edges_a[2] |
-                       near.edges_b[0] | near.edges_b[1] | near.edges_b[2]) == 0 &&
-                      near.face_pair_count == 0;
-    if (none || early_out(a, b, reach)) return true;
+    if (near.none || early_out(a, b, reach)) return true;
     plane_distances(a, b, near.rows_a, reach, a_to_b);
     plane_distances(b, a, near.rows_b, reach, b_to_a);
     const FeatureSet set{near.vertices_a, near.vertices_b, near.edges_a, near.edges_b,
@@ -637,6 +637,7 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
     near.vertices_a = near.vertices_b = near.rows_a = near.rows_b = 0;
     near.edges_a = near.edges_b = EdgeMask{};
     near.face_pair_count = 0;
+    near.none = true;
     near.skin = skin;
     return false;
   }

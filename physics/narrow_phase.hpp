@@ -83,6 +83,7 @@ struct NearFeatures {
   /// Bounds, while the cache holds, the distance of any point of A or B from either centre.
   double lever = 0.0;
   double skin = 0.0;   ///< 0: nothing cached
+  bool none = false;   ///< nothing below may come within reach (the pair was apart by the skin)
   std::uint64_t vertices_a = 0, vertices_b = 0;  ///< vertices that may come within reach
   std::uint64_t rows_a = 0, rows_b = 0;          ///< vertices whose plane distances are read
   std::array<std::uint64_t, 3> edges_a{}, edges_b{};  ///< edges that may come within reach

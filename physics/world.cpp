@@ -463,7 +463,7 @@ void World::evaluate_and_apply(int nt) {
       evaluate_contact(k, cursor, bond_cursor);
     }
   }
-  sum_forces();
+  sum_forces(nt);
 }
 
 /// The contact law for contact k: reads the bodies' states and the previous step's history
@@ -515,24 +515,34 @@ void World::evaluate_contact(std::size_t k, std::size_t& cursor, std::size_t& bo
   next_history_[k] = {p.key, h};
 }
 
-void World::sum_forces() {
-  // Sums in contact order, on one thread: the same result for any number of threads.
+void World::sum_forces(int nt) {
+  // Each thread sums onto the bodies of its own block of slots, going through all contacts
+  // in order: every body's force is summed in contact order, the same for any number of
+  // threads. Wall reactions are summed by the first thread.
   const std::size_t n = pending_.size();
   records_current_ = false;  // contacts() makes them from this evaluation when asked
-  for (std::size_t k = 0; k < n; ++k) {
-    const Pending& p = pending_[k];
-    const bool wall = (p.key.a & kWallFlag) != 0;
-    const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
-    const ContactForce& f = forces_[k];
-    BodyState& sb = states_[b];
-    sb.f += f.force;
-    sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
-    if (wall) {
-      walls_[a].reaction -= f.force;
-    } else {
-      BodyState& sa = states_[a];
-      sa.f -= f.force;
-      sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+  const std::size_t slots = states_.size();
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const auto [t, lo, hi] = thread_block(slots);
+    for (std::size_t k = 0; k < n; ++k) {
+      const Pending& p = pending_[k];
+      const bool wall = (p.key.a & kWallFlag) != 0;
+      const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+      const ContactForce& f = forces_[k];
+      if (b >= lo && b < hi) {
+        BodyState& sb = states_[b];
+        sb.f += f.force;
+        sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
+      }
+      if (wall) {
+        if (t == 0) walls_[a].reaction -= f.force;
+      } else if (a >= lo && a < hi) {
+        BodyState& sa = states_[a];
+        sa.f -= f.force;
+        sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
+      }
     }
   }
   std::swap(history_, next_history_);

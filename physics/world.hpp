@@ -225,7 +225,7 @@ class World {
   void wall_contacts();
   void evaluate_and_apply(int threads);
   void evaluate_contact(std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
-  void sum_forces();
+  void sum_forces(int threads);
   void bond_forces(int threads);
   void apply_local_damping(int threads);
   /// The overlap stored at bonding for features (fa, fb) of bonded pair (a, b), or 0;
