@@ -375,11 +375,12 @@ struct FeatureSet {
 };
 
 /// Whether face fa of A and face fb of B face each other (outward normals opposite within
-/// about 6 degrees) with each face's nearest corner within `reach` of the other's plane
-/// and not deeper than `reach` behind it.
+/// about 6 degrees, the cosine's bound widened by `turn`) with each face's nearest corner
+/// within `reach` of the other's plane and not deeper than `reach` behind it.
 bool faces_facing(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
-                  const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double reach) {
-  if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos) return false;
+                  const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double reach,
+                  double turn = 0.0) {
+  if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos + turn) return false;
   double da = std::numeric_limits<double>::infinity(), db = da;
   for (int v : a.primitives->faces[fa].vertices) da = std::min(da, a_to_b.at(v, fb));
   for (int v : b.primitives->faces[fb].vertices) db = std::min(db, b_to_a.at(v, fa));
@@ -571,11 +572,7 @@ void cache_near_features(const PosedShape& a, const PosedShape& b, double reach,
   near.face_pair_count = 0;
   for (std::size_t fa = 0; fa < a.face_normals.size(); ++fa) {
     for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
-      if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos + turn) continue;
-      double da = std::numeric_limits<double>::infinity(), db = da;
-      for (int v : a.primitives->faces[fa].vertices) da = std::min(da, a_to_b.at(v, fb));
-      for (int v : b.primitives->faces[fb].vertices) db = std::min(db, b_to_a.at(v, fa));
-      if (da >= wide || db >= wide || da < -wide || db < -wide) continue;
+      if (!faces_facing(a, fa, b, fb, a_to_b, b_to_a, wide, turn)) continue;
       if (near.face_pair_count == near.face_pairs.size()) {  // too many to cache
         near.skin = 0.0;
         return;

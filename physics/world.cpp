@@ -356,26 +356,28 @@ void World::body_contacts(int nt) {
     std::vector<FeatureContact> features;
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
-    auto& out = thread_pending_[chunk];
-    out.clear();
-    const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
-    for (std::size_t p = begin; p < end; ++p) {
-      const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
-      features.clear();
-      if (cached) {
-        const double skin = settings_.feature_skin * (posed_[a].radius + posed_[b].radius);
-        polyhedron_contacts(posed_[a], posed_[b], skin, near_[p], features);
-      } else {
-        polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+      auto& out = thread_pending_[chunk];
+      out.clear();
+      const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
+      for (std::size_t p = begin; p < end; ++p) {
+        const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
+        features.clear();
+        if (cached) {
+          const double skin = settings_.feature_skin * (posed_[a].radius + posed_[b].radius);
+          polyhedron_contacts(posed_[a], posed_[b], skin, near_[p], features);
+        } else {
+          polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+        }
+        // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
+        std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
+          return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+        });
+        for (const auto& fc : features) {
+          if (fc.contact.penetration > 0.0) {
+            out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
+          }
+        }
       }
-      // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
-      std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
-        return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
-      });
-      for (const auto& fc : features) {
-        if (fc.contact.penetration > 0.0) out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
-      }
-    }
     }
   }
   // Joined in chunk order, each chunk copied to its place by whichever thread.

@@ -44,8 +44,9 @@ struct WorldSettings {
   double local_damping = 0.0;
   /// Skin of each pair's near-feature cache (narrow_phase.hpp), as a fraction of the sum of
   /// the pair's dilation radii: the features found within reach plus this skin are the only
-  /// ones searched while the pair's relative motion stays under half of it (0: every pair
-  /// searched in full every step). It changes speed only: results are bit-identical.
+  /// ones searched while the two bodies' motion since (a bound on how far any distance
+  /// between them changed) stays under half of it (0: every pair searched in full every
+  /// step). It changes speed only: results are bit-identical.
   double feature_skin = 0.5;
 };
 
