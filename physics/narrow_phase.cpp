@@ -33,10 +33,7 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
     face_normals[f] = R * p.faces[f].normal;
     face_offsets[f] = face_normals[f].dot(vertices[p.faces[f].vertices[0]]);
   }
-  edge_directions.resize(p.edges.size());
-  for (std::size_t e = 0; e < p.edges.size(); ++e) {
-    edge_directions[e] = R * p.edge_units[e];
-  }
+  rotation = R;
 }
 
 namespace {
@@ -163,7 +160,7 @@ bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
 /// of its two faces, in the plane across the edge), its boundary included: a face-to-face
 /// touch shows up as the crossings of the two faces' rims, with the face normal as u.
 bool in_normal_cone(const PosedShape& s, const geometry::ContactEdge& E, const Eigen::Vector3d& u) {
-  const Eigen::Vector3d& e = s.edge_directions[static_cast<std::size_t>(&E - s.primitives->edges.data())];
+  const Eigen::Vector3d e = s.edge_direction(static_cast<std::size_t>(&E - s.primitives->edges.data()));
   const Eigen::Vector3d& n1 = s.face_normals[E.left_face];
   const Eigen::Vector3d& n2 = s.face_normals[E.right_face];
   Eigen::Vector3d m1 = e.cross(n1);
@@ -450,12 +447,13 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
   // face, are worked out once per pair rather than once per edge pair.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
-  // B's near edges in ascending order, with their midpoints and half lengths (for the
-  // bound below) and the patches whose face of B they lie on (bit k: patch k).
+  // B's near edges in ascending order, with their midpoints, half lengths (for the bound
+  // below) and directions, and the patches whose face of B they lie on (bit k: patch k).
   std::array<std::uint8_t, kMaxEdges> near_b;
   std::array<std::uint8_t, kMaxEdges> patches_of_b;
   std::array<Eigen::Vector3d, kMaxEdges> mid_b;
   std::array<double, kMaxEdges> half_b;
+  std::array<Eigen::Vector3d, kMaxEdges> dir_b;
   std::size_t n_near_b = 0;
   for (std::size_t j = 0; j < eb.size(); ++j) {
     if (!has_edge(set.edges_b, j) || !edge_near(b_to_a, eb[j])) continue;
@@ -464,6 +462,7 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
     near_b[n_near_b] = static_cast<std::uint8_t>(j);
     mid_b[n_near_b] = 0.5 * (p2 + q2);
     half_b[n_near_b] = 0.5 * b.primitives->edge_lengths[j];
+    dir_b[n_near_b] = b.edge_direction(j);
     std::uint8_t on = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fb);
@@ -476,7 +475,7 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
     if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i])) continue;
     const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
     const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
-    const Eigen::Vector3d& d1 = a.edge_directions[i];
+    const Eigen::Vector3d d1 = a.edge_direction(i);
     const Eigen::Vector3d m1 = 0.5 * (p1 + q1);
     const double h1 = 0.5 * a.primitives->edge_lengths[i];
     std::uint8_t patches_of_a = 0;
@@ -494,7 +493,7 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
       const std::size_t j = near_b[k];
       const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
       const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-      if (d1.cross(b.edge_directions[j]).squaredNorm() < 1e-12) continue;  // parallel
+      if (d1.cross(dir_b[k]).squaredNorm() < 1e-12) continue;  // parallel
       const std::uint32_t code_j = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j));
       auto hit = cylinder_cylinder(p1, q1, a.radius, p2, q2, b.radius, margin);
       if (!hit) continue;

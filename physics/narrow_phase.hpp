@@ -42,7 +42,9 @@ struct PosedShape {
   std::vector<Eigen::Vector3d> vertices;      ///< world
   std::vector<Eigen::Vector3d> face_normals;  ///< world, outward
   std::vector<double> face_offsets;           ///< normal . x = offset on each face
-  std::vector<Eigen::Vector3d> edge_directions;  ///< world, unit, from edge.a to edge.b
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< principal frame -> world
+  /// Edge e's unit direction (world, from edge.a to edge.b), turned when asked for.
+  Eigen::Vector3d edge_direction(std::size_t e) const { return rotation * primitives->edge_units[e]; }
   double radius = 0.0;                        ///< dilation radius
   Eigen::Vector3d lo = Eigen::Vector3d::Zero();  ///< world box of the vertices (undilated)
   Eigen::Vector3d hi = Eigen::Vector3d::Zero();
