@@ -186,10 +186,13 @@ physics::World make_poured(int n, const Pile& tile, int& bodies) {
   return world;
 }
 
-Result run_case(int n, int kind, const Pile& tile) {
+enum class Case { poured, packed, falling };
+const char* name(Case c) { return c == Case::poured ? "poured" : c == Case::packed ? "packed" : "falling"; }
+
+Result run_case(int n, Case kind, const Pile& tile) {
   Result r;
   int bodies = 0;
-  physics::World world = kind == 2 ? make_poured(n, tile, bodies) : make_case(n, kind == 0, bodies);
+  physics::World world = kind == Case::poured ? make_poured(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
   const int steps = std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
@@ -257,19 +260,20 @@ std::string as_bytes(const T& value) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<int> sizes, kinds;
+  std::vector<int> sizes;
+  std::vector<Case> kinds;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--full-search") {
       g_feature_skin = 0.0;
-    } else if (arg == "poured" || arg == "packed" || arg == "falling") {
-      kinds.push_back(arg == "poured" ? 2 : arg == "packed" ? 0 : 1);
+    } else if (arg == name(Case::poured) || arg == name(Case::packed) || arg == name(Case::falling)) {
+      kinds.push_back(arg == name(Case::poured) ? Case::poured : arg == name(Case::packed) ? Case::packed : Case::falling);
     } else {
       sizes.push_back(std::atoi(argv[i]));
     }
   }
   if (sizes.empty()) sizes = {168, 1000, 10000, 100000};
-  if (kinds.empty()) kinds = {2, 0, 1};
+  if (kinds.empty()) kinds = {Case::poured, Case::packed, Case::falling};
   std::printf("near-feature cache: %s\n", g_feature_skin > 0 ? "on (feature_skin 0.5)" : "off (--full-search)");
   std::printf("%-8s %8s %12s %14s %14s %12s %16s %10s\n", "case", "bodies", "us/step",
               "ns/contact", "touching pairs", "contacts/body", "us/pair/step", "peak MiB");
@@ -277,7 +281,7 @@ int main(int argc, char** argv) {
   std::map<int, Pile> piles;
   for (int n : sizes) {
     const int size = std::min(n, kTile);
-    if (piles.count(size) != 0 || std::find(kinds.begin(), kinds.end(), 2) == kinds.end()) continue;
+    if (piles.count(size) != 0 || std::find(kinds.begin(), kinds.end(), Case::poured) == kinds.end()) continue;
     const std::string bytes = in_child([size] {
       const Pile p = pour(size);
       std::string out = as_bytes(p.side) + as_bytes(p.steps) + as_bytes(p.seconds);
@@ -297,16 +301,15 @@ int main(int argc, char** argv) {
     std::printf("(poured %d prisms in %d steps, %.0f s)\n", size, p.steps, p.seconds);
     std::fflush(stdout);
   }
-  for (const int kind : kinds) {
-    const bool settled = kind != 1;
+  for (const Case kind : kinds) {
     std::vector<std::pair<double, double>> fit;  // (log N, log us/step)
     for (int n : sizes) {
-      const Pile& tile = kind == 2 ? piles.at(std::min(n, kTile)) : Pile{};
+      const Pile& tile = kind == Case::poured ? piles.at(std::min(n, kTile)) : Pile{};
       const std::string bytes = in_child([&] { return as_bytes(run_case(n, kind, tile)); });
       Result r;
       std::memcpy(&r, bytes.data(), sizeof r);
       std::printf("%-8s %8.0f %12.1f %14.1f %14.0f %12.2f %16.3f %10.1f\n",
-                  kind == 2 ? "poured" : settled ? "packed" : "falling", r.bodies, r.us_per_step,
+                  name(kind), r.bodies, r.us_per_step,
                   r.contacts > 0 ? 1e3 * r.us_per_step / r.contacts : 0.0, r.touching_pairs,
                   r.contacts / r.bodies, r.touching_pairs > 0 ? r.us_per_step / r.touching_pairs : 0.0,
                   r.peak_mib);
@@ -323,7 +326,7 @@ int main(int argc, char** argv) {
       }
       const double k = static_cast<double>(fit.size());
       std::printf("%-8s cost per step ~ N^%.3f (least squares on log-log)\n",
-                  kind == 2 ? "poured" : settled ? "packed" : "falling", (k * sxy - sx * sy) / (k * sxx - sx * sx));
+                  name(kind), (k * sxy - sx * sy) / (k * sxx - sx * sx));
     }
   }
   return 0;

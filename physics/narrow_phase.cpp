@@ -629,10 +629,8 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   // A full search, caching what lies within reach + skin. A pair apart by the skin on top
   // of the reach caches nothing, which stays right while the cache holds.
   if (early_out(a, b, reach + skin)) {
+    near = NearFeatures{};  // no features
     start_near_features(a, b, skin, near);
-    near.vertices_a = near.vertices_b = near.rows_a = near.rows_b = 0;
-    near.edges_a = near.edges_b = EdgeMask{};
-    near.face_pair_count = 0;
     near.none = true;
     near.skin = skin;
     return false;
