@@ -1,6 +1,9 @@
 // DEM step cost: a poured pile, a packed box and falling grains of N hexagonal prisms.
-//   ./build/bench/cleave_bench_dynamics [--full-search] [poured|packed|falling ...] [N ...]
+//   ./build/bench/cleave_bench_dynamics [--full-search] [--pile DIR] [--steps K]
+//                                       [poured|packed|falling ...] [N ...]
 //   (default: all three cases, N = 168 1000 10000 100000)
+// --pile DIR keeps each poured pile in DIR/pile-<n>.bin and reuses it on the next run (the
+// pour takes a minute); --steps K times K steps per case instead of 2e6/N (3 to 200).
 // For each case, in its own child process (so peak memory is its own): build the world,
 // take a few warm-up steps, time a fixed number of steps at the stable time step and print
 // microseconds per step, nanoseconds per primitive contact, touching body pairs and
@@ -45,6 +48,7 @@ namespace {
 constexpr double kR = 1e-3, kT = 1e-3, kDilation = 0.05e-3, kRho = 3100.0;
 constexpr int kTile = 1000;  // bodies poured at once for the poured pile
 double g_feature_skin = 0.5;  // WorldSettings::feature_skin of every case (--full-search: 0)
+int g_steps = 0;              // timed steps per case (0: 2e6/N, clamped to 3..200)
 
 struct Result {
   double us_per_step = 0, contacts = 0, touching_pairs = 0, bodies = 0, peak_mib = 0;
@@ -195,12 +199,21 @@ Result run_case(int n, Case kind, const Pile& tile) {
   physics::World world = kind == Case::poured ? make_poured(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
-  const int steps = std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
-  const auto t0 = std::chrono::steady_clock::now();
+  const int steps = g_steps > 0 ? g_steps : std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
+  // Timed in blocks of 10 steps; the median block is reported, which a moment of
+  // interference from elsewhere on the machine does not move.
+  constexpr int kBlock = 10;
+  std::vector<double> blocks;
+  auto t0 = std::chrono::steady_clock::now();
   double contacts = 0, pairs = 0;
   for (int i = 0; i < steps; ++i) {
     world.step();
-    contacts += static_cast<double>(world.contacts().size());
+    if ((i + 1) % kBlock == 0 || i + 1 == steps) {
+      const auto t1 = std::chrono::steady_clock::now();
+      blocks.push_back(std::chrono::duration<double>(t1 - t0).count() / ((i % kBlock) + 1));
+      contacts += static_cast<double>(world.contacts().size()) * ((i % kBlock) + 1);
+      t0 = std::chrono::steady_clock::now();
+    }
     std::set<std::pair<std::uint32_t, std::uint32_t>> touching;
     if (i == steps - 1) {
       for (const auto& c : world.contacts()) {
@@ -209,8 +222,8 @@ Result run_case(int n, Case kind, const Pile& tile) {
       pairs = static_cast<double>(touching.size());
     }
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.us_per_step = 1e6 * seconds / steps;
+  std::sort(blocks.begin(), blocks.end());
+  r.us_per_step = 1e6 * blocks[blocks.size() / 2];
   r.contacts = contacts / steps;
   r.touching_pairs = pairs;
   rusage u{};
@@ -262,10 +275,14 @@ std::string as_bytes(const T& value) {
 int main(int argc, char** argv) {
   std::vector<int> sizes;
   std::vector<Case> kinds;
+  std::string pile_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--full-search") {
       g_feature_skin = 0.0;
+    } else if ((arg == "--pile" || arg == "--steps") && i + 1 < argc) {
+      if (arg == "--pile") pile_dir = argv[++i];
+      else g_steps = std::atoi(argv[++i]);
     } else if (arg == name(Case::poured) || arg == name(Case::packed) || arg == name(Case::falling)) {
       kinds.push_back(arg == name(Case::poured) ? Case::poured : arg == name(Case::packed) ? Case::packed : Case::falling);
     } else {
@@ -282,12 +299,25 @@ int main(int argc, char** argv) {
   for (int n : sizes) {
     const int size = std::min(n, kTile);
     if (piles.count(size) != 0 || std::find(kinds.begin(), kinds.end(), Case::poured) == kinds.end()) continue;
-    const std::string bytes = in_child([size] {
-      const Pile p = pour(size);
-      std::string out = as_bytes(p.side) + as_bytes(p.steps) + as_bytes(p.seconds);
-      for (const auto& b : p.bodies) out += as_bytes(b);
-      return out;
-    });
+    const std::string cached = pile_dir.empty() ? std::string() : pile_dir + "/pile-" + std::to_string(size) + ".bin";
+    std::string bytes;
+    if (std::FILE* f = cached.empty() ? nullptr : std::fopen(cached.c_str(), "rb")) {
+      char buffer[65536];
+      for (std::size_t k; (k = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, k);
+      std::fclose(f);
+    }
+    if (bytes.empty()) {
+      bytes = in_child([size] {
+        const Pile p = pour(size);
+        std::string out = as_bytes(p.side) + as_bytes(p.steps) + as_bytes(p.seconds);
+        for (const auto& b : p.bodies) out += as_bytes(b);
+        return out;
+      });
+      if (std::FILE* f = cached.empty() ? nullptr : std::fopen(cached.c_str(), "wb")) {
+        std::fwrite(bytes.data(), 1, bytes.size(), f);
+        std::fclose(f);
+      }
+    }
     Pile& p = piles[size];
     std::size_t at = 0;
     auto take = [&](auto& value) {

@@ -69,6 +69,13 @@ bool finish_primitives(ContactPrimitives& p) {
     p.edge_lengths.push_back(d.norm());
     p.edge_units.push_back(d / p.edge_lengths.back());
   }
+  double spread = 0.0;
+  for (const auto& e : p.edges) {
+    const auto faces = static_cast<int>(p.faces.size());
+    if (e.left_face < 0 || e.right_face < 0 || e.left_face >= faces || e.right_face >= faces) continue;
+    spread = std::max(spread, -p.faces[e.left_face].normal.dot(p.faces[e.right_face].normal));
+  }
+  p.edge_cone_spread = spread + 1e-6;
   std::map<std::pair<int, int>, int> edge_of;
   for (std::size_t e = 0; e < p.edges.size(); ++e) edge_of[{p.edges[e].a, p.edges[e].b}] = static_cast<int>(e);
   bool complete = true;

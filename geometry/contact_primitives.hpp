@@ -48,13 +48,18 @@ struct ContactPrimitives {
   std::vector<ContactFace> faces;
   std::vector<ContactTriangle> triangles;
   double dilation_radius = 0.0;
+  /// How far a direction in an edge's normal cone (between its two faces' outward normals)
+  /// can point against either face's normal, over all edges: max(0, -n_left . n_right),
+  /// plus 1e-6 for the cone test's tolerance and rounding. 0 to 1 for a convex shape.
+  double edge_cone_spread = 0.0;
   /// Radius of the sphere about the origin that holds the dilated shape:
   /// max |vertex| + dilation_radius.
   double bounding_radius = 0.0;
 };
 
 /// Fills what follows from the vertices, edges and faces: every face's `rim`, every edge's
-/// unit direction and length. Returns false when a side of a face is not an edge.
+/// unit direction and length, and the edge cone spread. Returns false when a side of a face
+/// is not an edge.
 bool finish_primitives(ContactPrimitives& p);
 
 /// Contact primitives of a closed, outward, convex polygon mesh given in its shape frame;

@@ -10,9 +10,13 @@ Eigen::Vector3d angular_velocity(const Eigen::Quaterniond& q, const Eigen::Vecto
   return q * inv_inertia.cwiseProduct(pi);
 }
 
-void kick(BodyState& s, const BodyInfo& b, double h) {
+void kick_momenta(BodyState& s, const BodyInfo& b, double h) {
   s.v += (h * b.inv_mass) * s.f;
   s.L += h * s.tau;
+}
+
+void kick(BodyState& s, const BodyInfo& b, double h) {
+  kick_momenta(s, b, h);
   s.w = angular_velocity(s.q, s.L, b.inv_inertia);
 }
 

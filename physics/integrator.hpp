@@ -20,6 +20,9 @@ Eigen::Vector3d angular_velocity(const Eigen::Quaterniond& q, const Eigen::Vecto
 /// Half of velocity Verlet's kick: v += h f / m, L += h tau, and w follows.
 void kick(BodyState& s, const BodyInfo& b, double h);
 
+/// The same kick leaving w as it was, for a kick that a drift (which sets w) follows.
+void kick_momenta(BodyState& s, const BodyInfo& b, double h);
+
 /// The drift: x += h v, and the free rotation of (q, L) over h.
 void drift(BodyState& s, const BodyInfo& b, double h);
 

@@ -48,6 +48,7 @@ struct PlaneDistances {
   std::array<double, kMaxVertices * kMaxFaces> d;
   /// Bit f of vertex v: the vertex is `reach` or more beyond face f's plane.
   std::array<std::uint32_t, kMaxVertices> beyond;
+  double deep = 0.0;  ///< minus reach times `to`'s edge cone spread (see edge_pair_culled)
   double at(std::size_t v, std::size_t f) const { return d[v * faces + f]; }
 };
 
@@ -55,6 +56,7 @@ struct PlaneDistances {
 void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t rows, double reach,
                      PlaneDistances& out) {
   out.faces = to.face_normals.size();
+  out.deep = -reach * to.primitives->edge_cone_spread;
   for (; rows != 0; rows &= rows - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(rows));
     std::uint32_t beyond = 0;
@@ -80,10 +82,14 @@ void face_polygon(const PosedShape& s, std::size_t f, FacePolygon& out) {
   for (std::size_t i = 0; i < out.n; ++i) out.pts[i] = s.vertices[idx[i]];
 }
 
+/// A plane distance this far beyond `reach` is beyond it whatever the rounding of the
+/// distances compared with it (about 1e-16 of the coordinates, against 1e-6 of the reach).
+double clearly_beyond(double reach) { return reach * (1.0 + 1e-6); }
+
 /// Contact of vertex v of `p` (the sphere side) against `q`. Returns the contact with the
 /// normal from p's vertex towards q, and q's feature code.
 bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
-                    const PlaneDistances& dist, double margin, bool corner_pairs,
+                    const PlaneDistances& dist, double margin, bool corner_pairs, bool culls,
                     std::uint32_t& q_feature, PrimitiveContact& c) {
   const double reach = p.radius + q.radius + margin;
   const Eigen::Vector3d& x = p.vertices[v];
@@ -119,13 +125,18 @@ bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
     }
   }
   // Otherwise the closest point is on an edge or a corner of a face the point is above.
+  // An edge lies in both its faces' planes, so it is at least as far from x as either plane:
+  // one with a plane x is clearly beyond reach of cannot be the closest within reach, and is
+  // passed over (a cull: without it such an edge could be the closest, but out of reach).
   const auto& edges = q.primitives->edges;
+  const double far = culls ? clearly_beyond(reach) : std::numeric_limits<double>::infinity();
   double best = std::numeric_limits<double>::infinity();
   std::size_t best_edge = 0;
   double best_t = 0.0;
   for (std::size_t e = 0; e < edges.size(); ++e) {
     const auto& E = edges[e];
-    if (dist.at(v, E.left_face) < 0.0 && dist.at(v, E.right_face) < 0.0) continue;
+    const double d_left = dist.at(v, E.left_face), d_right = dist.at(v, E.right_face);
+    if ((d_left < 0.0 && d_right < 0.0) || d_left > far || d_right > far) continue;
     const Eigen::Vector3d& a = q.vertices[E.a];
     const Eigen::Vector3d ab = q.vertices[E.b] - a;
     const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
@@ -182,6 +193,23 @@ bool edge_near(const PlaneDistances& dist, const geometry::ContactEdge& E, doubl
 /// The same for the reach the distances were computed with, from their `beyond` masks.
 bool edge_near(const PlaneDistances& dist, const geometry::ContactEdge& E) {
   return (dist.beyond[E.a] & dist.beyond[E.b]) == 0;
+}
+
+/// Whether edge E of A and edge F of B cannot make an edge-edge contact that passes the
+/// normal cone tests. Such a contact joins p on E and q on F, |p - q| = dist < reach, with
+/// p - q in F's normal cone: for either face f of F, whose plane holds q, the distance of p
+/// from f's plane is n_f . (p - q) >= -spread dist > -spread reach (spread: B's
+/// edge_cone_spread). That distance is affine along E, so one of E's ends is as far out: a
+/// pair whose edge E lies wholly more than spread reach behind a face plane of F's cannot
+/// touch, and the same with A and B swapped. The spread's 1e-6 is far above the rounding of
+/// the distances (about 1e-16 of the coordinates).
+bool edge_pair_culled(const geometry::ContactEdge& E, const PlaneDistances& a_to_b,
+                      const geometry::ContactEdge& F, const PlaneDistances& b_to_a) {
+  auto behind = [](const PlaneDistances& dist, const geometry::ContactEdge& edge, int face) {
+    return std::max(dist.at(edge.a, face), dist.at(edge.b, face)) < dist.deep;
+  };
+  return behind(a_to_b, E, F.left_face) | behind(a_to_b, E, F.right_face) |
+         behind(b_to_a, F, E.left_face) | behind(b_to_a, F, E.right_face);
 }
 
 /// A face polygon's rim as planes through its sides, parallel to the face normal, for
@@ -369,6 +397,7 @@ struct FeatureSet {
   EdgeMask edges_a, edges_b;
   const std::array<std::uint8_t, 2>* face_pairs = nullptr;  ///< nullptr: every face pair
   std::size_t face_pair_count = 0;
+  bool culls = true;  ///< edge_pair_culled and vertex_against's edge cull (off: to check they change nothing)
 };
 
 /// Whether face fa of A and face fb of B face each other (outward normals opposite within
@@ -430,77 +459,82 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
   std::uint32_t feature = 0;
   for (std::uint64_t m = set.vertices_a & ~covered_a; m != 0; m &= m - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(m));
-    if (vertex_against(a, v, b, a_to_b, margin, true, feature, c)) {
+    if (vertex_against(a, v, b, a_to_b, margin, true, set.culls, feature, c)) {
       const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
       if (!in_patch_a(code, feature)) out.push_back({code, feature, c});
     }
   }
   for (std::uint64_t m = set.vertices_b & ~covered_b; m != 0; m &= m - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(m));
-    if (vertex_against(b, v, a, b_to_a, margin, false, feature, c)) {
+    if (vertex_against(b, v, a, b_to_a, margin, false, set.culls, feature, c)) {
       c.normal = -c.normal;  // from A towards B
       const std::uint32_t code = feature_code(FeatureKind::vertex, static_cast<std::uint32_t>(v));
       if (!in_patch_a(feature, code)) out.push_back({feature, code, c});
     }
   }
   // Edge against edge. Which edges can reach the other body, and which lie on a patched
-  // face, are worked out once per pair rather than once per edge pair.
+  // face, are worked out once per pair rather than once per edge pair; the pairs are then
+  // ruled out on plane distances (edge_pair_culled) before an edge's geometry is made.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
-  // B's near edges in ascending order, with their midpoints, half lengths (for the bound
-  // below) and directions, and the patches whose face of B they lie on (bit k: patch k).
-  std::array<std::uint8_t, kMaxEdges> near_b;
-  std::array<std::uint8_t, kMaxEdges> patches_of_b;
-  std::array<Eigen::Vector3d, kMaxEdges> mid_b;
-  std::array<double, kMaxEdges> half_b;
-  std::array<Eigen::Vector3d, kMaxEdges> dir_b;
+  // B's near edges in ascending order, with the patches whose face of B they lie on (bit k:
+  // patch k); their midpoints, half lengths and directions are made when first needed.
+  struct Segment {
+    Eigen::Vector3d mid, dir;
+    double half;
+  };
+  std::array<std::uint8_t, kMaxEdges> near_b, patches_of_b;
+  std::array<Segment, kMaxEdges> seg_b;
+  std::array<bool, kMaxEdges> made_b;
   std::size_t n_near_b = 0;
   for (std::size_t j = 0; j < eb.size(); ++j) {
     if (!has_edge(set.edges_b, j) || !edge_near(b_to_a, eb[j])) continue;
-    const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
-    const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-    near_b[n_near_b] = static_cast<std::uint8_t>(j);
-    mid_b[n_near_b] = 0.5 * (p2 + q2);
-    half_b[n_near_b] = 0.5 * b.primitives->edge_lengths[j];
-    dir_b[n_near_b] = b.edge_direction(j);
     std::uint8_t on = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fb);
       if (eb[j].left_face == f || eb[j].right_face == f) on |= std::uint8_t(1u << k);
     }
+    made_b[n_near_b] = false;
+    near_b[n_near_b] = static_cast<std::uint8_t>(j);
     patches_of_b[n_near_b++] = on;
   }
   if (n_near_b == 0) return;
   for (std::size_t i = 0; i < ea.size(); ++i) {
     if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i])) continue;
-    const Eigen::Vector3d& p1 = a.vertices[ea[i].a];
-    const Eigen::Vector3d& q1 = a.vertices[ea[i].b];
-    const Eigen::Vector3d d1 = a.edge_direction(i);
-    const Eigen::Vector3d m1 = 0.5 * (p1 + q1);
-    const double h1 = 0.5 * a.primitives->edge_lengths[i];
+    const auto& E = ea[i];
     std::uint8_t patches_of_a = 0;
     for (std::size_t k = 0; k < n_patches; ++k) {
       const auto f = static_cast<int>(patches[k].fa);
-      if (ea[i].left_face == f || ea[i].right_face == f) patches_of_a |= std::uint8_t(1u << k);
+      if (E.left_face == f || E.right_face == f) patches_of_a |= std::uint8_t(1u << k);
     }
-    const std::uint32_t code_i = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i));
+    const Eigen::Vector3d& p1 = a.vertices[E.a];
+    const Eigen::Vector3d& q1 = a.vertices[E.b];
+    Segment seg_a;
+    bool made_a = false;
     for (std::size_t k = 0; k < n_near_b; ++k) {
       if ((patches_of_a & patches_of_b[k]) != 0) continue;  // the patch has them
-      // Two segments whose midpoints are further apart than their half lengths plus the
-      // reach cannot touch.
-      const double bound = h1 + half_b[k] + reach;
-      if ((mid_b[k] - m1).squaredNorm() > bound * bound) continue;
       const std::size_t j = near_b[k];
+      if (set.culls && edge_pair_culled(E, a_to_b, eb[j], b_to_a)) continue;
+      if (!made_a) {
+        seg_a = {0.5 * (p1 + q1), a.edge_direction(i), 0.5 * a.primitives->edge_lengths[i]};
+        made_a = true;
+      }
       const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
       const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
-      if (d1.cross(dir_b[k]).squaredNorm() < 1e-12) continue;  // parallel
-      const std::uint32_t code_j = feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j));
+      if (!made_b[k]) {
+        seg_b[k] = {0.5 * (p2 + q2), b.edge_direction(j), 0.5 * b.primitives->edge_lengths[j]};
+        made_b[k] = true;
+      }
+      // Two segments whose midpoints are further apart than their half lengths plus the
+      // reach cannot touch.
+      const double bound = seg_a.half + seg_b[k].half + reach;
+      if ((seg_b[k].mid - seg_a.mid).squaredNorm() > bound * bound) continue;
+      if (seg_a.dir.cross(seg_b[k].dir).squaredNorm() < 1e-12) continue;  // parallel
       auto hit = cylinder_cylinder(p1, q1, a.radius, p2, q2, b.radius, margin);
       if (!hit) continue;
-      if (!in_normal_cone(a, ea[i], hit->normal) || !in_normal_cone(b, eb[j], -hit->normal)) {
-        continue;
-      }
-      out.push_back({code_i, code_j, *hit});
+      if (!in_normal_cone(a, E, hit->normal) || !in_normal_cone(b, eb[j], -hit->normal)) continue;
+      out.push_back({feature_code(FeatureKind::edge, static_cast<std::uint32_t>(i)),
+                     feature_code(FeatureKind::edge, static_cast<std::uint32_t>(j)), *hit});
     }
   }
 }
@@ -601,11 +635,12 @@ bool near_features_hold(const PosedShape& a, const PosedShape& b, const NearFeat
 }  // namespace
 
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
-                         std::vector<FeatureContact>& out) {
+                         std::vector<FeatureContact>& out, bool culls) {
   if (!within_buffers(a, b)) return;  // shapes beyond the fixed buffers are not produced by cleave
   const double reach = a.radius + b.radius + margin;
   if (early_out(a, b, reach)) return;
-  const FeatureSet all = every_feature(a, b);
+  FeatureSet all = every_feature(a, b);
+  all.culls = culls;
   PlaneDistances a_to_b, b_to_a;
   plane_distances(a, b, all.vertices_a, reach, a_to_b);  // A's vertices against B's faces
   plane_distances(b, a, all.vertices_b, reach, b_to_a);  // B's vertices against A's faces
@@ -614,11 +649,13 @@ void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin
 
 bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near,
                          std::vector<FeatureContact>& out) {
+  const bool hold = near_features_hold(a, b, near);
+  if (hold && near.none) return true;  // the commonest case, on the fewest cache lines
   if (!within_buffers(a, b)) return false;
   const double reach = a.radius + b.radius;
   PlaneDistances a_to_b, b_to_a;
-  if (near_features_hold(a, b, near)) {
-    if (near.none || early_out(a, b, reach)) return true;
+  if (hold) {
+    if (early_out(a, b, reach)) return true;
     plane_distances(a, b, near.rows_a, reach, a_to_b);
     plane_distances(b, a, near.rows_b, reach, b_to_a);
     const FeatureSet set{near.vertices_a, near.vertices_b, near.edges_a, near.edges_b,

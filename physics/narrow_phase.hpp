@@ -36,7 +36,14 @@ namespace cleave::physics {
 
 /// A body's primitives placed in the world for one step (computed once per body per step).
 struct PosedShape {
+  // What a pair that the near-feature cache holds apart reads comes first, in one cache line.
   const geometry::ContactPrimitives* primitives = nullptr;
+  double radius = 0.0;  ///< dilation radius
+  /// Motion bounds summed over every update since the first: the centre's path length, and
+  /// the sum of |q_new - q_old| (nearer sign), which bounds half the chord any unit vector of
+  /// the body swept (a unit vector turned by theta moves 2 sin(theta/2) <= 2 |dq|). By the
+  /// triangle inequality they bound the net motion between any two updates.
+  double travel = 0.0, turn = 0.0;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< principal frame -> world
   std::vector<Eigen::Vector3d> vertices;      ///< world
@@ -45,14 +52,8 @@ struct PosedShape {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< principal frame -> world
   /// Edge e's unit direction (world, from edge.a to edge.b), turned when asked for.
   Eigen::Vector3d edge_direction(std::size_t e) const { return rotation * primitives->edge_units[e]; }
-  double radius = 0.0;                        ///< dilation radius
   Eigen::Vector3d lo = Eigen::Vector3d::Zero();  ///< world box of the vertices (undilated)
   Eigen::Vector3d hi = Eigen::Vector3d::Zero();
-  /// Motion bounds summed over every update since the first: the centre's path length, and
-  /// the sum of |q_new - q_old| (nearer sign), which bounds half the chord any unit vector of
-  /// the body swept (a unit vector turned by theta moves 2 sin(theta/2) <= 2 |dq|). By the
-  /// triangle inequality they bound the net motion between any two updates.
-  double travel = 0.0, turn = 0.0;
 
   void update(const RigidShape& shape, const BodyState& state);
 };
@@ -70,8 +71,11 @@ struct FeatureContact {
 };
 
 /// Appends every contact between A and B with penetration > -margin, in a fixed order.
+/// `culls` = false turns off the search's shortcuts that skip feature pairs which provably
+/// add nothing (edge pairs, and a corner's candidate edges, ruled out by plane distances):
+/// only to check that the result is the same bit for bit.
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
-                         std::vector<FeatureContact>& out);
+                         std::vector<FeatureContact>& out, bool culls = true);
 
 /// The features of a pair that a full search found within reach plus a skin `skin` of each
 /// other, and the bodies' motion bounds at that search. While the motion since then moves

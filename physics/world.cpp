@@ -307,9 +307,8 @@ void World::compute_forces() {
     posed_[i].update(shapes_[infos_[i].shape], states_[i]);
   }
   for (auto& w : walls_) w.reaction.setZero();
-  pending_.clear();
   body_contacts(nt);
-  wall_contacts();
+  wall_contacts(nt);
   evaluate_and_apply(nt);
   bond_forces(nt);
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
@@ -385,7 +384,7 @@ void World::body_contacts(int nt) {
   for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
     chunk_start_[chunk + 1] = chunk_start_[chunk] + thread_pending_[chunk].size();
   }
-  pending_.resize(chunk_start_[chunks]);
+  pending_.resize(chunk_start_[chunks]);  // last step's list: only a longer tail is made
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
   for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
     std::copy(thread_pending_[chunk].begin(), thread_pending_[chunk].end(),
@@ -393,36 +392,52 @@ void World::body_contacts(int nt) {
   }
 }
 
-void World::wall_contacts() {
-  for (std::uint32_t w = 0; w < walls_.size(); ++w) {
-    const Wall& wall = walls_[w];
-    for (std::uint32_t slot : live_slots_) {
-      const PosedShape& p = posed_[slot];
-      const double reach = shapes_[infos_[slot].shape].bounding_radius();
-      // Broad test against the wall's surface (planes) or axis (cylinders).
-      if (wall.kind != Wall::Kind::cylinder) {
-        if (wall.normal.dot(p.centre - wall.origin) > reach) continue;
-      } else {
-        const Eigen::Vector3d rel = p.centre - wall.origin;
-        const double t = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
-        if ((rel - t * wall.normal).norm() > reach + wall.radius) continue;
-      }
+void World::wall_contacts(int nt) {
+  // Each thread takes a block of body slots and lists its contacts with every wall; the
+  // blocks are joined in order, wall by wall, as one thread would list them.
+  const auto slots = live_slots_.size();
+  if (static_cast<std::ptrdiff_t>(slots) < kParallelMin || walls_.empty()) nt = 1;
+  const std::size_t lists = static_cast<std::size_t>(nt) * walls_.size();
+  if (thread_pending_.size() < lists) thread_pending_.resize(lists);
+  for (std::size_t k = 0; k < lists; ++k) thread_pending_[k].clear();  // OpenMP may run fewer threads
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const auto [t, begin, end] = thread_block(slots);
+    for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+      auto& out = thread_pending_[w * static_cast<std::size_t>(nt) + t];
+      const Wall& wall = walls_[w];
       const std::uint32_t a = w | kWallFlag;
-      for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
-        if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
-          pending_.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t slot = live_slots_[k];
+        const PosedShape& p = posed_[slot];
+        const double reach = shapes_[infos_[slot].shape].bounding_radius();
+        // Broad test against the wall's surface (planes) or axis (cylinders).
+        if (wall.kind != Wall::Kind::cylinder) {
+          if (wall.normal.dot(p.centre - wall.origin) > reach) continue;
+        } else {
+          const Eigen::Vector3d rel = p.centre - wall.origin;
+          const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
+          if ((rel - s * wall.normal).norm() > reach + wall.radius) continue;
         }
-      }
-      if (wall.kind == Wall::Kind::cylinder) {
-        const auto& edges = p.primitives->edges;
-        for (std::uint32_t e = 0; e < edges.size(); ++e) {
-          auto c = wall.edge_contact(p.vertices[edges[e].a], p.vertices[edges[e].b], p.radius);
-          if (c && c->penetration > 0.0) {
-            pending_.push_back({{a, slot, 0, feature_code(FeatureKind::edge, e)}, *c});
+        for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
+          if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
+            out.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
+          }
+        }
+        if (wall.kind == Wall::Kind::cylinder) {
+          const auto& edges = p.primitives->edges;
+          for (std::uint32_t e = 0; e < edges.size(); ++e) {
+            auto c = wall.edge_contact(p.vertices[edges[e].a], p.vertices[edges[e].b], p.radius);
+            if (c && c->penetration > 0.0) {
+              out.push_back({{a, slot, 0, feature_code(FeatureKind::edge, e)}, *c});
+            }
           }
         }
       }
     }
+  }
+  for (std::size_t k = 0; k < lists; ++k) {
+    pending_.insert(pending_.end(), thread_pending_[k].begin(), thread_pending_[k].end());
   }
 }
 
@@ -573,8 +588,8 @@ void World::step() {
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < slots; ++i) {
     if (!infos_[i].alive) continue;
-    if (!infos_[i].fixed) kick(states_[i], infos_[i], 0.5 * h);
-    drift(states_[i], infos_[i], h);
+    if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
+    drift(states_[i], infos_[i], h);  // sets w
   }
   for (auto& w : walls_) w.origin += h * w.velocity;
   compute_forces();

@@ -223,7 +223,7 @@ class World {
  private:
   void compute_forces();
   void body_contacts(int threads);
-  void wall_contacts();
+  void wall_contacts(int nt);
   void evaluate_and_apply(int threads);
   void evaluate_contact(std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
   void sum_forces(int threads);
@@ -271,7 +271,7 @@ class World {
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
   std::vector<Pending> pending_;
-  std::vector<std::vector<Pending>> thread_pending_;  // by chunk of pairs (body_contacts)
+  std::vector<std::vector<Pending>> thread_pending_;  // by chunk of pairs, then by wall and thread
   std::vector<std::size_t> chunk_start_;              // where each chunk goes in pending_
   std::vector<ContactForce> forces_;
   std::vector<double> overlaps_;  // per pending contact: the overlap the law saw

@@ -251,3 +251,51 @@ TEST(NearFeatureCache, GivesTheFullSearchsContactsBitForBit) {
   EXPECT_GT(touching, steps / 2);
   EXPECT_GT(cached, steps / 2);
 }
+
+// The culls (edge pairs ruled out by plane distances, a corner's candidate edges that are
+// clearly out of reach) against the search without them, as its brute-force reference:
+// pairs of a prism, a thin slab and a wedge cut from a prism at 60 degrees (whose obtuse
+// edges open the edge normal cones past the face planes) brought into touch at random and
+// pushed up to 60 um further in. The contacts must be the same bit for bit, and there must
+// be many edge-edge contacts among them.
+TEST(NarrowPhaseCulls, ChangeNoContactBitForBit) {
+  const auto split = geometry::ExactPolyhedron::hexagonal_prism(kR, kT).split(
+      geometry::ExactPlane::from_normal_offset(Eigen::Vector3d(1.0, 0.3, std::sqrt(3.0)).normalized(), 0.0));
+  ASSERT_TRUE(split.ok());
+  const std::vector<RigidShape> shapes = {
+      prism(), make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kR, 0.2 * kT), kRho),
+      make_rigid_shape(*split.below, kRho)};
+  ASSERT_GT(shapes[2].primitives.edge_cone_spread, 0.4);  // an edge of more than 113 degrees
+  geometry::SplitMix64 rng(7);
+  int touching = 0, edge_edge = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const RigidShape& sa = shapes[trial % 3];
+    const RigidShape& sb = shapes[(trial / 3) % 3];
+    const Eigen::Vector3d dir =
+        Eigen::Vector3d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5).normalized();
+    BodyState a, b;
+    a.q = random_turn(rng, 2 * M_PI * rng.uniform());
+    b.q = random_turn(rng, 2 * M_PI * rng.uniform());
+    auto search = [&](bool culls) {
+      PosedShape pa, pb;
+      pa.update(sa, a);
+      pb.update(sb, b);
+      std::vector<FeatureContact> out;
+      polyhedron_contacts(pa, pb, 0.0, out, culls);
+      return out;
+    };
+    double d = sa.bounding_radius() + sb.bounding_radius();
+    for (b.x = d * dir; d > 0 && search(false).empty(); b.x = d * dir) d -= 2e-6;
+    b.x = (d - 60e-6 * rng.uniform()) * dir;
+    const std::vector<FeatureContact> with = search(true), without = search(false);
+    ASSERT_TRUE(same_contacts(with, without))
+        << "trial " << trial << ": " << with.size() << " vs " << without.size() << " contacts";
+    touching += without.empty() ? 0 : 1;
+    for (const auto& c : without) {
+      edge_edge += (c.feature_a >> 16) == static_cast<std::uint32_t>(FeatureKind::edge) &&
+                   (c.feature_b >> 16) == static_cast<std::uint32_t>(FeatureKind::edge);
+    }
+  }
+  EXPECT_GT(touching, 3900);
+  EXPECT_GT(edge_edge, 1000);
+}
