@@ -301,10 +301,12 @@ int main(int argc, char** argv) {
     if (piles.count(size) != 0 || std::find(kinds.begin(), kinds.end(), Case::poured) == kinds.end()) continue;
     const std::string cached = pile_dir.empty() ? std::string() : pile_dir + "/pile-" + std::to_string(size) + ".bin";
     std::string bytes;
+    bool reused = false;
     if (std::FILE* f = cached.empty() ? nullptr : std::fopen(cached.c_str(), "rb")) {
       char buffer[65536];
       for (std::size_t k; (k = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, k);
       std::fclose(f);
+      reused = !bytes.empty();
     }
     if (bytes.empty()) {
       bytes = in_child([size] {
@@ -313,9 +315,13 @@ int main(int argc, char** argv) {
         for (const auto& b : p.bodies) out += as_bytes(b);
         return out;
       });
-      if (std::FILE* f = cached.empty() ? nullptr : std::fopen(cached.c_str(), "wb")) {
-        std::fwrite(bytes.data(), 1, bytes.size(), f);
-        std::fclose(f);
+      if (!cached.empty()) {
+        std::FILE* f = std::fopen(cached.c_str(), "wb");
+        const bool written = f != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+        if ((f != nullptr && std::fclose(f) != 0) || !written) {
+          std::fprintf(stderr, "warning: could not keep the pile in %s\n", cached.c_str());
+          std::remove(cached.c_str());
+        }
       }
     }
     Pile& p = piles[size];
@@ -328,7 +334,8 @@ int main(int argc, char** argv) {
     take(p.steps);
     take(p.seconds);
     while (at + sizeof(physics::BodyState) <= bytes.size()) take(p.bodies.emplace_back());
-    std::printf("(poured %d prisms in %d steps, %.0f s)\n", size, p.steps, p.seconds);
+    std::printf("(poured %d prisms in %d steps, %.0f s%s%s)\n", size, p.steps, p.seconds,
+                reused ? "; reused from " : "", reused ? cached.c_str() : "");
     std::fflush(stdout);
   }
   for (const Case kind : kinds) {
