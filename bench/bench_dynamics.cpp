@@ -272,6 +272,14 @@ std::string as_bytes(const T& value) {
 
 }  // namespace
 
+int usage(const char* why) {
+  std::fprintf(stderr,
+               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--pile DIR] [--steps K] "
+               "[poured|packed|falling ...] [N ...]\n",
+               why);
+  return 2;
+}
+
 int main(int argc, char** argv) {
   std::vector<int> sizes;
   std::vector<Case> kinds;
@@ -280,13 +288,19 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--full-search") {
       g_feature_skin = 0.0;
-    } else if ((arg == "--pile" || arg == "--steps") && i + 1 < argc) {
-      if (arg == "--pile") pile_dir = argv[++i];
-      else g_steps = std::atoi(argv[++i]);
+    } else if (arg == "--pile" || arg == "--steps") {
+      if (i + 1 == argc) return usage(("'" + arg + "' needs a value").c_str());
+      if (arg == "--pile") {
+        pile_dir = argv[++i];
+      } else if ((g_steps = std::atoi(argv[++i])) <= 0) {
+        return usage("--steps needs a positive number of steps");
+      }
     } else if (arg == name(Case::poured) || arg == name(Case::packed) || arg == name(Case::falling)) {
       kinds.push_back(arg == name(Case::poured) ? Case::poured : arg == name(Case::packed) ? Case::packed : Case::falling);
+    } else if (const int n = std::atoi(argv[i]); n > 0 && std::to_string(n) == arg) {
+      sizes.push_back(n);
     } else {
-      sizes.push_back(std::atoi(argv[i]));
+      return usage(("unknown argument '" + arg + "'").c_str());
     }
   }
   if (sizes.empty()) sizes = {168, 1000, 10000, 100000};
