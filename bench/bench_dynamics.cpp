@@ -3,10 +3,11 @@
 //                                       [poured|packed|falling ...] [N ...]
 //   (default: all three cases, N = 168 1000 10000 100000)
 // --pile DIR keeps each poured pile in DIR/pile-<n>.bin and reuses it on the next run (the
-// pour takes a minute); --steps K times K steps per case instead of 2e6/N (3 to 200).
+// pour takes a minute; a file of the wrong length, e.g. from a build with another state
+// layout, is poured again); --steps K times K steps per case instead of 2e6/N (3 to 200).
 // For each case, in its own child process (so peak memory is its own): build the world,
-// take a few warm-up steps, time a fixed number of steps at the stable time step and print
-// microseconds per step, nanoseconds per primitive contact, touching body pairs and
+// take a few warm-up steps, time a fixed number of steps at the stable time step in blocks
+// of 10 and print microseconds per step (of the median block), nanoseconds per primitive contact, touching body pairs and
 // contacts per body, the cost per touching pair, and the peak resident memory. Finally the
 // exponent of a log-log fit of step time against N. --full-search turns the narrow phase's
 // near-feature cache off (WorldSettings::feature_skin = 0), for comparison.
@@ -320,7 +321,9 @@ int main(int argc, char** argv) {
       char buffer[65536];
       for (std::size_t k; (k = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, k);
       std::fclose(f);
-      reused = !bytes.empty();
+      const std::size_t header = sizeof(Pile::side) + sizeof(Pile::steps) + sizeof(Pile::seconds);
+      reused = bytes.size() == header + static_cast<std::size_t>(size) * sizeof(physics::BodyState);
+      if (!reused) bytes.clear();  // not a pile of this size from this build: pour again
     }
     if (bytes.empty()) {
       bytes = in_child([size] {
