@@ -4,7 +4,10 @@
 //   (default: all three cases, N = 168 1000 10000 100000)
 // --pile DIR keeps each poured pile in DIR/pile-<n>.bin and reuses it on the next run (the
 // pour takes a minute; a file of the wrong length, e.g. from a build with another state
-// layout, is poured again); --steps K times K steps per case instead of 2e6/N (3 to 200).
+// layout, is poured again), and the settled world of each poured case, tiles and contact
+// histories, in DIR/world-<N>.state (World::save_state; made again when its tile or the
+// state layout differs), which saves the 2,000 settling steps of the tiles; --steps K times
+// K steps per case instead of 2e6/N (3 to 200).
 // For each case, in its own child process (so peak memory is its own): build the world,
 // take a few warm-up steps, time a fixed number of steps at the stable time step in blocks
 // of 10 and print microseconds per step (of the median block), nanoseconds per primitive contact, touching body pairs and
@@ -40,6 +43,7 @@
 #include "geometry/specimen.hpp"
 #include "geometry/rng.hpp"
 #include "physics/contact_law.hpp"
+#include "physics/state_codec.hpp"
 #include "physics/world.hpp"
 
 using namespace cleave;
@@ -49,6 +53,7 @@ namespace {
 constexpr double kR = 1e-3, kT = 1e-3, kDilation = 0.05e-3, kRho = 3100.0;
 constexpr int kTile = 1000;  // bodies poured at once for the poured pile
 double g_feature_skin = 0.5;  // WorldSettings::feature_skin of every case (--full-search: 0)
+std::string g_pile_dir;        // --pile DIR, or empty
 int g_steps = 0;              // timed steps per case (0: 2e6/N, clamped to 3..200)
 
 struct Result {
@@ -191,13 +196,82 @@ physics::World make_poured(int n, const Pile& tile, int& bodies) {
   return world;
 }
 
+std::string read_file(const std::string& path) {
+  std::string bytes;
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    char buffer[65536];
+    for (std::size_t k; (k = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, k);
+    std::fclose(f);
+  }
+  return bytes;
+}
+
+/// Writes `bytes` to `path`, or warns and leaves no file.
+void keep_file(const std::string& path, const std::string& bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  const bool written = f != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  if ((f != nullptr && std::fclose(f) != 0) || !written) {
+    std::fprintf(stderr, "warning: could not keep %s\n", path.c_str());
+    std::remove(path.c_str());
+  }
+}
+
+/// FNV-1a of a pile's bodies' positions, orientations and velocities (not their padding):
+/// which tile a kept world was made from.
+std::uint64_t tile_hash(const Pile& tile) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const double* v, int n) {
+    const auto* p = reinterpret_cast<const unsigned char*>(v);
+    for (std::size_t i = 0; i < n * sizeof(double); ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  for (const auto& b : tile.bodies) {
+    add(b.x.data(), 3);
+    add(b.q.coeffs().data(), 4);
+    add(b.v.data(), 3);
+    add(b.w.data(), 3);
+  }
+  return h;
+}
+
+/// make_poured, or with --pile the world it made before from the same tile, read back bit
+/// for bit (so the timed steps are the same either way).
+physics::World poured_world(int n, const Pile& tile, int& bodies) {
+  const std::string kept = g_pile_dir.empty() ? std::string() : g_pile_dir + "/world-" + std::to_string(n) + ".state";
+  const std::uint64_t hash = tile_hash(tile);
+  if (!kept.empty()) {
+    const std::string bytes = read_file(kept);
+    if (bytes.size() > sizeof hash && std::memcmp(bytes.data(), &hash, sizeof hash) == 0) {
+      physics::World world(bench_settings(poured_shape()));
+      try {
+        physics::StateReader r(std::string_view(bytes).substr(sizeof hash));
+        world.load_state(r);
+        bodies = static_cast<int>(world.body_ids().size());
+        std::printf("(settled pile of %d prisms reused from %s)\n", bodies, kept.c_str());
+        std::fflush(stdout);
+        return world;
+      } catch (const physics::StateError&) {
+        // another build's state layout: made again below
+      }
+    }
+  }
+  physics::World world = make_poured(n, tile, bodies);
+  if (!kept.empty()) {
+    physics::StateWriter w;
+    world.save_state(w);
+    std::string bytes(reinterpret_cast<const char*>(&hash), sizeof hash);
+    bytes += w.bytes();
+    keep_file(kept, bytes);
+  }
+  return world;
+}
+
 enum class Case { poured, packed, falling };
 const char* name(Case c) { return c == Case::poured ? "poured" : c == Case::packed ? "packed" : "falling"; }
 
 Result run_case(int n, Case kind, const Pile& tile) {
   Result r;
   int bodies = 0;
-  physics::World world = kind == Case::poured ? make_poured(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
+  physics::World world = kind == Case::poured ? poured_world(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
   const int steps = g_steps > 0 ? g_steps : std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
@@ -292,7 +366,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--pile" || arg == "--steps") {
       if (i + 1 == argc) return usage(("'" + arg + "' needs a value").c_str());
       if (arg == "--pile") {
-        pile_dir = argv[++i];
+        pile_dir = g_pile_dir = argv[++i];
       } else if ((g_steps = std::atoi(argv[++i])) <= 0) {
         return usage("--steps needs a positive number of steps");
       }
@@ -317,10 +391,8 @@ int main(int argc, char** argv) {
     const std::string cached = pile_dir.empty() ? std::string() : pile_dir + "/pile-" + std::to_string(size) + ".bin";
     std::string bytes;
     bool reused = false;
-    if (std::FILE* f = cached.empty() ? nullptr : std::fopen(cached.c_str(), "rb")) {
-      char buffer[65536];
-      for (std::size_t k; (k = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, k);
-      std::fclose(f);
+    if (!cached.empty()) {
+      bytes = read_file(cached);
       const std::size_t header = sizeof(Pile::side) + sizeof(Pile::steps) + sizeof(Pile::seconds);
       reused = bytes.size() == header + static_cast<std::size_t>(size) * sizeof(physics::BodyState);
       if (!reused) bytes.clear();  // not a pile of this size from this build: pour again
@@ -332,14 +404,7 @@ int main(int argc, char** argv) {
         for (const auto& b : p.bodies) out += as_bytes(b);
         return out;
       });
-      if (!cached.empty()) {
-        std::FILE* f = std::fopen(cached.c_str(), "wb");
-        const bool written = f != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-        if ((f != nullptr && std::fclose(f) != 0) || !written) {
-          std::fprintf(stderr, "warning: could not keep the pile in %s\n", cached.c_str());
-          std::remove(cached.c_str());
-        }
-      }
+      if (!cached.empty()) keep_file(cached, bytes);
     }
     Pile& p = piles[size];
     std::size_t at = 0;

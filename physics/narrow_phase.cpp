@@ -5,6 +5,9 @@
 #include <cmath>
 #include <bit>
 #include <limits>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace cleave::physics {
 
@@ -27,11 +30,13 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
     lo = lo.cwiseMin(vertices[i]);
     hi = hi.cwiseMax(vertices[i]);
   }
-  face_normals.resize(p.faces.size());
-  face_offsets.resize(p.faces.size());
-  for (std::size_t f = 0; f < p.faces.size(); ++f) {
-    face_normals[f] = R * p.faces[f].normal;
-    face_offsets[f] = face_normals[f].dot(vertices[p.faces[f].vertices[0]]);
+  const std::size_t nf = p.faces.size(), stride = (nf + 1) & ~std::size_t{1};
+  faces = nf;
+  if (planes.size() != 4 * stride) planes.assign(4 * stride, 0.0);  // the padding stays 0
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Eigen::Vector3d n = R * p.faces[f].normal;
+    for (int k = 0; k < 3; ++k) planes[k * stride + f] = n[k];
+    planes[3 * stride + f] = n.dot(vertices[p.faces[f].vertices[0]]);
   }
   rotation = R;
 }
@@ -45,31 +50,49 @@ constexpr std::size_t kMaxFaces = 32;
 /// uninitialised: only the entries plane_distances writes are read.
 struct PlaneDistances {
   std::size_t faces = 0;
+  std::size_t stride = 0;  ///< a row's length: faces, made even
   std::array<double, kMaxVertices * kMaxFaces> d;
   /// Bit f of vertex v: the vertex is `reach` or more beyond face f's plane.
   std::array<std::uint32_t, kMaxVertices> beyond;
   double deep = 0.0;  ///< minus reach times `to`'s edge cone spread (see edge_pair_culled)
-  double at(std::size_t v, std::size_t f) const { return d[v * faces + f]; }
+  double at(std::size_t v, std::size_t f) const { return d[v * stride + f]; }
 };
+
+std::uint64_t all_bits(std::size_t n) { return n >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1; }
 
 /// The rows of the vertices in `rows` (bit v: vertex v) only.
 void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t rows, double reach,
                      PlaneDistances& out) {
-  out.faces = to.face_normals.size();
+  out.faces = to.faces;
+  out.stride = to.plane_stride();
   out.deep = -reach * to.primitives->edge_cone_spread;
+  const std::size_t stride = out.stride;
+  const double* __restrict nx = to.planes.data();
+  const double* __restrict ny = nx + stride;
+  const double* __restrict nz = ny + stride;
+  const double* __restrict offset = nz + stride;
   for (; rows != 0; rows &= rows - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(rows));
+    const double x = from.vertices[v].x(), y = from.vertices[v].y(), z = from.vertices[v].z();
+    double* __restrict d = out.d.data() + v * stride;
     std::uint32_t beyond = 0;
-    for (std::size_t f = 0; f < out.faces; ++f) {
-      const double d = to.face_normals[f].dot(from.vertices[v]) - to.face_offsets[f];
-      out.d[v * out.faces + f] = d;
-      beyond |= static_cast<std::uint32_t>(d >= reach) << f;
+#ifdef __SSE2__
+    // Two faces at a time, rounded as the scalar loop below would be.
+    const __m128d px = _mm_set1_pd(x), py = _mm_set1_pd(y), pz = _mm_set1_pd(z), pr = _mm_set1_pd(reach);
+    for (std::size_t f = 0; f < stride; f += 2) {
+      const __m128d xy = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(nx + f), px), _mm_mul_pd(_mm_loadu_pd(ny + f), py));
+      const __m128d dist = _mm_sub_pd(_mm_add_pd(xy, _mm_mul_pd(_mm_loadu_pd(nz + f), pz)), _mm_loadu_pd(offset + f));
+      _mm_storeu_pd(d + f, dist);
+      beyond |= static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmpge_pd(dist, pr))) << f;
     }
+    beyond &= static_cast<std::uint32_t>(all_bits(out.faces));  // not the padding
+#else
+    for (std::size_t f = 0; f < stride; ++f) d[f] = nx[f] * x + ny[f] * y + nz[f] * z - offset[f];
+    for (std::size_t f = 0; f < out.faces; ++f) beyond |= static_cast<std::uint32_t>(d[f] >= reach) << f;
+#endif
     out.beyond[v] = beyond;
   }
 }
-
-std::uint64_t all_bits(std::size_t n) { return n >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1; }
 
 /// Polygon of face f of `s` as a small array of world points.
 struct FacePolygon {
@@ -105,7 +128,7 @@ bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
   if (dmax >= reach) return false;  // separated by that face's plane
   FacePolygon poly;
   if (dmax < 0.0) {  // inside q: push out through the face it is least deep under
-    c.normal = -q.face_normals[fmax];
+    c.normal = -q.face_normal(fmax);
     c.penetration = p.radius + q.radius - dmax;
     c.point = x - (p.radius - 0.5 * c.penetration) * c.normal;
     q_feature = feature_code(FeatureKind::face, static_cast<std::uint32_t>(fmax));
@@ -117,7 +140,7 @@ bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
     const double d = dist.at(v, f);
     if (d < 0.0 || d >= reach) continue;
     face_polygon(q, f, poly);
-    if (auto hit = sphere_facet(x, p.radius, {poly.pts.data(), poly.n}, q.face_normals[f],
+    if (auto hit = sphere_facet(x, p.radius, {poly.pts.data(), poly.n}, q.face_normal(f),
                                 q.radius, margin)) {
       c = *hit;
       q_feature = feature_code(FeatureKind::face, static_cast<std::uint32_t>(f));
@@ -172,8 +195,8 @@ bool vertex_against(const PosedShape& p, std::size_t v, const PosedShape& q,
 /// touch shows up as the crossings of the two faces' rims, with the face normal as u.
 bool in_normal_cone(const PosedShape& s, const geometry::ContactEdge& E, const Eigen::Vector3d& u) {
   const Eigen::Vector3d e = s.edge_direction(static_cast<std::size_t>(&E - s.primitives->edges.data()));
-  const Eigen::Vector3d& n1 = s.face_normals[E.left_face];
-  const Eigen::Vector3d& n2 = s.face_normals[E.right_face];
+  const Eigen::Vector3d n1 = s.face_normal(E.left_face);
+  const Eigen::Vector3d n2 = s.face_normal(E.right_face);
   Eigen::Vector3d m1 = e.cross(n1);
   if (m1.dot(n2) < 0.0) m1 = -m1;
   Eigen::Vector3d m2 = e.cross(n2);
@@ -260,8 +283,8 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
                 std::vector<FeatureContact>& out, std::uint64_t& covered_a,
                 std::uint64_t& covered_b) {
   const double radii = a.radius + b.radius;
-  const Eigen::Vector3d& na = a.face_normals[fa];
-  const Eigen::Vector3d& nb = b.face_normals[fb];
+  const Eigen::Vector3d na = a.face_normal(fa);
+  const Eigen::Vector3d nb = b.face_normal(fb);
   const Eigen::Vector3d n = (na - nb).normalized();  // from A towards B
   FacePolygon pa, pb;
   face_polygon(a, fa, pa);
@@ -366,15 +389,15 @@ bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, doub
   const Eigen::Vector3d towards = other.centre - s.centre;
   std::size_t best = 0;
   double best_dot = -std::numeric_limits<double>::infinity();
-  for (std::size_t f = 0; f < s.face_normals.size(); ++f) {
-    const double d = s.face_normals[f].dot(towards);
+  for (std::size_t f = 0; f < s.faces; ++f) {
+    const double d = s.face_normal(f).dot(towards);
     if (d > best_dot) {
       best_dot = d;
       best = f;
     }
   }
-  const Eigen::Vector3d& n = s.face_normals[best];
-  const double offset = s.face_offsets[best] + reach;
+  const Eigen::Vector3d n = s.face_normal(best);
+  const double offset = s.face_offset(best) + reach;
   for (const auto& v : other.vertices) {
     if (n.dot(v) < offset) return false;
   }
@@ -406,7 +429,7 @@ struct FeatureSet {
 bool faces_facing(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
                   const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double reach,
                   double turn = 0.0) {
-  if (a.face_normals[fa].dot(b.face_normals[fb]) > -kFaceToFaceCos + turn) return false;
+  if (a.face_normal(fa).dot(b.face_normal(fb)) > -kFaceToFaceCos + turn) return false;
   double da = std::numeric_limits<double>::infinity(), db = da;
   for (int v : a.primitives->faces[fa].vertices) da = std::min(da, a_to_b.at(v, fb));
   for (int v : b.primitives->faces[fb].vertices) db = std::min(db, b_to_a.at(v, fa));
@@ -431,8 +454,8 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
     return true;
   };
   if (set.face_pairs == nullptr) {
-    for (std::size_t fa = 0; fa < a.face_normals.size() && n_patches < patches.size(); ++fa) {
-      for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
+    for (std::size_t fa = 0; fa < a.faces && n_patches < patches.size(); ++fa) {
+      for (std::size_t fb = 0; fb < b.faces; ++fb) {
         if (try_patch(fa, fb)) break;
       }
     }
@@ -541,7 +564,7 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
 
 bool within_buffers(const PosedShape& a, const PosedShape& b) {
   return a.vertices.size() <= kMaxVertices && b.vertices.size() <= kMaxVertices &&
-         a.face_normals.size() <= kMaxFaces && b.face_normals.size() <= kMaxFaces &&
+         a.faces <= kMaxFaces && b.faces <= kMaxFaces &&
          a.primitives->edges.size() <= kMaxEdges && b.primitives->edges.size() <= kMaxEdges;
 }
 
@@ -603,8 +626,8 @@ void cache_near_features(const PosedShape& a, const PosedShape& b, double reach,
   // holds; the face test's thresholds are widened by the skin.
   const double turn = skin / near.lever;
   near.face_pair_count = 0;
-  for (std::size_t fa = 0; fa < a.face_normals.size(); ++fa) {
-    for (std::size_t fb = 0; fb < b.face_normals.size(); ++fb) {
+  for (std::size_t fa = 0; fa < a.faces; ++fa) {
+    for (std::size_t fb = 0; fb < b.faces; ++fb) {
       if (!faces_facing(a, fa, b, fb, a_to_b, b_to_a, wide, turn)) continue;
       if (near.face_pair_count == near.face_pairs.size()) {  // too many to cache
         near.skin = 0.0;
@@ -655,12 +678,16 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   const double reach = a.radius + b.radius;
   PlaneDistances a_to_b, b_to_a;
   if (hold) {
-    if (early_out(a, b, reach)) return true;
+    // The early outs rule out only pairs that the search would find apart; a pair that
+    // touched at the last search most likely still does, and goes straight to the search.
+    if (!near.touching && early_out(a, b, reach)) return true;
     plane_distances(a, b, near.rows_a, reach, a_to_b);
     plane_distances(b, a, near.rows_b, reach, b_to_a);
     const FeatureSet set{near.vertices_a, near.vertices_b, near.edges_a, near.edges_b,
                          near.face_pairs.data(), near.face_pair_count};
+    const std::size_t before = out.size();
     contacts_over(a, b, 0.0, set, a_to_b, b_to_a, out);
+    near.touching = out.size() > before;
     return true;
   }
   // A full search, caching what lies within reach + skin. A pair apart by the skin on top
@@ -676,7 +703,9 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   plane_distances(a, b, all.vertices_a, reach, a_to_b);
   plane_distances(b, a, all.vertices_b, reach, b_to_a);
   cache_near_features(a, b, reach, skin, a_to_b, b_to_a, near);
+  const std::size_t before = out.size();
   if (!early_out(a, b, reach)) contacts_over(a, b, 0.0, all, a_to_b, b_to_a, out);
+  near.touching = out.size() > before;
   return false;
 }
 

@@ -47,8 +47,17 @@ struct PosedShape {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< principal frame -> world
   std::vector<Eigen::Vector3d> vertices;      ///< world
-  std::vector<Eigen::Vector3d> face_normals;  ///< world, outward
-  std::vector<double> face_offsets;           ///< normal . x = offset on each face
+  /// The face planes (world, outward normals; normal . x = offset on the face) as four rows
+  /// of plane_stride() numbers: the normals' x, y and z, then the offsets, the rows padded to
+  /// an even length with zeros, so that the distance tables' loops take two faces at a time.
+  std::vector<double> planes;
+  std::size_t faces = 0;
+  std::size_t plane_stride() const { return planes.size() / 4; }
+  Eigen::Vector3d face_normal(std::size_t f) const {
+    const std::size_t s = plane_stride();
+    return {planes[f], planes[s + f], planes[2 * s + f]};
+  }
+  double face_offset(std::size_t f) const { return planes[3 * plane_stride() + f]; }
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< principal frame -> world
   /// Edge e's unit direction (world, from edge.a to edge.b), turned when asked for.
   Eigen::Vector3d edge_direction(std::size_t e) const { return rotation * primitives->edge_units[e]; }
@@ -90,6 +99,7 @@ struct NearFeatures {
   double lever = 0.0;
   double skin = 0.0;   ///< 0: nothing cached
   bool none = false;   ///< nothing below may come within reach (the pair was apart by the skin)
+  bool touching = false;  ///< the last search found contacts (its early outs are then skipped)
   std::uint64_t vertices_a = 0, vertices_b = 0;  ///< vertices that may come within reach
   std::uint64_t rows_a = 0, rows_b = 0;          ///< vertices whose plane distances are read
   std::array<std::uint64_t, 3> edges_a{}, edges_b{};  ///< edges that may come within reach

@@ -309,6 +309,7 @@ void World::compute_forces() {
   for (auto& w : walls_) w.reaction.setZero();
   body_contacts(nt);
   wall_contacts(nt);
+  join_pending();
   evaluate_and_apply(nt);
   bond_forces(nt);
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
@@ -345,7 +346,9 @@ void World::body_contacts(int nt) {
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   constexpr std::size_t kChunk = 256;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  if (thread_pending_.size() < chunks) thread_pending_.resize(chunks);
+  if (chunk_pending_.size() < chunks) chunk_pending_.resize(chunks);
+  parts_.clear();
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) parts_.push_back(&chunk_pending_[chunk]);
   // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
   // them gives what the full search would, bit for bit, and skips what cannot touch.
   const bool cached = settings_.feature_skin > 0.0;
@@ -355,7 +358,7 @@ void World::body_contacts(int nt) {
     std::vector<FeatureContact> features;
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
-      auto& out = thread_pending_[chunk];
+      auto& out = chunk_pending_[chunk];
       out.clear();
       const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
       for (std::size_t p = begin; p < end; ++p) {
@@ -379,17 +382,6 @@ void World::body_contacts(int nt) {
       }
     }
   }
-  // Joined in chunk order, each chunk copied to its place by whichever thread.
-  chunk_start_.assign(chunks + 1, 0);
-  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
-    chunk_start_[chunk + 1] = chunk_start_[chunk] + thread_pending_[chunk].size();
-  }
-  pending_.resize(chunk_start_[chunks]);  // last step's list: only a longer tail is made
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
-  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
-    std::copy(thread_pending_[chunk].begin(), thread_pending_[chunk].end(),
-              pending_.begin() + static_cast<std::ptrdiff_t>(chunk_start_[chunk]));
-  }
 }
 
 void World::wall_contacts(int nt) {
@@ -398,13 +390,13 @@ void World::wall_contacts(int nt) {
   const auto slots = live_slots_.size();
   if (static_cast<std::ptrdiff_t>(slots) < kParallelMin || walls_.empty()) nt = 1;
   const std::size_t lists = static_cast<std::size_t>(nt) * walls_.size();
-  if (thread_pending_.size() < lists) thread_pending_.resize(lists);
-  for (std::size_t k = 0; k < lists; ++k) thread_pending_[k].clear();  // OpenMP may run fewer threads
+  if (wall_pending_.size() < lists) wall_pending_.resize(lists);
+  for (std::size_t k = 0; k < lists; ++k) wall_pending_[k].clear();  // OpenMP may run fewer threads
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const auto [t, begin, end] = thread_block(slots);
     for (std::uint32_t w = 0; w < walls_.size(); ++w) {
-      auto& out = thread_pending_[w * static_cast<std::size_t>(nt) + t];
+      auto& out = wall_pending_[w * static_cast<std::size_t>(nt) + t];
       const Wall& wall = walls_[w];
       const std::uint32_t a = w | kWallFlag;
       for (std::size_t k = begin; k < end; ++k) {
@@ -436,8 +428,24 @@ void World::wall_contacts(int nt) {
       }
     }
   }
-  for (std::size_t k = 0; k < lists; ++k) {
-    pending_.insert(pending_.end(), thread_pending_[k].begin(), thread_pending_[k].end());
+  for (std::size_t k = 0; k < lists; ++k) parts_.push_back(&wall_pending_[k]);
+}
+
+void World::join_pending() {
+  part_start_.assign(parts_.size() + 1, 0);
+  for (std::size_t k = 0; k < parts_.size(); ++k) part_start_[k + 1] = part_start_[k] + parts_[k]->size();
+}
+
+template <class F>
+void World::for_pending(std::size_t begin, std::size_t end, F&& f) const {
+  if (begin >= end) return;
+  // The list holding contact `begin`: the last one starting at or before it.
+  auto part = static_cast<std::size_t>(std::upper_bound(part_start_.begin(), part_start_.end(), begin) -
+                                       part_start_.begin()) - 1;
+  for (std::size_t k = begin; k < end; ++part) {
+    const std::vector<Pending>& list = *parts_[part];
+    const std::size_t stop = std::min(end, part_start_[part + 1]);
+    for (std::size_t i = k - part_start_[part]; k < stop; ++k, ++i) f(k, list[i]);
   }
 }
 
@@ -450,7 +458,7 @@ const ContactHistory* World::previous_history(const ContactKey& key) const {
 void World::evaluate_and_apply(int nt) {
   // The contact law for every contact, in parallel: each reads only the bodies' states and
   // the previous step's history, and writes its own slot.
-  const std::size_t n = pending_.size();
+  const std::size_t n = pending_count();
   forces_.resize(n);
   overlaps_.resize(n);
   next_history_.resize(n);
@@ -459,34 +467,28 @@ void World::evaluate_and_apply(int nt) {
   {
     const auto [t, begin, end] = thread_block(n);
     (void)t;
-    // Keys ascend through pending_, as through the history: one search, then a walk.
-    std::size_t cursor = begin < end ? static_cast<std::size_t>(
-                                           std::lower_bound(history_.begin(), history_.end(),
-                                                            pending_[begin].key,
-                                                            [](const HistoryEntry& e, const ContactKey& k) {
-                                                              return e.key < k;
-                                                            }) -
-                                           history_.begin())
-                                     : 0;
-    std::size_t bond_cursor = 0;
-    if (begin < end && !bonds_.empty()) {
-      const std::uint32_t a0 = pending_[begin].key.a;
-      bond_cursor = static_cast<std::size_t>(
-          std::lower_bound(bonds_.begin(), bonds_.end(), a0,
-                           [](const Bond& bd, std::uint32_t a) { return bd.a < a; }) -
-          bonds_.begin());
-    }
-    for (std::size_t k = begin; k < end; ++k) {
-      evaluate_contact(k, cursor, bond_cursor);
-    }
+    // Keys ascend through the contacts, as through the history: one search, then a walk.
+    std::size_t cursor = 0, bond_cursor = 0;
+    for_pending(begin, end, [&](std::size_t k, const Pending& p) {
+      if (k == begin) {
+        cursor = static_cast<std::size_t>(
+            std::lower_bound(history_.begin(), history_.end(), p.key,
+                             [](const HistoryEntry& e, const ContactKey& key) { return e.key < key; }) -
+            history_.begin());
+        if (!bonds_.empty()) {
+          bond_cursor = static_cast<std::size_t>(
+              std::lower_bound(bonds_.begin(), bonds_.end(), p.key.a,
+                               [](const Bond& bd, std::uint32_t a) { return bd.a < a; }) -
+              bonds_.begin());
+        }
+      }
+      evaluate_contact(p, k, cursor, bond_cursor);
+    });
   }
   sum_forces(nt);
 }
 
-/// The contact law for contact k: reads the bodies' states and the previous step's history
-/// (walking `cursor` forward through it), writes only slot k.
-void World::evaluate_contact(std::size_t k, std::size_t& cursor, std::size_t& bond_cursor) {
-  const Pending& p = pending_[k];
+void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& cursor, std::size_t& bond_cursor) {
   const bool wall = (p.key.a & kWallFlag) != 0;
   const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
   const PrimitiveContact& c = p.contact;
@@ -536,15 +538,14 @@ void World::sum_forces(int nt) {
   // Each thread sums onto the bodies of its own block of slots, going through all contacts
   // in order: every body's force is summed in contact order, the same for any number of
   // threads. Wall reactions are summed by the first thread.
-  const std::size_t n = pending_.size();
+  const std::size_t n = pending_count();
   records_current_ = false;  // contacts() makes them from this evaluation when asked
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   const std::size_t slots = states_.size();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const auto [t, lo, hi] = thread_block(slots);
-    for (std::size_t k = 0; k < n; ++k) {
-      const Pending& p = pending_[k];
+    for_pending(0, n, [&](std::size_t k, const Pending& p) {
       const bool wall = (p.key.a & kWallFlag) != 0;
       const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
       const ContactForce& f = forces_[k];
@@ -560,7 +561,7 @@ void World::sum_forces(int nt) {
         sa.f -= f.force;
         sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
       }
-    }
+    });
   }
   std::swap(history_, next_history_);
 }
@@ -568,13 +569,12 @@ void World::sum_forces(int nt) {
 const std::vector<ContactRecord>& World::contacts() const {
   if (!records_current_) {
     records_.clear();
-    records_.reserve(pending_.size());
-    for (std::size_t k = 0; k < pending_.size(); ++k) {
-      const Pending& p = pending_[k];
+    records_.reserve(pending_count());
+    for_pending(0, pending_count(), [&](std::size_t k, const Pending& p) {
       const bool wall = (p.key.a & kWallFlag) != 0;
       records_.push_back({p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
                           forces_[k].force});
-    }
+    });
     records_current_ = true;
   }
   return records_;

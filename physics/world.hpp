@@ -225,7 +225,6 @@ class World {
   void body_contacts(int threads);
   void wall_contacts(int nt);
   void evaluate_and_apply(int threads);
-  void evaluate_contact(std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
   void sum_forces(int threads);
   void bond_forces(int threads);
   void apply_local_damping(int threads);
@@ -252,6 +251,9 @@ class World {
   };
   const ContactHistory* previous_history(const ContactKey& key) const;
   static constexpr std::uint32_t kWallFlag = 0x80000000u;
+  /// The contact law for contact k (`p`): reads the bodies' states and the previous step's
+  /// history (walking `history_cursor` forward through it), writes only slot k.
+  void evaluate_contact(const Pending& p, std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
 
   WorldSettings settings_;
   std::vector<RigidShape> shapes_;
@@ -270,9 +272,17 @@ class World {
   bool pairs_current_ = false;
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
-  std::vector<Pending> pending_;
-  std::vector<std::vector<Pending>> thread_pending_;  // by chunk of pairs, then by wall and thread
-  std::vector<std::size_t> chunk_start_;              // where each chunk goes in pending_
+  /// This step's contacts, in the order the law and the sums go through them: the lists of
+  /// the chunks of pairs, then those of the walls (wall by wall, thread by thread), read in
+  /// place rather than copied into one list.
+  std::vector<std::vector<Pending>> chunk_pending_, wall_pending_;
+  std::vector<const std::vector<Pending>*> parts_;  // the lists in order
+  std::vector<std::size_t> part_start_;             // index of each list's first contact; back(): all
+  [[nodiscard]] std::size_t pending_count() const { return part_start_.empty() ? 0 : part_start_.back(); }
+  /// Calls f(k, contact k) for k in [begin, end), in order.
+  template <class F>
+  void for_pending(std::size_t begin, std::size_t end, F&& f) const;
+  void join_pending();
   std::vector<ContactForce> forces_;
   std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
   mutable std::vector<ContactRecord> records_;  // contacts(), made when first asked for
