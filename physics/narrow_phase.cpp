@@ -71,6 +71,9 @@ void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t
   const double* __restrict ny = nx + stride;
   const double* __restrict nz = ny + stride;
   const double* __restrict offset = nz + stride;
+  // The rows left out have no `beyond` bits: what reads them unmasked (the near-edge test
+  // of contacts_over) then drops them on their own mask.
+  std::fill_n(out.beyond.begin(), from.vertices.size(), 0u);
   for (; rows != 0; rows &= rows - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(rows));
     const double x = from.vertices[v].x(), y = from.vertices[v].y(), z = from.vertices[v].z();
@@ -255,11 +258,12 @@ struct RimPlanes {
   }
   /// Whether x projects inside (closed: the rim included).
   bool inside(const Eigen::Vector3d& x, bool closed) const {
+    bool in = true;  // every side tested, without branching on each
     for (std::size_t i = 0; i < n; ++i) {
       const double side = m[i].dot(x) - c[i];
-      if (closed ? side < -tol[i] : side <= tol[i]) return false;
+      in &= closed ? !(side < -tol[i]) : !(side <= tol[i]);
     }
-    return true;
+    return in;
   }
 };
 
@@ -335,22 +339,36 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   auto cross2 = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
   const auto& length_a = a.primitives->edge_lengths;
   const auto& length_b = b.primitives->edge_lengths;
+  std::array<double, kMaxVertices> long_b;
+  for (std::size_t j = 0; j < pb.n; ++j) long_b[j] = length_b[rim_ib[j]];
+  // Side i of A's rim against side j of B's: the crossing at s along i and t along j, with
+  // s = s_den / den and t = t_den / den, compared without dividing (den made positive).
+  struct Crossing {
+    double den, s_den, t_den;
+  };
+  auto crossing = [&](std::size_t i, std::size_t j) {
+    const double den = cross2(da2[i], db2[j]);
+    const Eigen::Vector2d w = qb2[j] - qa2[i];
+    const double sign = std::copysign(1.0, den);  // -0 makes -1: parallel either way
+    return Crossing{sign * den, sign * cross2(w, db2[j]), sign * cross2(w, da2[i])};
+  };
   for (std::size_t i = 0; i < pa.n; ++i) {
+    // Which sides of B's rim side i crosses, found without branching (which do is as good
+    // as random to a branch predictor), then the contacts at those crossings.
+    const double tol_i = 1e-12 * length_a[rim_ia[i]];
+    std::uint64_t crosses = 0;
     for (std::size_t j = 0; j < pb.n; ++j) {
-      double den = cross2(da2[i], db2[j]);
-      if (std::abs(den) <= 1e-12 * length_a[rim_ia[i]] * length_b[rim_ib[j]]) continue;  // parallel
-      const Eigen::Vector2d w = qb2[j] - qa2[i];
-      // s = s_den / den and t = t_den / den, compared without dividing (den made positive).
-      double s_den = cross2(w, db2[j]), t_den = cross2(w, da2[i]);
-      if (den < 0.0) {
-        den = -den;
-        s_den = -s_den;
-        t_den = -t_den;
-      }
-      // Strictly inside both rims: a crossing at a corner is that corner's contact.
+      const auto [den, s_den, t_den] = crossing(i, j);
+      // Not parallel, and strictly inside both rims: a crossing at a corner is that
+      // corner's contact.
       constexpr double eps = 1e-9;
       const double lo = eps * den, hi = (1.0 - eps) * den;
-      if (!(s_den > lo && s_den < hi && t_den > lo && t_den < hi)) continue;
+      const bool inside = (den > tol_i * long_b[j]) & (s_den > lo) & (s_den < hi) & (t_den > lo) & (t_den < hi);
+      crosses |= static_cast<std::uint64_t>(inside) << j;
+    }
+    for (; crosses != 0; crosses &= crosses - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(crosses));
+      const auto [den, s_den, t_den] = crossing(i, j);
       const double s = s_den / den, t = t_den / den;
       const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[(i + 1) % pa.n] - pa.pts[i]);
       const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[(j + 1) % pb.n] - pb.pts[j]);
@@ -498,50 +516,60 @@ void contacts_over(const PosedShape& a, const PosedShape& b, double margin, cons
   // Edge against edge. Which edges can reach the other body, and which lie on a patched
   // face, are worked out once per pair rather than once per edge pair; the pairs are then
   // ruled out on plane distances (edge_pair_culled) before an edge's geometry is made.
+  // These tests pass or fail as good as at random to a branch predictor, so the lists of
+  // what passes are made without branching: each entry is written, and kept by advancing
+  // the list's end or not.
   const auto& ea = a.primitives->edges;
   const auto& eb = b.primitives->edges;
-  // B's near edges in ascending order, with the patches whose face of B they lie on (bit k:
-  // patch k); their midpoints, half lengths and directions are made when first needed.
   struct Segment {
     Eigen::Vector3d mid, dir;
     double half;
   };
-  std::array<std::uint8_t, kMaxEdges> near_b, patches_of_b;
+  // A side's near edges in ascending order, with the patches whose face they lie on (bit k:
+  // patch k).
+  struct NearEdges {
+    std::array<std::uint8_t, kMaxEdges> edge, patches;
+    std::size_t n = 0;
+  };
+  auto near_edges = [&](const std::vector<geometry::ContactEdge>& edges, const EdgeMask& mask,
+                        const PlaneDistances& dist, bool side_a, NearEdges& out) {
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      const auto& E = edges[e];
+      std::uint8_t on = 0;
+      for (std::size_t k = 0; k < n_patches; ++k) {
+        const auto f = static_cast<int>(side_a ? patches[k].fa : patches[k].fb);
+        on |= static_cast<std::uint8_t>(((E.left_face == f) | (E.right_face == f)) << k);
+      }
+      out.edge[out.n] = static_cast<std::uint8_t>(e);
+      out.patches[out.n] = on;
+      // Only a masked edge's ends have distance rows (and `beyond` masks).
+      out.n += has_edge(mask, e) & edge_near(dist, E);
+    }
+  };
+  NearEdges near_a, near_b;
+  near_edges(eb, set.edges_b, b_to_a, false, near_b);
+  if (near_b.n == 0) return;
+  near_edges(ea, set.edges_a, a_to_b, true, near_a);
   std::array<Segment, kMaxEdges> seg_b;
-  std::array<bool, kMaxEdges> made_b;
-  std::size_t n_near_b = 0;
-  for (std::size_t j = 0; j < eb.size(); ++j) {
-    if (!has_edge(set.edges_b, j) || !edge_near(b_to_a, eb[j])) continue;
-    std::uint8_t on = 0;
-    for (std::size_t k = 0; k < n_patches; ++k) {
-      const auto f = static_cast<int>(patches[k].fb);
-      if (eb[j].left_face == f || eb[j].right_face == f) on |= std::uint8_t(1u << k);
-    }
-    made_b[n_near_b] = false;
-    near_b[n_near_b] = static_cast<std::uint8_t>(j);
-    patches_of_b[n_near_b++] = on;
-  }
-  if (n_near_b == 0) return;
-  for (std::size_t i = 0; i < ea.size(); ++i) {
-    if (!has_edge(set.edges_a, i) || !edge_near(a_to_b, ea[i])) continue;
+  std::array<bool, kMaxEdges> made_b{};
+  std::array<std::uint8_t, kMaxEdges> candidates;
+  for (std::size_t ia = 0; ia < near_a.n; ++ia) {
+    const std::size_t i = near_a.edge[ia];
     const auto& E = ea[i];
-    std::uint8_t patches_of_a = 0;
-    for (std::size_t k = 0; k < n_patches; ++k) {
-      const auto f = static_cast<int>(patches[k].fa);
-      if (E.left_face == f || E.right_face == f) patches_of_a |= std::uint8_t(1u << k);
+    std::size_t n_candidates = 0;
+    for (std::size_t k = 0; k < near_b.n; ++k) {
+      const bool patched = (near_a.patches[ia] & near_b.patches[k]) != 0;  // the patch has them
+      const bool culled = set.culls && edge_pair_culled(E, a_to_b, eb[near_b.edge[k]], b_to_a);
+      candidates[n_candidates] = static_cast<std::uint8_t>(k);
+      n_candidates += !(patched | culled);
     }
+    if (n_candidates == 0) continue;
     const Eigen::Vector3d& p1 = a.vertices[E.a];
     const Eigen::Vector3d& q1 = a.vertices[E.b];
-    Segment seg_a;
-    bool made_a = false;
-    for (std::size_t k = 0; k < n_near_b; ++k) {
-      if ((patches_of_a & patches_of_b[k]) != 0) continue;  // the patch has them
-      const std::size_t j = near_b[k];
-      if (set.culls && edge_pair_culled(E, a_to_b, eb[j], b_to_a)) continue;
-      if (!made_a) {
-        seg_a = {0.5 * (p1 + q1), a.edge_direction(i), 0.5 * a.primitives->edge_lengths[i]};
-        made_a = true;
-      }
+    const Segment seg_a{0.5 * (p1 + q1), a.edge_direction(i), 0.5 * a.primitives->edge_lengths[i]};
+    for (std::size_t c = 0; c < n_candidates; ++c) {
+      const std::size_t k = candidates[c];
+      const std::size_t j = near_b.edge[k];
       const Eigen::Vector3d& p2 = b.vertices[eb[j].a];
       const Eigen::Vector3d& q2 = b.vertices[eb[j].b];
       if (!made_b[k]) {
