@@ -238,35 +238,6 @@ bool edge_pair_culled(const geometry::ContactEdge& E, const PlaneDistances& a_to
          behind(b_to_a, F, E.left_face) | behind(b_to_a, F, E.right_face);
 }
 
-/// A face polygon's rim as planes through its sides, parallel to the face normal, for
-/// repeated inside tests: x projects along the normal onto side i's inner side when
-/// m_i . x - c_i >= 0, with m_i = n x (p_{i+1} - p_i) (the sides run CCW seen from where n
-/// points) and c_i = m_i . p_i. A tolerance relative to the side's length admits (closed)
-/// or excludes (open) points on the rim.
-struct RimPlanes {
-  std::array<Eigen::Vector3d, kMaxVertices> m;
-  std::array<double, kMaxVertices> c, tol;
-  std::size_t n = 0;
-
-  RimPlanes(const FacePolygon& poly, const Eigen::Vector3d& normal) : n(poly.n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d edge = poly.pts[(i + 1) % n] - poly.pts[i];
-      m[i] = normal.cross(edge);
-      c[i] = m[i].dot(poly.pts[i]);
-      tol[i] = 1e-9 * edge.squaredNorm();
-    }
-  }
-  /// Whether x projects inside (closed: the rim included).
-  bool inside(const Eigen::Vector3d& x, bool closed) const {
-    bool in = true;  // every side tested, without branching on each
-    for (std::size_t i = 0; i < n; ++i) {
-      const double side = m[i].dot(x) - c[i];
-      in &= closed ? !(side < -tol[i]) : !(side <= tol[i]);
-    }
-    return in;
-  }
-};
-
 /// The face pair of a face-to-face touch: nearly opposite outward normals (within about 6
 /// degrees) and planes within reach of each other's corners.
 constexpr double kFaceToFaceCos = 0.9945;  // cos 6 degrees
@@ -276,12 +247,23 @@ struct Patch {
 };
 
 /// Contacts of a face-to-face touch between face fa of A and face fb of B: the corners of
-/// the overlap of the two polygons seen along the common normal. They are A's corners over
+/// the overlap of the two polygons seen along the common normal n. They are A's corners over
 /// B's face, B's corners over A's face, and the crossings of the two rims. Unlike single
 /// vertex or edge contacts, these points move continuously when the faces tilt a little,
 /// so the patch does not flicker as bodies rock on each other.
 /// `covered_a` and `covered_b` collect (as bits) the corners the patch already holds, whose
 /// own vertex contacts then need not be looked for.
+///
+/// Everything is decided in the plane across n, in coordinates (u, v) with u x v = n, where
+/// the 2-D cross product of two projected vectors is their triple product with n. There A's
+/// rim runs counter-clockwise (its face looks along n) and B's clockwise. For side i of A
+/// (from corner i, direction da_i) and side j of B (qb_j, db_j), with w = qb_j - qa_i:
+///   den = da_i x db_j, s_den = w x db_j, t_den = w x da_i.
+/// The sides cross at s = s_den / den along side i and t = t_den / den along side j;
+/// -s_den is how far A's corner i lies inside B's side j, and -t_den how far B's corner j
+/// lies inside A's side i (each times the side's length). So one table of the three gives
+/// both the corners' inside tests and the crossings. A tolerance of 1e-9 of a side's length
+/// admits points on the rim (closed) or excludes them (open).
 void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
                 const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double margin,
                 std::vector<FeatureContact>& out, std::uint64_t& covered_a,
@@ -293,14 +275,54 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   FacePolygon pa, pb;
   face_polygon(a, fa, pa);
   face_polygon(b, fb, pb);
+  const std::size_t na_n = pa.n, nb_n = pb.n;
   const auto& ia = a.primitives->faces[fa].vertices;
   const auto& ib = b.primitives->faces[fb].vertices;
-  // A's corners over B's face (boundary included), along B's normal.
-  const RimPlanes rim_b(pb, nb);
-  for (std::size_t i = 0; i < pa.n; ++i) {
-    const double d = a_to_b.at(ia[i], fb);
-    const double pen = radii - d;
-    if (pen <= -margin || !rim_b.inside(pa.pts[i], true)) continue;
+  const auto& rim_ia = a.primitives->faces[fa].rim;
+  const auto& rim_ib = b.primitives->faces[fb].rim;
+  const Eigen::Vector3d u = n.unitOrthogonal();
+  const Eigen::Vector3d v = n.cross(u);
+  std::array<Eigen::Vector2d, kMaxVertices> qa2, qb2, da2, db2;
+  std::array<double, kMaxVertices> long_a, long_b;
+  for (std::size_t i = 0; i < na_n; ++i) {
+    const Eigen::Vector3d d = pa.pts[(i + 1) % na_n] - pa.pts[i];
+    qa2[i] = {u.dot(pa.pts[i]), v.dot(pa.pts[i])};
+    da2[i] = {u.dot(d), v.dot(d)};
+    long_a[i] = a.primitives->edge_lengths[rim_ia[i]];
+  }
+  for (std::size_t j = 0; j < nb_n; ++j) {
+    const Eigen::Vector3d d = pb.pts[(j + 1) % nb_n] - pb.pts[j];
+    qb2[j] = {u.dot(pb.pts[j]), v.dot(pb.pts[j])};
+    db2[j] = {u.dot(d), v.dot(d)};
+    long_b[j] = b.primitives->edge_lengths[rim_ib[j]];
+  }
+  auto cross2 = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
+  // The table, row i for A's side i. Which tests pass is as good as random to a branch
+  // predictor, so they are gathered as bits, without branching, and acted on afterwards.
+  constexpr std::size_t kCells = kMaxVertices * kMaxVertices;
+  std::array<double, kCells> den, s_den, t_den;
+  std::uint64_t a_inside = all_bits(na_n);              // A's corners within B's rim (closed)
+  std::uint64_t b_inside = all_bits(nb_n), b_open = b_inside;  // B's corners within A's rim
+  for (std::size_t i = 0; i < na_n; ++i) {
+    const double tol_a = 1e-9 * long_a[i] * long_a[i];
+    bool a_in = true;
+    for (std::size_t j = 0; j < nb_n; ++j) {
+      const std::size_t k = i * nb_n + j;
+      const Eigen::Vector2d w = qb2[j] - qa2[i];
+      den[k] = cross2(da2[i], db2[j]);
+      s_den[k] = cross2(w, db2[j]);
+      t_den[k] = cross2(w, da2[i]);
+      a_in &= s_den[k] <= 1e-9 * long_b[j] * long_b[j];
+      b_inside &= ~(static_cast<std::uint64_t>(t_den[k] > tol_a) << j);
+      b_open &= ~(static_cast<std::uint64_t>(t_den[k] >= -tol_a) << j);
+    }
+    a_inside &= ~(static_cast<std::uint64_t>(!a_in) << i);
+  }
+  // A's corners over B's face (boundary included).
+  for (std::uint64_t m = a_inside; m != 0; m &= m - 1) {
+    const auto i = static_cast<std::size_t>(std::countr_zero(m));
+    const double pen = radii - a_to_b.at(ia[i], fb);
+    if (pen <= -margin) continue;
     PrimitiveContact c{pa.pts[i] - (a.radius - 0.5 * pen) * nb, -nb, pen};
     out.push_back({feature_code(FeatureKind::vertex, ia[i]), feature_code(FeatureKind::face, fb), c});
     covered_a |= std::uint64_t{1} << ia[i];
@@ -308,70 +330,35 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   // B's corners over A's face (boundary excluded: a shared corner is counted once, above).
   // A corner of B on the rim of A's face gets no contact of its own, but it is covered all
   // the same: whatever touches there is A's corner or A's rim, both part of this patch.
-  const RimPlanes rim_a(pa, na);
-  for (std::size_t i = 0; i < pb.n; ++i) {
-    const double d = b_to_a.at(ib[i], fa);
-    const double pen = radii - d;
-    if (pen <= -margin || !rim_a.inside(pb.pts[i], true)) continue;
-    covered_b |= std::uint64_t{1} << ib[i];
-    if (!rim_a.inside(pb.pts[i], false)) continue;
-    PrimitiveContact c{pb.pts[i] - (b.radius - 0.5 * pen) * na, na, pen};
-    out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[i]), c});
+  for (std::uint64_t m = b_inside; m != 0; m &= m - 1) {
+    const auto j = static_cast<std::size_t>(std::countr_zero(m));
+    const double pen = radii - b_to_a.at(ib[j], fa);
+    if (pen <= -margin) continue;
+    covered_b |= std::uint64_t{1} << ib[j];
+    if (((b_open >> j) & 1u) == 0) continue;
+    PrimitiveContact c{pb.pts[j] - (b.radius - 0.5 * pen) * na, na, pen};
+    out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[j]), c});
   }
-  // Rim crossings, seen along n: strictly inside both edges. The rims are solved in the
-  // plane across n, in coordinates (u, v) with u x v = n, so that the 2-D cross product of
-  // two projected vectors is the triple product with n.
-  const Eigen::Vector3d u = n.unitOrthogonal();
-  const Eigen::Vector3d v = n.cross(u);
-  const auto& rim_ia = a.primitives->faces[fa].rim;
-  const auto& rim_ib = b.primitives->faces[fb].rim;
-  std::array<Eigen::Vector2d, kMaxVertices> qa2, qb2, da2, db2;
-  for (std::size_t i = 0; i < pa.n; ++i) {
-    const Eigen::Vector3d d = pa.pts[(i + 1) % pa.n] - pa.pts[i];
-    qa2[i] = {u.dot(pa.pts[i]), v.dot(pa.pts[i])};
-    da2[i] = {u.dot(d), v.dot(d)};
-  }
-  for (std::size_t j = 0; j < pb.n; ++j) {
-    const Eigen::Vector3d d = pb.pts[(j + 1) % pb.n] - pb.pts[j];
-    qb2[j] = {u.dot(pb.pts[j]), v.dot(pb.pts[j])};
-    db2[j] = {u.dot(d), v.dot(d)};
-  }
-  auto cross2 = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
-  const auto& length_a = a.primitives->edge_lengths;
-  const auto& length_b = b.primitives->edge_lengths;
-  std::array<double, kMaxVertices> long_b;
-  for (std::size_t j = 0; j < pb.n; ++j) long_b[j] = length_b[rim_ib[j]];
-  // Side i of A's rim against side j of B's: the crossing at s along i and t along j, with
-  // s = s_den / den and t = t_den / den, compared without dividing (den made positive).
-  struct Crossing {
-    double den, s_den, t_den;
-  };
-  auto crossing = [&](std::size_t i, std::size_t j) {
-    const double den = cross2(da2[i], db2[j]);
-    const Eigen::Vector2d w = qb2[j] - qa2[i];
-    const double sign = std::copysign(1.0, den);  // -0 makes -1: parallel either way
-    return Crossing{sign * den, sign * cross2(w, db2[j]), sign * cross2(w, da2[i])};
-  };
-  for (std::size_t i = 0; i < pa.n; ++i) {
-    // Which sides of B's rim side i crosses, found without branching (which do is as good
-    // as random to a branch predictor), then the contacts at those crossings.
-    const double tol_i = 1e-12 * length_a[rim_ia[i]];
+  // Rim crossings strictly inside both sides (a crossing at a corner is that corner's
+  // contact), the sides not parallel; den made positive to compare without dividing.
+  for (std::size_t i = 0; i < na_n; ++i) {
+    const double tol_i = 1e-12 * long_a[i];
     std::uint64_t crosses = 0;
-    for (std::size_t j = 0; j < pb.n; ++j) {
-      const auto [den, s_den, t_den] = crossing(i, j);
-      // Not parallel, and strictly inside both rims: a crossing at a corner is that
-      // corner's contact.
+    for (std::size_t j = 0; j < nb_n; ++j) {
+      const std::size_t k = i * nb_n + j;
+      const double sign = std::copysign(1.0, den[k]);  // -0 makes -1: parallel either way
+      const double d = sign * den[k], sd = sign * s_den[k], td = sign * t_den[k];
       constexpr double eps = 1e-9;
-      const double lo = eps * den, hi = (1.0 - eps) * den;
-      const bool inside = (den > tol_i * long_b[j]) & (s_den > lo) & (s_den < hi) & (t_den > lo) & (t_den < hi);
+      const double lo = eps * d, hi = (1.0 - eps) * d;
+      const bool inside = (d > tol_i * long_b[j]) & (sd > lo) & (sd < hi) & (td > lo) & (td < hi);
       crosses |= static_cast<std::uint64_t>(inside) << j;
     }
     for (; crosses != 0; crosses &= crosses - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(crosses));
-      const auto [den, s_den, t_den] = crossing(i, j);
-      const double s = s_den / den, t = t_den / den;
-      const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[(i + 1) % pa.n] - pa.pts[i]);
-      const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[(j + 1) % pb.n] - pb.pts[j]);
+      const std::size_t k = i * nb_n + j;
+      const double s = s_den[k] / den[k], t = t_den[k] / den[k];
+      const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[(i + 1) % na_n] - pa.pts[i]);
+      const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[(j + 1) % nb_n] - pb.pts[j]);
       const double pen = radii - (qb - qa).dot(n);
       if (pen <= -margin) continue;
       PrimitiveContact c{qa + (a.radius - 0.5 * pen) * n, n, pen};
