@@ -299,15 +299,22 @@ void World::compute_forces() {
   posed_.resize(states_.size());
   const int nt = thread_count(settings_.threads);
   const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
-#pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin)
+  // The neighbour search's pairs hold every pair that can touch until some body has moved
+  // half its skin (bounding spheres are centred on the centroid, so rotation does not move
+  // them): the bodies that have are counted here, with the poses.
+  const bool searched = pairs_current_ && searched_at_.size() == live_slots_.size();
+  const double limit = 0.25 * skin_ * skin_;
+  std::size_t moved = 0;
+#pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin) reduction(+ : moved)
   for (std::ptrdiff_t k = 0; k < live; ++k) {
     const std::uint32_t i = live_slots_[static_cast<std::size_t>(k)];
     states_[i].f = infos_[i].mass * settings_.gravity;
     states_[i].tau.setZero();
     posed_[i].update(shapes_[infos_[i].shape], states_[i]);
+    if (searched) moved += !((states_[i].x - searched_at_[static_cast<std::size_t>(k)]).squaredNorm() < limit);
   }
   for (auto& w : walls_) w.reaction.setZero();
-  body_contacts(nt);
+  body_contacts(nt, !searched || moved > 0);
   wall_contacts(nt);
   join_pending();
   evaluate_and_apply(nt);
@@ -316,15 +323,9 @@ void World::compute_forces() {
   forces_current_ = true;
 }
 
-void World::body_contacts(int nt) {
-  // Neighbour search with a Verlet skin: the pairs of the last search hold every pair that
-  // can touch until some body has moved half the skin (bounding spheres are centred on the
-  // centroid, so rotation does not move them).
-  bool fresh = pairs_current_ && searched_at_.size() == live_slots_.size();
-  for (std::size_t k = 0; fresh && k < live_slots_.size(); ++k) {
-    fresh = (states_[live_slots_[k]].x - searched_at_[k]).squaredNorm() < 0.25 * skin_ * skin_;
-  }
-  if (!fresh) {
+void World::body_contacts(int nt, bool stale) {
+  // Neighbour search with a Verlet skin (see compute_forces).
+  if (stale) {
     spheres_.clear();
     double smallest = std::numeric_limits<double>::infinity();
     for (std::uint32_t slot : live_slots_) {

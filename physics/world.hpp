@@ -222,7 +222,9 @@ class World {
 
  private:
   void compute_forces();
-  void body_contacts(int threads);
+  /// `stale`: the pairs of the last neighbour search may miss some (a body has moved half
+  /// the search skin since, or bodies came or went).
+  void body_contacts(int threads, bool stale);
   void wall_contacts(int nt);
   void evaluate_and_apply(int threads);
   void sum_forces(int threads);
