@@ -466,8 +466,9 @@ void World::evaluate_and_apply(int nt) {
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    const auto [t, begin, end] = thread_block(n);
-    (void)t;
+    // Plain variables, not a structured binding: the lambda below captures them.
+    const Block block = thread_block(n);
+    const std::size_t begin = block.begin, end = block.end;
     // Keys ascend through the contacts, as through the history: one search, then a walk.
     std::size_t cursor = 0, bond_cursor = 0;
     for_pending(begin, end, [&](std::size_t k, const Pending& p) {
@@ -545,7 +546,8 @@ void World::sum_forces(int nt) {
   const std::size_t slots = states_.size();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    const auto [t, lo, hi] = thread_block(slots);
+    const Block block = thread_block(slots);  // captured below: not a structured binding
+    const std::size_t t = block.thread, lo = block.begin, hi = block.end;
     for_pending(0, n, [&](std::size_t k, const Pending& p) {
       const bool wall = (p.key.a & kWallFlag) != 0;
       const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
