@@ -242,28 +242,33 @@ bool edge_pair_culled(const geometry::ContactEdge& E, const PlaneDistances& a_to
 /// degrees) and planes within reach of each other's corners.
 constexpr double kFaceToFaceCos = 0.9945;  // cos 6 degrees
 
+/// A point this close to a face's side line, relative to the side's length, is on it: a
+/// nanometre for a millimetre side, far above the rounding of world coordinates and far
+/// below any overlap that carries load.
+constexpr double kRimTolerance = 1e-6;
+
 struct Patch {
   std::size_t fa, fb;
 };
 
 /// Contacts of a face-to-face touch between face fa of A and face fb of B: the corners of
-/// the overlap of the two polygons seen along the common normal n. They are A's corners over
-/// B's face, B's corners over A's face, and the crossings of the two rims. Unlike single
-/// vertex or edge contacts, these points move continuously when the faces tilt a little,
-/// so the patch does not flicker as bodies rock on each other.
-/// `covered_a` and `covered_b` collect (as bits) the corners the patch already holds, whose
-/// own vertex contacts then need not be looked for.
+/// the overlap of the two polygons seen along the common normal n. They are A's corners
+/// over B's face, B's corners over A's face (but for those on one of A's counted corners),
+/// and the crossings of the two rims. Unlike single vertex or edge contacts, these points
+/// move continuously when the faces tilt a little, so the patch does not flicker as bodies
+/// rock on each other. `covered_a` and `covered_b` collect (as bits) the corners the patch
+/// already holds, whose own vertex contacts then need not be looked for.
 ///
 /// Everything is decided in the plane across n, in coordinates (u, v) with u x v = n, where
 /// the 2-D cross product of two projected vectors is their triple product with n. There A's
-/// rim runs counter-clockwise (its face looks along n) and B's clockwise. For side i of A
-/// (from corner i, direction da_i) and side j of B (qb_j, db_j), with w = qb_j - qa_i:
-///   den = da_i x db_j, s_den = w x db_j, t_den = w x da_i.
-/// The sides cross at s = s_den / den along side i and t = t_den / den along side j;
-/// -s_den is how far A's corner i lies inside B's side j, and -t_den how far B's corner j
-/// lies inside A's side i (each times the side's length). So one table of the three gives
-/// both the corners' inside tests and the crossings. A tolerance of 1e-9 of a side's length
-/// admits points on the rim (closed) or excludes them (open).
+/// rim runs counter-clockwise (its face looks along n) and B's clockwise. One table holds
+/// how far inside each side of one rim each corner of the other lies (times the side's
+/// length): side_b(i, j) for A's corner i and B's side j, side_a(i, j) for B's corner j and
+/// A's side i. A point within kRimTolerance of a side's length of a side's line is on it:
+/// such a corner is inside (its polygon closed), and two sides cross only where each has
+/// its ends clearly on both sides of the other's line. So sides on one line (as grains of a
+/// lattice leave them, to rounding) make no crossing, and a crossing at a corner is that
+/// corner's contact: every corner of the overlap is found once, whatever the rounding.
 void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::size_t fb,
                 const PlaneDistances& a_to_b, const PlaneDistances& b_to_a, double margin,
                 std::vector<FeatureContact>& out, std::uint64_t& covered_a,
@@ -283,42 +288,41 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   const Eigen::Vector3d u = n.unitOrthogonal();
   const Eigen::Vector3d v = n.cross(u);
   std::array<Eigen::Vector2d, kMaxVertices> qa2, qb2, da2, db2;
-  std::array<double, kMaxVertices> long_a, long_b;
+  std::array<double, kMaxVertices> tol_a, tol_b;  // kRimTolerance times the side's length, squared
   for (std::size_t i = 0; i < na_n; ++i) {
     const Eigen::Vector3d d = pa.pts[(i + 1) % na_n] - pa.pts[i];
     qa2[i] = {u.dot(pa.pts[i]), v.dot(pa.pts[i])};
     da2[i] = {u.dot(d), v.dot(d)};
-    long_a[i] = a.primitives->edge_lengths[rim_ia[i]];
+    const double len = a.primitives->edge_lengths[rim_ia[i]];
+    tol_a[i] = kRimTolerance * len * len;
   }
   for (std::size_t j = 0; j < nb_n; ++j) {
     const Eigen::Vector3d d = pb.pts[(j + 1) % nb_n] - pb.pts[j];
     qb2[j] = {u.dot(pb.pts[j]), v.dot(pb.pts[j])};
     db2[j] = {u.dot(d), v.dot(d)};
-    long_b[j] = b.primitives->edge_lengths[rim_ib[j]];
+    const double len = b.primitives->edge_lengths[rim_ib[j]];
+    tol_b[j] = kRimTolerance * len * len;
   }
   auto cross2 = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
-  // The table, row i for A's side i. Which tests pass is as good as random to a branch
-  // predictor, so they are gathered as bits, without branching, and acted on afterwards.
+  // The table, and which corners are inside: which tests pass is as good as random to a
+  // branch predictor, so they are gathered as bits, without branching, and acted on after.
   constexpr std::size_t kCells = kMaxVertices * kMaxVertices;
-  std::array<double, kCells> den, s_den, t_den;
-  std::uint64_t a_inside = all_bits(na_n);              // A's corners within B's rim (closed)
-  std::uint64_t b_inside = all_bits(nb_n), b_open = b_inside;  // B's corners within A's rim
+  std::array<double, kCells> side_a, side_b;  // cell i * nb_n + j
+  std::uint64_t a_inside = all_bits(na_n), b_inside = all_bits(nb_n);
   for (std::size_t i = 0; i < na_n; ++i) {
-    const double tol_a = 1e-9 * long_a[i] * long_a[i];
     bool a_in = true;
     for (std::size_t j = 0; j < nb_n; ++j) {
       const std::size_t k = i * nb_n + j;
       const Eigen::Vector2d w = qb2[j] - qa2[i];
-      den[k] = cross2(da2[i], db2[j]);
-      s_den[k] = cross2(w, db2[j]);
-      t_den[k] = cross2(w, da2[i]);
-      a_in &= s_den[k] <= 1e-9 * long_b[j] * long_b[j];
-      b_inside &= ~(static_cast<std::uint64_t>(t_den[k] > tol_a) << j);
-      b_open &= ~(static_cast<std::uint64_t>(t_den[k] >= -tol_a) << j);
+      side_a[k] = cross2(da2[i], w);  // B's corner j inside A's side i (left of it)
+      side_b[k] = cross2(db2[j], w);  // A's corner i inside B's side j (right of it)
+      a_in &= side_b[k] >= -tol_b[j];
+      b_inside &= ~(static_cast<std::uint64_t>(side_a[k] < -tol_a[i]) << j);
     }
     a_inside &= ~(static_cast<std::uint64_t>(!a_in) << i);
   }
-  // A's corners over B's face (boundary included).
+  // A's corners over B's face.
+  std::uint64_t a_counted = 0;
   for (std::uint64_t m = a_inside; m != 0; m &= m - 1) {
     const auto i = static_cast<std::size_t>(std::countr_zero(m));
     const double pen = radii - a_to_b.at(ia[i], fb);
@@ -326,39 +330,46 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
     PrimitiveContact c{pa.pts[i] - (a.radius - 0.5 * pen) * nb, -nb, pen};
     out.push_back({feature_code(FeatureKind::vertex, ia[i]), feature_code(FeatureKind::face, fb), c});
     covered_a |= std::uint64_t{1} << ia[i];
+    a_counted |= std::uint64_t{1} << i;
   }
-  // B's corners over A's face (boundary excluded: a shared corner is counted once, above).
-  // A corner of B on the rim of A's face gets no contact of its own, but it is covered all
-  // the same: whatever touches there is A's corner or A's rim, both part of this patch.
+  // B's corners over A's face, but for one on a corner of A's counted above: that point
+  // is counted once. B's corners so passed over are covered all the same.
   for (std::uint64_t m = b_inside; m != 0; m &= m - 1) {
     const auto j = static_cast<std::size_t>(std::countr_zero(m));
     const double pen = radii - b_to_a.at(ib[j], fa);
     if (pen <= -margin) continue;
     covered_b |= std::uint64_t{1} << ib[j];
-    if (((b_open >> j) & 1u) == 0) continue;
+    bool shared = false;
+    for (std::uint64_t mi = a_counted; mi != 0; mi &= mi - 1) {
+      const auto i = static_cast<std::size_t>(std::countr_zero(mi));
+      // On A's corner i: on the lines of both of A's sides there.
+      const std::size_t before = (i + na_n - 1) % na_n;
+      shared |= std::abs(side_a[i * nb_n + j]) <= tol_a[i] && std::abs(side_a[before * nb_n + j]) <= tol_a[before];
+    }
+    if (shared) continue;
     PrimitiveContact c{pb.pts[j] - (b.radius - 0.5 * pen) * na, na, pen};
     out.push_back({feature_code(FeatureKind::face, fa), feature_code(FeatureKind::vertex, ib[j]), c});
   }
-  // Rim crossings strictly inside both sides (a crossing at a corner is that corner's
-  // contact), the sides not parallel; den made positive to compare without dividing.
+  // Rim crossings: side i of A (corners i, i1) and side j of B (corners j, j1) cross when
+  // each has its ends clearly on both sides of the other's line.
+  auto clearly_apart = [](double x, double y, double tol) { return (x > tol && y < -tol) || (x < -tol && y > tol); };
   for (std::size_t i = 0; i < na_n; ++i) {
-    const double tol_i = 1e-12 * long_a[i];
+    const std::size_t i1 = (i + 1) % na_n;
     std::uint64_t crosses = 0;
     for (std::size_t j = 0; j < nb_n; ++j) {
-      const std::size_t k = i * nb_n + j;
-      const double sign = std::copysign(1.0, den[k]);  // -0 makes -1: parallel either way
-      const double d = sign * den[k], sd = sign * s_den[k], td = sign * t_den[k];
-      constexpr double eps = 1e-9;
-      const double lo = eps * d, hi = (1.0 - eps) * d;
-      const bool inside = (d > tol_i * long_b[j]) & (sd > lo) & (sd < hi) & (td > lo) & (td < hi);
-      crosses |= static_cast<std::uint64_t>(inside) << j;
+      const std::size_t j1 = (j + 1) % nb_n;
+      const bool cross = clearly_apart(side_b[i * nb_n + j], side_b[i1 * nb_n + j], tol_b[j]) &
+                         clearly_apart(side_a[i * nb_n + j], side_a[i * nb_n + j1], tol_a[i]);
+      crosses |= static_cast<std::uint64_t>(cross) << j;
     }
     for (; crosses != 0; crosses &= crosses - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(crosses));
-      const std::size_t k = i * nb_n + j;
-      const double s = s_den[k] / den[k], t = t_den[k] / den[k];
-      const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[(i + 1) % na_n] - pa.pts[i]);
-      const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[(j + 1) % nb_n] - pb.pts[j]);
+      const std::size_t j1 = (j + 1) % nb_n;
+      // Where the side values along each side pass zero.
+      const double s = side_b[i * nb_n + j] / (side_b[i * nb_n + j] - side_b[i1 * nb_n + j]);
+      const double t = side_a[i * nb_n + j] / (side_a[i * nb_n + j] - side_a[i * nb_n + j1]);
+      const Eigen::Vector3d qa = pa.pts[i] + s * (pa.pts[i1] - pa.pts[i]);
+      const Eigen::Vector3d qb = pb.pts[j] + t * (pb.pts[j1] - pb.pts[j]);
       const double pen = radii - (qb - qa).dot(n);
       if (pen <= -margin) continue;
       PrimitiveContact c{qa + (a.radius - 0.5 * pen) * n, n, pen};

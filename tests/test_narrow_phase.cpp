@@ -61,6 +61,43 @@ TEST(FaceToFace, CoaxialPrismsTouchAtTheCornersOfTheirOverlap) {
   EXPECT_NEAR(sum.head<2>().norm(), 0.0, 1e-15);
 }
 
+// Two equal prisms stacked face to face, B's axis offset from A's: the overlap of two equal
+// hexagons offset by d is symmetric about the midpoint of their centres, so its corners,
+// the patch's contacts, must be too (no torque from the patch's shape). Offsets along the
+// sides (0, 60, 120 degrees) put sides on one line and corners on the other's rim; the
+// bodies are nudged by 1e-12 m and 1e-12 rad, as a run leaves grains of a lattice, so
+// nothing there is exactly aligned. A corner lost on a rim, a crossing of two sides on one
+// line, or a point counted twice moves the centroid off the midpoint.
+TEST(FaceToFace, AlignedFacesUnderRoundingNoiseTouchAtTheCornersOfTheirOverlap) {
+  const RigidShape s = prism();
+  const double delta = 1e-6;
+  const double z = kT + 2 * kRho - delta;
+  geometry::SplitMix64 rng(11);
+  auto nudge = [&]() -> Eigen::Vector3d { return 1e-12 * Eigen::Vector3d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5); };
+  int trials = 0;
+  for (double deg : {0.0, 60.0, 120.0, 30.0, 90.0, 17.0}) {
+    for (double d : {0.0, 0.1 * kR, 0.37 * kR, 0.8 * kR}) {
+      for (int k = 0; k < 8; ++k, ++trials) {
+        const Eigen::Vector3d offset(d * std::cos(deg * M_PI / 180), d * std::sin(deg * M_PI / 180), z);
+        const Eigen::Vector3d xa = nudge(), xb = offset + nudge();
+        const Eigen::Quaterniond qa(Eigen::AngleAxisd(1e-12 * (rng.uniform() - 0.5), Eigen::Vector3d::UnitX()));
+        const Eigen::Quaterniond qb(Eigen::AngleAxisd(1e-12 * (rng.uniform() - 0.5), Eigen::Vector3d::UnitY()));
+        const auto c = contacts(pose(s, xa, qa), pose(s, xb, qb));
+        ASSERT_GE(c.size(), 3u) << deg << " deg, d " << d;
+        Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+        for (const auto& fc : c) {
+          EXPECT_NEAR(fc.contact.penetration, delta, 1e-9) << deg << " deg, d " << d;
+          centroid += fc.contact.point.head<2>() / static_cast<double>(c.size());
+        }
+        const Eigen::Vector2d mid = 0.5 * (xa + xb).head<2>();
+        EXPECT_LT((centroid - mid).norm(), 1e-9 * kR)
+            << deg << " deg, d " << d << ": " << c.size() << " contacts, centroid off by " << (centroid - mid).norm();
+      }
+    }
+  }
+  EXPECT_EQ(trials, 192);
+}
+
 TEST(FaceToFace, NoContactWhileTheDilatedFacesAreApart) {
   const RigidShape s = prism();
   EXPECT_TRUE(contacts(pose(s, {0, 0, 0}, about_z(0)), pose(s, {0, 0, kT + 2 * kRho + 1e-7}, about_z(17))).empty());
