@@ -288,7 +288,9 @@ void face_patch(const PosedShape& a, std::size_t fa, const PosedShape& b, std::s
   const Eigen::Vector3d u = n.unitOrthogonal();
   const Eigen::Vector3d v = n.cross(u);
   std::array<Eigen::Vector2d, kMaxVertices> qa2, qb2, da2, db2;
-  std::array<double, kMaxVertices> tol_a, tol_b;  // kRimTolerance times the side's length, squared
+  // A side value is the side's length times a distance: the tolerance for a distance of
+  // kRimTolerance lengths is kRimTolerance times the length squared.
+  std::array<double, kMaxVertices> tol_a, tol_b;
   for (std::size_t i = 0; i < na_n; ++i) {
     const Eigen::Vector3d d = pa.pts[(i + 1) % na_n] - pa.pts[i];
     qa2[i] = {u.dot(pa.pts[i]), v.dot(pa.pts[i])};
