@@ -6,7 +6,8 @@
 // pour takes a minute; a file of the wrong length, e.g. from a build with another state
 // layout, is poured again), and the settled world of each poured case, tiles and contact
 // histories, in DIR/world-<N>.state (World::save_state; made again when its tile or the
-// state layout differs), which saves the 2,000 settling steps of the tiles; --steps K times
+// state layout differs; another build reuses it, so two builds are timed from one state),
+// which saves the 2,000 settling steps of the tiles; --steps K times
 // K steps per case instead of 2e6/N (3 to 200).
 // For each case, in its own child process (so peak memory is its own): build the world,
 // take a few warm-up steps, time a fixed number of steps at the stable time step in blocks
