@@ -35,6 +35,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
@@ -44,6 +45,7 @@
 #include "geometry/specimen.hpp"
 #include "geometry/rng.hpp"
 #include "physics/contact_law.hpp"
+#include "io/result_dir.hpp"
 #include "physics/state_codec.hpp"
 #include "physics/world.hpp"
 
@@ -197,23 +199,21 @@ physics::World make_poured(int n, const Pile& tile, int& bodies) {
   return world;
 }
 
-std::string read_file(const std::string& path) {
-  std::string bytes;
-  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
-    char buffer[65536];
-    for (std::size_t k; (k = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, k);
-    std::fclose(f);
+/// A kept file's bytes, or none when there is no such file or it cannot be read.
+std::string read_kept(const std::string& path) {
+  try {
+    return std::filesystem::exists(path) ? io::read_file(path) : std::string();
+  } catch (const std::exception&) {
+    return {};
   }
-  return bytes;
 }
 
-/// Writes `bytes` to `path`, or warns and leaves no file.
+/// Writes `bytes` to `path` (whole or not at all), or warns.
 void keep_file(const std::string& path, const std::string& bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  const bool written = f != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  if ((f != nullptr && std::fclose(f) != 0) || !written) {
-    std::fprintf(stderr, "warning: could not keep %s\n", path.c_str());
-    std::remove(path.c_str());
+  try {
+    io::write_file_atomically(path, bytes);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "warning: could not keep %s (%s)\n", path.c_str(), e.what());
   }
 }
 
@@ -240,7 +240,7 @@ physics::World poured_world(int n, const Pile& tile, int& bodies) {
   const std::string kept = g_pile_dir.empty() ? std::string() : g_pile_dir + "/world-" + std::to_string(n) + ".state";
   const std::uint64_t hash = tile_hash(tile);
   if (!kept.empty()) {
-    const std::string bytes = read_file(kept);
+    const std::string bytes = read_kept(kept);
     if (bytes.size() > sizeof hash && std::memcmp(bytes.data(), &hash, sizeof hash) == 0) {
       physics::World world(bench_settings(poured_shape()));
       try {
@@ -359,7 +359,6 @@ int usage(const char* why) {
 int main(int argc, char** argv) {
   std::vector<int> sizes;
   std::vector<Case> kinds;
-  std::string pile_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--full-search") {
@@ -367,7 +366,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--pile" || arg == "--steps") {
       if (i + 1 == argc) return usage(("'" + arg + "' needs a value").c_str());
       if (arg == "--pile") {
-        pile_dir = g_pile_dir = argv[++i];
+        g_pile_dir = argv[++i];
       } else if ((g_steps = std::atoi(argv[++i])) <= 0) {
         return usage("--steps needs a positive number of steps");
       }
@@ -389,11 +388,11 @@ int main(int argc, char** argv) {
   for (int n : sizes) {
     const int size = std::min(n, kTile);
     if (piles.count(size) != 0 || std::find(kinds.begin(), kinds.end(), Case::poured) == kinds.end()) continue;
-    const std::string cached = pile_dir.empty() ? std::string() : pile_dir + "/pile-" + std::to_string(size) + ".bin";
+    const std::string cached = g_pile_dir.empty() ? std::string() : g_pile_dir + "/pile-" + std::to_string(size) + ".bin";
     std::string bytes;
     bool reused = false;
     if (!cached.empty()) {
-      bytes = read_file(cached);
+      bytes = read_kept(cached);
       const std::size_t header = sizeof(Pile::side) + sizeof(Pile::steps) + sizeof(Pile::seconds);
       reused = bytes.size() == header + static_cast<std::size_t>(size) * sizeof(physics::BodyState);
       if (!reused) bytes.clear();  // not a pile of this size from this build: pour again

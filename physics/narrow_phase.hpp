@@ -51,7 +51,7 @@ struct PosedShape {
   /// of plane_stride() numbers: the normals' x, y and z, then the offsets, the rows padded to
   /// an even length with zeros, so that the distance tables' loops take two faces at a time.
   std::vector<double> planes;
-  std::size_t faces = 0;
+  std::size_t faces = 0;  ///< the shape's face count, kept beside the planes (one cache line less)
   std::size_t plane_stride() const { return planes.size() / 4; }
   Eigen::Vector3d face_normal(std::size_t f) const {
     const std::size_t s = plane_stride();

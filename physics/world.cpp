@@ -450,10 +450,16 @@ void World::for_pending(std::size_t begin, std::size_t end, F&& f) const {
   }
 }
 
+std::size_t World::history_index(const ContactKey& key) const {
+  return static_cast<std::size_t>(
+      std::lower_bound(history_.begin(), history_.end(), key,
+                       [](const HistoryEntry& e, const ContactKey& k) { return e.key < k; }) -
+      history_.begin());
+}
+
 const ContactHistory* World::previous_history(const ContactKey& key) const {
-  const auto it = std::lower_bound(history_.begin(), history_.end(), key,
-                                   [](const HistoryEntry& e, const ContactKey& k) { return e.key < k; });
-  return it != history_.end() && it->key == key ? &it->history : nullptr;
+  const std::size_t i = history_index(key);
+  return i < history_.size() && history_[i].key == key ? &history_[i].history : nullptr;
 }
 
 void World::evaluate_and_apply(int nt) {
@@ -473,10 +479,7 @@ void World::evaluate_and_apply(int nt) {
     std::size_t cursor = 0, bond_cursor = 0;
     for_pending(begin, end, [&](std::size_t k, const Pending& p) {
       if (k == begin) {
-        cursor = static_cast<std::size_t>(
-            std::lower_bound(history_.begin(), history_.end(), p.key,
-                             [](const HistoryEntry& e, const ContactKey& key) { return e.key < key; }) -
-            history_.begin());
+        cursor = history_index(p.key);
         if (!bonds_.empty()) {
           bond_cursor = static_cast<std::size_t>(
               std::lower_bound(bonds_.begin(), bonds_.end(), p.key.a,

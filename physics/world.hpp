@@ -252,6 +252,8 @@ class World {
     PrimitiveContact contact;
   };
   const ContactHistory* previous_history(const ContactKey& key) const;
+  /// Index of the first entry of history_ whose key is not below `key`.
+  std::size_t history_index(const ContactKey& key) const;
   static constexpr std::uint32_t kWallFlag = 0x80000000u;
   /// The contact law for contact k (`p`): reads the bodies' states and the previous step's
   /// history (walking `history_cursor` forward through it), writes only slot k.
