@@ -18,6 +18,7 @@
 #include "io/scenario.hpp"
 #include "io/validation_scenario.hpp"
 #include "physics/beam_test_rig.hpp"
+#include "physics/cohesive_beam.hpp"
 #include "run_control.hpp"
 
 namespace cleave::app {
@@ -43,6 +44,29 @@ std::string measured_csv(const std::vector<physics::BeamReading>& curve) {
                        r.delta * 1e3, r.load, r.crack * 1e3, r.process_zone * 1e3, r.kinetic,
                        r.external_work);
   return csv;
+}
+
+/// The measured loads over [from, to] (for the split stage: the deflections its closed-form
+/// comparison spanned) against the cohesive beam's curve.
+physics::StageErrors cohesive_errors(const std::vector<physics::CohesiveBeamPoint>& czm,
+                                     const std::vector<physics::BeamReading>& curve, int stage,
+                                     double from, double to) {
+  physics::StageErrors z;
+  z.stage = stage;
+  z.from = from;
+  z.to = to;
+  double sum = 0.0;
+  for (const auto& r : curve) {
+    if (r.delta < from || r.delta > to) continue;
+    const double expected = physics::cohesive_load(czm, r.delta);
+    if (!(expected > 0.0)) continue;
+    const double err = std::abs(r.load - expected) / expected;
+    sum += err;
+    z.max_error = std::max(z.max_error, err);
+    ++z.points;
+  }
+  if (z.points > 0) z.mean_error = sum / z.points;
+  return z;
 }
 
 }  // namespace
@@ -173,6 +197,24 @@ int validate_command(const ValidateOptions& options) {
       acsv += fmt::format("{},{:.9g},{:.9g},{:.9g}\n", p.stage, p.delta * 1e3, p.load,
                           p.crack * 1e3);
     io::write_file_atomically(out / "analytic.csv", acsv);
+    // DCB: the same beam theory with the weak plane's cohesive zone in place of LEFM's sharp
+    // tip (physics/cohesive_beam.hpp): what the closed form says with the scenario's sigma_c.
+    std::vector<physics::CohesiveBeamPoint> czm;
+    std::string czm_note;
+    if (v.rig.kind == physics::BeamTestKind::dcb) {
+      try {
+        czm = physics::cohesive_dcb_curve(test, v.rig.material.sigma_c, v.rig.intact_length,
+                                          v.deflection);
+        std::string ccsv = "delta_mm,load_N,crack_mm,process_zone_mm\n";
+        for (const auto& p : czm)
+          ccsv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", p.delta * 1e3, p.load,
+                              p.crack * 1e3, p.process_zone * 1e3);
+        io::write_file_atomically(out / "cohesive_beam.csv", ccsv);
+      } catch (const std::exception& e) {
+        czm.clear();
+        czm_note = e.what();
+      }
+    }
 
     // Errors per stage and the peak.
     bool pass = true;
@@ -182,8 +224,20 @@ int validate_command(const ValidateOptions& options) {
                     "crack a = {:.2f} mm; kinetic/external work <= {:.2e} after 5% of the run",
                     fin.step, wall, fin.step / wall, fin.delta * 1e3, fin.crack * 1e3, max_ratio));
     const int split = physics::split_stage(v.rig.kind);
+    std::string zcsv = "stage,from_mm,to_mm,points,mean_rel_error,max_rel_error\n";
     for (int stage : v.stages) {
       const physics::StageErrors e = physics::compare_with_closed_form(test, curve, stage, v.margin);
+      if (!czm.empty() && e.points > 0) {
+        // The same points against the cohesive beam (informative: the tolerances
+        // are on the closed form).
+        const physics::StageErrors z = cohesive_errors(czm, curve, stage, e.from, e.to);
+        zcsv += fmt::format("{},{:.6g},{:.6g},{},{:.6f},{:.6f}\n", stage, z.from * 1e3,
+                            z.to * 1e3, z.points, z.mean_error, z.max_error);
+        say(fmt::format("  stage {}    against the cohesive beam (sigma_c = {:g} MPa): load error "
+                        "mean {:.2f}%, max {:.2f}% over {} points",
+                        stage, v.rig.material.sigma_c * 1e-6, 100 * z.mean_error,
+                        100 * z.max_error, z.points));
+      }
       // The split beam's stage is judged by its slope (the "stage III slope"); the
       // others by their loads.
       const bool ok = stage == split ? e.slope_error <= v.tolerance
@@ -245,6 +299,19 @@ int validate_command(const ValidateOptions& options) {
                         : fmt::format(" (tolerance {:g}%) {}", 100 * v.peak_tolerance,
                                       peak_ok ? "PASS" : "FAIL")));
     io::write_file_atomically(out / "errors.csv", ecsv);
+    if (!czm.empty()) {
+      double zpeak = 0.0, zpeak_delta = 0.0;
+      for (const auto& p : czm)
+        if (p.load > zpeak) zpeak = p.load, zpeak_delta = p.delta;
+      const double zerr = std::abs(peak - zpeak) / zpeak;
+      zcsv += fmt::format("peak,{:.6g},{:.6g},1,{:.6f},{:.6f}\n", peak_delta * 1e3,
+                          zpeak_delta * 1e3, zerr, zerr);
+      say(fmt::format("  peak       cohesive beam {:.4g} N at {:.4f} mm: measured {:.2f}% off",
+                      zpeak, zpeak_delta * 1e3, 100 * zerr));
+      io::write_file_atomically(out / "errors_cohesive_beam.csv", zcsv);
+    } else if (!czm_note.empty()) {
+      say(fmt::format("  no cohesive beam: {}", czm_note));
+    }
 
     // The picture: measured against closed form, stage by stage.
     io::Plot plot;
@@ -268,6 +335,16 @@ int validate_command(const ValidateOptions& options) {
         }
       if (s.x.size() > 1) plot.series.push_back(s);
     }
+    if (!czm.empty()) {
+      io::PlotSeries z{fmt::format("beam theory with the cohesive zone (sigma_c = {:g} MPa)",
+                                   v.rig.material.sigma_c * 1e-6),
+                       {}, {}, "", false, false, 1.5};
+      for (const auto& p : czm) {
+        z.x.push_back(p.delta * 1e3);
+        z.y.push_back(p.load);
+      }
+      plot.series.push_back(z);
+    }
     plot.markers.push_back({peak_delta * 1e3, peak, fmt::format("peak {:.3g} N", peak)});
     io::write_plot_svg(out / "load_deflection.svg", plot);
 
@@ -284,9 +361,10 @@ int validate_command(const ValidateOptions& options) {
     manifest.facts["validation"] = pass ? "pass" : "fail";
     manifest.provenance["ended_utc"] = io::utc_now();
     record.close(io::run_status::finished);
-    say(fmt::format("  result     {} -> {} (measured.csv, analytic.csv, errors.csv, "
+    say(fmt::format("  result     {} -> {} (measured.csv, analytic.csv, errors.csv, {}"
                     "load_deflection.svg)",
-                    pass ? "PASS" : "FAIL", out.string()));
+                    pass ? "PASS" : "FAIL", out.string(),
+                    czm.empty() ? "" : "cohesive_beam.csv, errors_cohesive_beam.csv, "));
     return pass ? 0 : 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
