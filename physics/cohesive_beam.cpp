@@ -23,6 +23,7 @@ struct Foundation {
   double k = 0;        ///< arm spring (N/m^2)
   double qc = 0;       ///< sigma_c B' (N/m)
   double dc = 0;       ///< opening at decohesion, 2 G_Ic / sigma_c (m)
+  double share = 0.5;  ///< the part of the plane's opening that w sees (an arm: half)
 
   struct Response {
     double q;      ///< traction per unit length pulling the arm back (N/m)
@@ -33,20 +34,20 @@ struct Foundation {
   /// Traction at deflection w of the arm, given the largest opening so far (eq. 21).
   [[nodiscard]] Response at(double w, double open_max, bool weak) const {
     if (w <= 0.0 || !weak) return {k * w, k, 0.0};  // closed: the faces bear on each other
-    if (open_max >= dc) return {0.0, 0.0, 2.0 * w};  // decohered (eq. 16)
+    if (open_max >= dc) return {0.0, 0.0, w / share};  // decohered (eq. 16)
     if (open_max > 0.0) {
       // Unloading and reloading along the secant to the origin (eqs 23-25).
       const double secant = qc * (1.0 - open_max / dc) / open_max;
-      const double c = 1.0 / k + 0.5 / secant;
+      const double c = 1.0 / k + share / secant;
       const double q = w / c;
       if (q / secant <= open_max) return {q, 1.0 / c, q / secant};
     } else if (k * w <= qc) {
       return {k * w, k, 0.0};  // the connective stage: the material alone
     }
-    // Softening (eq. 15): w = q/k + delta/2 with q = qc (1 - delta/dc).
-    const double c = 1.0 / k - 0.5 * dc / qc;  // negative: checked at construction
-    const double q = (w - 0.5 * dc) / c;
-    if (q <= 0.0) return {0.0, 0.0, 2.0 * w};
+    // Softening (eq. 15): w = q/k + share delta with q = qc (1 - delta/dc).
+    const double c = 1.0 / k - share * dc / qc;  // negative: checked at construction
+    const double q = (w - share * dc) / c;
+    if (q <= 0.0) return {0.0, 0.0, w / share};
     return {q, 1.0 / c, dc * (1.0 - q / qc)};
   }
 };
@@ -63,13 +64,14 @@ std::array<double, 4> hermite(double xi, double e) {
           e * (x3 - x2)};
 }
 
-/// A symmetric matrix of half bandwidth 3 (a Hermite beam's two dofs per node), factorised
+/// A symmetric banded matrix (half bandwidth 3 for a Hermite beam's two dofs per node, 7 for
+/// four), factorised
 /// as L D L^T without pivoting: the tangent of a stable equilibrium under displacement control
 /// is positive definite, and a zero or negative pivot is reported (the caller then takes a
 /// smaller increment).
 class BandMatrix {
  public:
-  static constexpr int kBand = 3;
+  explicit BandMatrix(int band = 3) : kBand(band) {}
 
   void reset(int n) {
     n_ = n;
@@ -112,6 +114,7 @@ class BandMatrix {
   }
 
  private:
+  int kBand;
   int n_ = 0;
   std::vector<double> a_;
 };
@@ -190,12 +193,14 @@ class Solver {
   /// Accepts the last converged state: openings become history (eq. 21).
   void commit() {
     u_ = trial_;
+    load_ = residual_[0];  // the converged solve's reaction
+    rotation_ = -trial_[1];
     for (size_t g = 0; g < gauss_.size(); ++g)
       gauss_[g].open_max = std::max(gauss_[g].open_max, open_[g]);
   }
 
   [[nodiscard]] CohesiveBeamPoint point() const {
-    CohesiveBeamPoint p{2.0 * u_[0], residual_[0], -u_[1], a0_, a0_};
+    CohesiveBeamPoint p{2.0 * u_[0], load_, rotation_, a0_, a0_};
     for (const GaussPoint& g : gauss_) {
       if (!g.weak) continue;
       if (g.open_max >= f_.dc) p.crack = std::max(p.crack, g.x);
@@ -243,12 +248,210 @@ class Solver {
     for (int d : fixed()) tangent_.fix(d);
   }
 
-  double EI_ = 0, a0_ = 0;
+  double EI_ = 0, a0_ = 0, load_ = 0, rotation_ = 0;
   Foundation f_;
   std::vector<double> x_;
   std::vector<GaussPoint> gauss_;
   std::vector<double> open_;
   int dofs_ = 0;
+  std::vector<double> u_, trial_, residual_;
+  BandMatrix tangent_;
+};
+
+
+/// dN/dx of the Hermite shape functions of an element of length e at xi.
+std::array<double, 4> hermite_dx(double xi, double e) {
+  const double x2 = xi * xi;
+  return {(6.0 * x2 - 6.0 * xi) / e, 1.0 - 4.0 * xi + 3.0 * x2, (6.0 * xi - 6.0 * x2) / e,
+          3.0 * x2 - 2.0 * xi};
+}
+
+/// The ENF as two equal arms (EI, EA each) that bend together (w, Hermite) and stretch in
+/// opposite senses (+u above, -u below, Hermite too, so that the slip 2u + h w' is matched
+/// by u's space and does not lock); their mid-plane fibres slip by s = 2u + h w' where the
+/// plane is bonded, against the arm's shear spring k_t in series with the paper's law in
+/// pure shear (eqs 14-30 with delta_n = 0: rigid to sigma_c, linear softening to delta_c =
+/// 2 G / sigma_c). Bonded, s = 0 makes the two arms one beam of 8 EI; cracked, 2 EI.
+/// k_t = E B / (8 chi_II^2 h) gives the slip the decay length chi_II h (from
+/// N'' = k_t (2/EA + h^2/(2EI)) N = 8 k_t / (E B h) N): eq. 63's shear correction.
+class EnfSolver {
+ public:
+  EnfSolver(const BeamTest& t, double sigma_c, double g_c, const CohesiveBeamOptions& o)
+      : tangent_(7) {
+    EI_ = t.E * t.B * t.h * t.h * t.h / 12.0;
+    EA_ = t.E * t.B * t.h;
+    h_ = t.h;
+    const double l = chi_II(t.E, t.nu) * t.h;
+    f_.k = t.E * t.B * t.h / (8.0 * l * l);
+    f_.qc = sigma_c * (t.B - 2.0 * t.r);
+    f_.dc = 2.0 * g_c / sigma_c;
+    f_.share = 1.0;
+    if (!(1.0 / f_.k - f_.dc / f_.qc < 0.0))
+      throw std::invalid_argument(
+          "cohesive_enf_curve: the softening branch is steeper than the arm's shear spring");
+    viscosity_ = 2.0 * f_.qc / f_.dc;
+    const double e = o.element > 0 ? o.element : t.h / 20.0;
+    x_.push_back(0.0);
+    const std::array<double, 3> ends = {t.a0, t.L, 2.0 * t.L};
+    for (double end : ends) {
+      const double from = x_.back();
+      if (end <= from) continue;
+      const int n = std::max(1, static_cast<int>(std::ceil((end - from) / e - 1e-9)));
+      for (int i = 1; i <= n; ++i) x_.push_back(from + (end - from) * i / n);
+      if (end == t.L) mid_ = static_cast<int>(x_.size()) - 1;
+    }
+    const int elements = static_cast<int>(x_.size()) - 1;
+    for (int el = 0; el < elements; ++el) {
+      const double len = x_[el + 1] - x_[el];
+      const double mid = 0.5 * (x_[el] + x_[el + 1]);
+      for (int g = 0; g < 4; ++g) {
+        GaussPoint gp{el, hermite(kGaussX[g], len), kGaussW[g] * len, x_[el] + kGaussX[g] * len,
+                      mid >= t.a0, 0.0};
+        quad_.push_back({gp, hermite_dx(kGaussX[g], len)});
+      }
+    }
+    dofs_ = 4 * static_cast<int>(x_.size());
+    u_.assign(dofs_, 0.0);
+    trial_ = u_;
+    residual_.assign(dofs_, 0.0);
+    slip_.assign(quad_.size(), 0.0);
+    slip_prev_.assign(quad_.size(), 0.0);
+    open_.assign(quad_.size(), 0.0);
+    a0_ = t.a0;
+  }
+
+  /// Moves the load line to -delta; viscous: with the slip rate term that keeps the tangent
+  /// positive (a relaxation step through an unstable jump).
+  bool solve(double delta, bool viscous) {
+    std::vector<double> u = u_;
+    u[4 * mid_] = -delta;
+    for (int it = 0; it < 60; ++it) {
+      assemble(u, viscous);
+      std::vector<double> du(dofs_);
+      for (int d = 0; d < dofs_; ++d) du[d] = -residual_[d];
+      for (int d : fixed()) du[d] = 0.0;
+      if (!tangent_.solve(du)) return false;
+      double moved = 0;
+      for (int d = 0; d < dofs_; ++d) {
+        u[d] += du[d];
+        if (d % 2 == 0) moved = std::max(moved, std::abs(du[d]));
+      }
+      if (moved <= 1e-7 * std::max(delta, 1e-15)) {
+        assemble(u, viscous);
+        trial_ = u;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Accepts the last solution; returns the largest change of slip it made (m).
+  double commit() {
+    u_ = trial_;
+    load_ = -residual_[4 * mid_];  // the converged solve's reaction
+    double change = 0;
+    for (size_t q = 0; q < quad_.size(); ++q) {
+      change = std::max(change, std::abs(slip_[q] - slip_prev_[q]));
+      slip_prev_[q] = slip_[q];
+      if (quad_[q].g.weak) quad_[q].g.open_max = std::max(quad_[q].g.open_max, open_[q]);
+    }
+    return change;
+  }
+
+  [[nodiscard]] double decohesion() const { return f_.dc; }
+
+  [[nodiscard]] CohesiveBeamPoint point() const {
+    CohesiveBeamPoint p{-u_[4 * mid_], load_, 0.0, a0_, a0_};
+    // The crack: decohered from a0 on without a gap; the zone: the farthest softened point.
+    double crack = a0_;
+    for (const Quad& q : quad_) {
+      if (!q.g.weak) continue;
+      if (q.g.open_max > 0.0) p.process_zone = std::max(p.process_zone, q.g.x);
+      if (q.g.open_max >= f_.dc && q.g.x <= crack + 2.0 * (x_[1] - x_[0]) + 1e-12)
+        crack = std::max(crack, q.g.x);
+    }
+    p.crack = crack;
+    return p;
+  }
+
+ private:
+  struct Quad {
+    GaussPoint g;
+    std::array<double, 4> dN;
+  };
+
+  [[nodiscard]] std::array<int, 3> fixed() const {
+    return {0, 4 * mid_, dofs_ - 4};  // w on both supports, and the load line's
+  }
+
+  void assemble(const std::vector<double>& u, bool viscous) {
+    residual_.assign(dofs_, 0.0);
+    tangent_.reset(dofs_);
+    const int elements = static_cast<int>(x_.size()) - 1;
+    for (int el = 0; el < elements; ++el) {
+      const double e = x_[el + 1] - x_[el];
+      const double c = 2.0 * EI_ / (e * e * e);  // both arms bend
+      const double K[4][4] = {{12 * c, 6 * e * c, -12 * c, 6 * e * c},
+                              {6 * e * c, 4 * e * e * c, -6 * e * c, 2 * e * e * c},
+                              {-12 * c, -6 * e * c, 12 * c, -6 * e * c},
+                              {6 * e * c, 2 * e * e * c, -6 * e * c, 4 * e * e * c}};
+      const std::array<int, 4> w = {4 * el, 4 * el + 1, 4 * el + 4, 4 * el + 5};
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          residual_[w[i]] += K[i][j] * u[w[j]];
+          if (w[j] >= w[i]) tangent_.add(w[i], w[j], K[i][j]);
+        }
+    }
+    for (size_t qi = 0; qi < quad_.size(); ++qi) {
+      const Quad& q = quad_[qi];
+      const int el = q.g.element;
+      const std::array<int, 4> w = {4 * el, 4 * el + 1, 4 * el + 4, 4 * el + 5};
+      const std::array<int, 4> a = {4 * el + 2, 4 * el + 3, 4 * el + 6, 4 * el + 7};
+      // Both arms stretch: 2 EA u'^2 / 2 per unit length.
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          const double k = 2.0 * EA_ * q.dN[i] * q.dN[j] * q.g.weight;
+          residual_[a[i]] += k * u[a[j]];
+          if (a[j] >= a[i]) tangent_.add(a[i], a[j], k);
+        }
+      if (!q.g.weak) continue;
+      // Slip of the mid-plane fibres, s = 2u + h w'.
+      std::array<double, 8> b{};
+      std::array<int, 8> d{};
+      double s = 0;
+      for (int i = 0; i < 4; ++i) {
+        b[i] = h_ * q.dN[i], d[i] = w[i];
+        b[4 + i] = 2.0 * q.g.N[i], d[4 + i] = a[i];
+      }
+      for (int i = 0; i < 8; ++i) s += b[i] * u[d[i]];
+      const Foundation::Response r = f_.at(std::abs(s), q.g.open_max, true);
+      double force = s < 0 ? -r.q : r.q, stiff = r.dq_dw;
+      if (viscous) {
+        force += viscosity_ * (s - slip_prev_[qi]);
+        stiff += viscosity_;
+      }
+      slip_[qi] = s;
+      open_[qi] = r.open;
+      for (int i = 0; i < 8; ++i) {
+        residual_[d[i]] += q.g.weight * force * b[i];
+        for (int j = 0; j < 8; ++j)
+          if (d[j] >= d[i]) tangent_.add(d[i], d[j], q.g.weight * stiff * b[i] * b[j]);
+      }
+    }
+    // The arms' opposite stretch has no support of its own once the plane is gone: a spring of
+    // 1e-9 of 2EA / 2L at the left end keeps the matrix regular and does nothing else.
+    const double tiny = 1e-9 * 2.0 * EA_ / x_.back();
+    residual_[2] += tiny * u[2];
+    tangent_.add(2, 2, tiny);
+    for (int dd : fixed()) tangent_.fix(dd);
+  }
+
+  double EI_ = 0, EA_ = 0, h_ = 0, a0_ = 0, viscosity_ = 0, load_ = 0;
+  Foundation f_;
+  std::vector<double> x_;
+  std::vector<Quad> quad_;
+  std::vector<double> slip_, slip_prev_, open_;  ///< slip s, and the plane's own part of it
+  int dofs_ = 0, mid_ = 0;
   std::vector<double> u_, trial_, residual_;
   BandMatrix tangent_;
 };
@@ -292,6 +495,52 @@ std::vector<CohesiveBeamPoint> cohesive_dcb_curve(const BeamTest& test, double s
         if (step < dw / 1024.0)
           throw std::runtime_error("cohesive_dcb_curve: Newton's method did not converge");
       }
+    }
+    curve.push_back(solver.point());
+  }
+  return curve;
+}
+
+
+std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double sigma_c,
+                                                  double delta_max,
+                                                  const CohesiveBeamOptions& options) {
+  if (test.kind != BeamTestKind::enf)
+    throw std::invalid_argument("cohesive_enf_curve: needs an ENF test");
+  if (!(sigma_c > 0) || !(delta_max > 0) || options.steps < 1 || !(test.a0 < test.L))
+    throw std::invalid_argument(
+        "cohesive_enf_curve: sigma_c, delta_max and steps must be > 0 and a0 < L");
+  EnfSolver solver(test, sigma_c, test.g_IIc, options);
+  std::vector<CohesiveBeamPoint> curve;
+  curve.push_back(solver.point());
+  double delta = 0;
+  const double dd = delta_max / options.steps;
+  for (int s = 1; s <= options.steps; ++s) {
+    const double target = delta_max * s / options.steps;
+    double step = dd;
+    while (delta < target * (1.0 - 1e-14)) {
+      const double next = std::min(target, delta + step);
+      if (solver.solve(next, false)) {
+        solver.commit();
+        delta = next;
+        continue;
+      }
+      step *= 0.5;
+      if (step >= dd / 64.0) continue;
+      // No equilibrium near the last one: the snap-back of eq. 63's stage II (or a ligament
+      // that lets go). Under displacement control the load drops at this deflection: relax
+      // there with a slip-rate term until the slips stop changing, then go on statically.
+      curve.push_back(solver.point());
+      bool settled = false;
+      for (int k = 0; k < 200000 && !settled; ++k) {
+        if (!solver.solve(next, true))
+          throw std::runtime_error("cohesive_enf_curve: the relaxation did not converge");
+        settled = solver.commit() < 1e-9 * solver.decohesion();
+      }
+      if (!settled) throw std::runtime_error("cohesive_enf_curve: the jump did not settle");
+      curve.push_back(solver.point());
+      delta = next;
+      step = dd;
     }
     curve.push_back(solver.point());
   }

@@ -57,6 +57,17 @@ std::vector<CohesiveBeamPoint> cohesive_dcb_curve(const BeamTest& test, double s
                                                   double intact_length, double delta_max,
                                                   const CohesiveBeamOptions& options = {});
 
+/// The ENF (sec. 7.2) the same way, in mode II: two arms bending together and slipping along
+/// the bonded plane against the arm's shear spring (decay length chi_II h, eq. 63's
+/// correction) in series with the paper's law in pure shear (strength sigma_c over B',
+/// G_IIc). Delta is the load line's deflection, P the mid-span load. Where eq. 63's stage II
+/// snaps back, the path under displacement control has no nearby equilibrium: the load drops
+/// at that Delta (two points at one Delta, before and after), found by relaxing with a slip
+/// rate term until the slips stop changing. rotation is 0.
+std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double sigma_c,
+                                                  double delta_max,
+                                                  const CohesiveBeamOptions& options = {});
+
 /// The load of a cohesive-beam curve at deflection delta, linear between its points (the
 /// curve is in increasing delta); NaN outside it.
 double cohesive_load(const std::vector<CohesiveBeamPoint>& curve, double delta);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -139,4 +140,78 @@ TEST(CohesiveBeam, LoadBetweenPointsIsLinearAndNaNOutside) {
   EXPECT_DOUBLE_EQ(cohesive_load(c, 3.0), 1.0);
   EXPECT_TRUE(std::isnan(cohesive_load(c, 3.5)));
   EXPECT_TRUE(std::isnan(cohesive_load(c, -0.1)));
+}
+
+namespace {
+
+BeamTest enf() {
+  return {BeamTestKind::enf, 120e9, 0.2, 2e-3, 1e-3, 15.125e-3, 9e-3, 0.125e-3, kGIc, 1002.0};
+}
+
+}  // namespace
+
+TEST(CohesiveEnf, BeforeTheZoneOpensItIsEq63sBeam) {
+  // Bonded, the two arms are one beam of 8 EI; cracked, two of EI each; the slip's spring
+  // carries eq. 63's shear correction chi_II h (the effective crack length of a shear lag
+  // with that decay length is a + chi_II h only to first order: 0.2 % here).
+  const BeamTest t = enf();
+  const double c63 = (2 * std::pow(t.L, 3) + 3 * std::pow(t.a0 + 0.27096104810e-3, 3)) /
+                     (96.0 * kEI);
+  const auto curve = cohesive_enf_curve(t, 70e6, 0.02e-3, {0, 4});
+  ASSERT_EQ(curve.size(), 5u);
+  for (size_t i = 1; i < curve.size(); ++i) {
+    EXPECT_EQ(curve[i].process_zone, t.a0) << "the zone opened at Delta = " << curve[i].delta;
+    EXPECT_NEAR(curve[i].delta / curve[i].load, c63, 5e-3 * c63);
+  }
+  // A beam with the plane cut all along (8 EI -> 2 EI) or bonded to the support (a0 -> 0)
+  // would be far off: the check can tell them apart.
+  EXPECT_GT(std::abs(c63 / (std::pow(2 * t.L, 3) / (48 * 8 * kEI)) - 1.0), 0.1);
+}
+
+TEST(CohesiveEnf, PastMidSpanTheCrackGrowsAlongEq64AndTheBeamsNeverSplit) {
+  // Once the zone has run past the load line, J = G_IIc holds at the tip as in the DCB, and the
+  // load is eq. 64's at every deflection, whatever sigma_c; the load rises with Delta and the
+  // crack stays short of the far support (stage IV is a limit of LEFM's path, and of this one).
+  const BeamTest t = enf();
+  for (double sigma_c : {70e6, 140e6}) {
+    const auto curve = cohesive_enf_curve(t, sigma_c, 3e-3, {0, 300});
+    int compared = 0;
+    double last_load = 0.0;
+    for (const CohesiveBeamPoint& p : curve) {
+      if (p.delta < 0.8e-3) continue;
+      const auto lefm = analytic_load(t, 3, p.delta);
+      ASSERT_TRUE(lefm.has_value()) << "Delta = " << p.delta;
+      EXPECT_NEAR(p.load / *lefm, 1.0, 5e-3) << "sigma_c = " << sigma_c << ", Delta = " << p.delta;
+      EXPECT_GT(p.load, last_load);
+      last_load = p.load;
+      ++compared;
+    }
+    EXPECT_GT(compared, 200);
+    EXPECT_LT(curve.back().crack, 2.0 * t.L - 5e-3) << "sigma_c = " << sigma_c;
+  }
+}
+
+TEST(CohesiveEnf, AStrongPlaneSnapsBackAtThePeakAWeakOneDoesNot) {
+  // a0 / L = 0.595 < 3^(-1/3): eq. 63's stage II turns back in Delta, so under displacement
+  // control a brittle plane's load drops at the peak and lands on the reachable part of the
+  // path. sigma_c = 300 MPa (E G_IIc / sigma_c^2 = 1.3 mm) behaves so; at 70 MPa the zone
+  // (24 mm by that measure) takes the load down gradually instead.
+  const BeamTest t = enf();
+  auto largest_drop = [&](double sigma_c) {
+    const auto curve = cohesive_enf_curve(t, sigma_c, 0.6e-3, {0, 600});
+    double drop = 0.0;
+    for (size_t i = 1; i < curve.size(); ++i)
+      drop = std::max(drop, 1.0 - curve[i].load / curve[i - 1].load);
+    // After the peak the crack grows stably and the load is LEFM's again.
+    const CohesiveBeamPoint& end = curve.back();
+    std::optional<double> lefm = analytic_load(t, 3, end.delta);
+    if (!lefm) lefm = analytic_load(t, 2, end.delta);
+    EXPECT_TRUE(lefm.has_value());
+    if (lefm) {
+      EXPECT_NEAR(end.load / *lefm, 1.0, 0.02) << "sigma_c = " << sigma_c;
+    }
+    return drop;
+  };
+  EXPECT_GT(largest_drop(300e6), 0.15);  // in one step of 1 micrometre
+  EXPECT_LT(largest_drop(70e6), 0.03);
 }
