@@ -361,7 +361,7 @@ class EnfSolver {
   [[nodiscard]] double decohesion() const { return f_.dc; }
 
   [[nodiscard]] CohesiveBeamPoint point() const {
-    CohesiveBeamPoint p{-u_[4 * mid_], load_, 0.0, a0_, a0_};
+    CohesiveBeamPoint p{0.0 - u_[4 * mid_], load_, 0.0, a0_, a0_};  // 0 - 0 is +0
     // The crack: decohered from a0 on without a gap; the zone: the farthest softened point.
     double crack = a0_;
     for (const Quad& q : quad_) {

@@ -33,9 +33,11 @@ CohesiveTraction cohesive_traction(const CohesiveParams& p, const CohesiveLimits
   CohesiveTraction t;
   if (s.phase == LinkPhase::contact) return t;
   const double open = std::max(dn, 0.0);  // Macaulay bracket <dn>
+  const bool traction = p.initiation == Initiation::traction;
   if (s.phase == LinkPhase::connective) {
-    const double psi = std::hypot(open, ds) / lim.d0;  // eq. 32
-    s.psi_max = std::max(s.psi_max, psi);              // eq. 33
+    const double psi = traction ? std::hypot(open / lim.dn0, ds / lim.ds0)  // eq. 31
+                                : std::hypot(open, ds) / lim.d0;            // eq. 32
+    s.psi_max = std::max(s.psi_max, psi);                                   // eq. 33
     if (psi < 1.0) {
       t.tn = p.kn * dn / p.area;  // eqs 7, 11
       t.ts = p.ks * ds / p.area;
@@ -43,21 +45,31 @@ CohesiveTraction cohesive_traction(const CohesiveParams& p, const CohesiveLimits
     }
     // Table 1: connective -> cohesive; the history starts on the initiation circle.
     s.phase = LinkPhase::cohesive;
-    s.lambda_max = std::max(s.lambda_max, lim.lambda_cr);
+    if (traction) {
+      // This link's own critical separation: G_c of softening beyond where it initiated.
+      const double di = std::hypot(open, ds), gap = p.g_c > 0 ? 2.0 * p.g_c / p.sigma_c : 0.0;
+      s.dc = di + gap;
+      s.lambda_cr = (s.dc - gap) / s.dc;
+      s.lambda_max = std::max(s.lambda_max, di / s.dc);
+    } else {
+      s.lambda_max = std::max(s.lambda_max, lim.lambda_cr);
+    }
   }
-  const double lambda = std::hypot(open / lim.dc, ds / lim.dc);  // eq. 14, delta_nc = delta_sc
+  const double dc = traction ? s.dc : lim.dc;
+  const double lambda_cr = traction ? s.lambda_cr : lim.lambda_cr;
+  const double lambda = std::hypot(open / dc, ds / dc);  // eq. 14, delta_nc = delta_sc
   if (lambda >= 1.0) {  // eq. 16 / Table 1: complete decohesion, cohesive -> contact
     s.phase = LinkPhase::contact;
     s.lambda_max = std::max(s.lambda_max, lambda);
     return t;
   }
-  s.lambda_max = std::max(s.lambda_max, lambda);                            // eq. 21
-  const double d = (s.lambda_max - lim.lambda_cr) / (1.0 - lim.lambda_cr);  // eq. 22
+  s.lambda_max = std::max(s.lambda_max, lambda);                    // eq. 21
+  const double d = (s.lambda_max - lambda_cr) / (1.0 - lambda_cr);  // eq. 22
   // Eqs 23-26: T = sigma_c (1 - d) lambda / lambda_max and T_i = T (delta_i / dc) / lambda;
   // the lambda cancels, which also covers lambda = 0 (zero traction at the origin).
   const double t_over_lambda = p.sigma_c * (1.0 - d) / s.lambda_max;
-  t.tn = dn > 0 ? t_over_lambda * dn / lim.dc : p.kn * dn / p.area;  // compressive penalty
-  t.ts = t_over_lambda * ds / lim.dc;
+  t.tn = dn > 0 ? t_over_lambda * dn / dc : p.kn * dn / p.area;  // compressive penalty
+  t.ts = t_over_lambda * ds / dc;
   return t;
 }
 
@@ -70,8 +82,9 @@ double damage(const CohesiveLimits& lim, const CohesiveState& s) {
     case LinkPhase::cohesive:
       break;
   }
-  if (lim.lambda_cr >= 1.0) return 1.0;
-  return std::clamp((s.lambda_max - lim.lambda_cr) / (1.0 - lim.lambda_cr), 0.0, 1.0);  // eq. 22
+  const double lambda_cr = s.dc > 0 ? s.lambda_cr : lim.lambda_cr;
+  if (lambda_cr >= 1.0) return 1.0;
+  return std::clamp((s.lambda_max - lambda_cr) / (1.0 - lambda_cr), 0.0, 1.0);  // eq. 22
 }
 
 }  // namespace cleave::physics

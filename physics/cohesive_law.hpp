@@ -22,6 +22,24 @@
 ///   then jumps to sigma_c as the cohesive branch takes over (the paper's model does the same).
 /// - Compression (dn < 0) never counts towards psi or lambda; it meets the penalty
 ///   T_n = k_n dn / A in the connective and cohesive phases (sec. 3.2, text after eq. 14).
+///
+/// Initiation::traction, cleave's correction of the jump above (the paper's law is
+/// Initiation::displacement, the default):
+/// - The jump is not small: on the cubic lattice k_s / k_n = (1 - 4 nu) / (1 + nu), 1/6 at
+///   nu = 0.2, so a link sheared to initiation carries sigma_c / 6 and then six times that,
+///   a secant six times stiffer than its spring. A plane loaded in shear stiffens as it
+///   starts to fail: the ENF's lattice carried 2-3 % more load than eq. 63 from the first
+///   steps and 4-10 % more than eq. 64 past mid-span, where the same lattice with an
+///   unbreakable plane is within 0.3 % of eq. 63, and beam theory with a continuous
+///   cohesive zone (physics/cohesive_beam.hpp) follows eq. 64 within 0.1 %.
+/// - With it, a link initiates on eq. 31's ellipse with dn0 and ds0 (eqs 12-13), which is
+///   where its spring's traction |(T_n, T_s)| reaches sigma_c: the strength is sigma_c in
+///   every direction (T_n0 = T_s0 = sigma_c, text after eq. 13).
+/// - The softening is eq. 14-26's, isotropic in the separation (delta_nc = delta_sc), with
+///   each link's own dc = d_i + 2 G_c / sigma_c fixed at initiation (d_i = |(<dn>, ds)| there)
+///   and lambda_cr = d_i / dc: the traction's magnitude is sigma_c on both sides of
+///   initiation in pure modes, and eq. 18 still gives G_c along any radial path.
+/// - In pure mode I it is the paper's law (d_i = dn0).
 
 #include <cstdint>
 
@@ -30,12 +48,19 @@ namespace cleave::physics {
 /// Parameters of one link: spring stiffnesses (N/m, eq. 3), effective area A (m^2, text
 /// after eq. 9), cohesive strength sigma_c (Pa; T_n0 = T_s0 = sigma_c, text after eq. 13) and
 /// critical energy release rate G_c (N/m, eq. 18).
+/// Where a link turns cohesive (see the file comment).
+enum class Initiation : std::uint8_t {
+  displacement,  ///< the paper's eq. 32: |(<dn>, ds)| = min(dn0, ds0), one dc for all links
+  traction,      ///< eq. 31's ellipse (|traction| = sigma_c), each link's dc from there
+};
+
 struct CohesiveParams {
   double kn = 0;       ///< normal spring stiffness k_n
   double ks = 0;       ///< shear spring stiffness k_s
   double area = 0;     ///< effective area A
   double sigma_c = 0;  ///< cohesive strength sigma_c
   double g_c = 0;      ///< critical energy release rate G_c
+  Initiation initiation = Initiation::displacement;
 };
 
 /// The characteristic separations (m) that follow from a link's parameters.
@@ -61,6 +86,9 @@ struct CohesiveState {
   LinkPhase phase = LinkPhase::connective;
   double psi_max = 0;     ///< eq. 33: the largest psi of eq. 32 reached
   double lambda_max = 0;  ///< eq. 21: the largest lambda reached (>= lambda_cr once cohesive)
+  /// Initiation::traction only, set at initiation (0 before, and always 0 otherwise): this
+  /// link's critical separation dc and lambda_cr.
+  double dc = 0, lambda_cr = 0;
 };
 
 /// Normal traction (positive = tension, pulls the pair together) and shear traction magnitude

@@ -71,8 +71,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
   const double r = def.radius;
   springs_ = lattice_springs(mat.young, mat.poisson, r);
   if (def.tiled_areas) springs_ = tiled_areas(springs_, r);
-  cohesive1_ = {springs_.kn1, springs_.ks1, springs_.area1, mat.sigma_c, mat.g_c};
-  cohesive2_ = {springs_.kn2, springs_.ks2, springs_.area2, mat.sigma_c, mat.g_c};
+  cohesive1_ = {springs_.kn1, springs_.ks1, springs_.area1, mat.sigma_c, mat.g_c, mat.initiation};
+  cohesive2_ = {springs_.kn2, springs_.ks2, springs_.area2, mat.sigma_c, mat.g_c, mat.initiation};
   const bool weak = def.weak_layer > 0 && def.weak_layer < nz_;
   if (weak) {
     if (!(mat.sigma_c > 0) || !(mat.g_c > 0))
@@ -554,6 +554,7 @@ std::uint64_t CubicLattice::state_hash() const {
     hash_bytes(h, l.shear.data(), sizeof(double) * 3);
     hash_bytes(h, l.bend.data(), sizeof(double) * 3);
     hash_bytes(h, &l.state.lambda_max, sizeof(double));
+    hash_bytes(h, &l.state.dc, sizeof(double));  // the traction rule's own dc (else 0)
     const auto phase = static_cast<std::uint8_t>(l.state.phase);
     hash_bytes(h, &phase, 1);
   }

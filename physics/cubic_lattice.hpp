@@ -72,6 +72,9 @@ struct LatticeMaterial {
   double g_c = 0.0;       ///< critical energy release rate G_c (N/m), eq. 18
   double kappa = 1.0;     ///< Hertz penalty factor (eq. 34)
   double friction = 0.0;  ///< Coulomb cap on Mindlin's tangential force (0: frictionless)
+  /// Where a weak-plane link turns cohesive (physics/cohesive_law.hpp): the paper's eq. 32,
+  /// or cleave's traction rule that keeps the traction continuous in shear.
+  Initiation initiation = Initiation::displacement;
 };
 
 /// Eq. 3 and the effective areas (text after eq. 10) for first (1) and second (2) neighbours.

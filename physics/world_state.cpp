@@ -103,6 +103,8 @@ void put_bond_state(StateWriter& w, const BondState& s) {
   w.put(s.cohesive.phase);
   w.put(s.cohesive.psi_max);
   w.put(s.cohesive.lambda_max);
+  // cohesive.dc and lambda_cr are not kept: bonds use the paper's initiation rule, under
+  // which they stay 0 (BondParams has no other; the traction rule is the lattice's).
   w.put(s.broken);
 }
 BondState get_bond_state(StateReader& r) {

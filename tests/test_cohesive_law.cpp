@@ -248,6 +248,126 @@ TEST(CohesiveLaw, CompressionMeetsThePenaltyAndCountsInNeitherPsiNorLambda) {
   }
 }
 
+// Initiation::traction (cleave's rule, physics/cohesive_law.hpp): a link turns cohesive where
+// its spring's traction reaches sigma_c, and softens from there with its own dc.
+namespace {
+
+CohesiveParams traction_params() {
+  CohesiveParams p = kParams;
+  p.initiation = Initiation::traction;
+  return p;
+}
+
+/// Where the spring's traction reaches sigma_c along direction theta of the (<dn>, ds)
+/// plane: |(k_n c, k_s s)| rho / A = sigma_c, i.e. rho = 1 / |(c / dn0, s / ds0)| (eq. 31).
+double traction_onset(double theta) {
+  return 1.0 / std::hypot(std::cos(theta) / kLim.dn0, std::sin(theta) / kLim.ds0);
+}
+
+}  // namespace
+
+TEST(TractionInitiation, ShearTractionIsContinuousWhereThePapersLawJumpsSixfold) {
+  // Pure mode II. The paper's eq. 32 initiates at ds = d0 = dn0, where the spring carries
+  // k_s dn0 / A = sigma_c k_s / k_n = sigma_c / 6 (k_s / k_n = 0.2 / 1.2), and the cohesive
+  // branch starts at sigma_c: a jump of six.
+  {
+    CohesiveState below, above;
+    const double ts_below =
+        cohesive_traction(kParams, kLim, 0.0, (1.0 - 1e-9) * kLim.d0, below).ts;
+    const double ts_above =
+        cohesive_traction(kParams, kLim, 0.0, (1.0 + 1e-9) * kLim.d0, above).ts;
+    EXPECT_EQ(below.phase, LinkPhase::connective);
+    EXPECT_EQ(above.phase, LinkPhase::cohesive);
+    EXPECT_NEAR(ts_below, kParams.sigma_c / 6.0, 1e-6 * kParams.sigma_c);
+    EXPECT_NEAR(ts_above, kParams.sigma_c, 1e-6 * kParams.sigma_c);
+  }
+  // The traction rule initiates at ds0 = A sigma_c / k_s, with sigma_c on both sides.
+  const CohesiveParams p = traction_params();
+  CohesiveState below, above;
+  const double ts_below = cohesive_traction(p, kLim, 0.0, (1.0 - 1e-9) * kLim.ds0, below).ts;
+  const double ts_above = cohesive_traction(p, kLim, 0.0, (1.0 + 1e-9) * kLim.ds0, above).ts;
+  EXPECT_EQ(below.phase, LinkPhase::connective);
+  EXPECT_EQ(above.phase, LinkPhase::cohesive);
+  EXPECT_NEAR(ts_below, kParams.sigma_c, 1e-6 * kParams.sigma_c);
+  EXPECT_NEAR(ts_above, kParams.sigma_c, 1e-6 * kParams.sigma_c);
+  // Its own dc: ds0 + 2 G_c / sigma_c = 5.1541754e-7 + 7.4285714e-6 = 7.9439889e-6 m.
+  EXPECT_NEAR(above.dc, 7.9439889e-6, 1e-6 * 7.94e-6);
+  EXPECT_NEAR(damage(kLim, above), 0.0, 1e-9);
+}
+
+TEST(TractionInitiation, InitiatesWhereTheTractionReachesSigmaCInEveryDirection) {
+  const CohesiveParams p = traction_params();
+  for (double theta : {0.0, 0.3, M_PI / 4, 1.2, M_PI / 2}) {
+    const double rho = traction_onset(theta), c = std::cos(theta), sn = std::sin(theta);
+    CohesiveState in, out;
+    const CohesiveTraction ti =
+        cohesive_traction(p, kLim, (1.0 - 1e-9) * rho * c, (1.0 - 1e-9) * rho * sn, in);
+    const CohesiveTraction to =
+        cohesive_traction(p, kLim, (1.0 + 1e-9) * rho * c, (1.0 + 1e-9) * rho * sn, out);
+    EXPECT_EQ(in.phase, LinkPhase::connective) << "theta " << theta;
+    EXPECT_EQ(out.phase, LinkPhase::cohesive) << "theta " << theta;
+    EXPECT_NEAR(std::hypot(ti.tn, ti.ts), kParams.sigma_c, 1e-6 * kParams.sigma_c);
+    EXPECT_NEAR(std::hypot(to.tn, to.ts), kParams.sigma_c, 1e-6 * kParams.sigma_c);
+  }
+  // Pure mode I is the paper's law: the same onset dn0 and the same dc.
+  EXPECT_NEAR(traction_onset(0.0), kLim.dn0, 1e-15);
+}
+
+TEST(TractionInitiation, SofteningDissipatesGcForEveryModeMixAndUnloadingNothing) {
+  const CohesiveParams p = traction_params();
+  for (double theta : {0.0, M_PI / 2, M_PI / 3, 70.0 * M_PI / 180}) {
+    const double c = std::cos(theta), sn = std::sin(theta);
+    const double onset = traction_onset(theta), end = onset + 2.0 * p.g_c / p.sigma_c;
+    CohesiveState s;
+    CohesiveTraction prev = cohesive_traction(p, kLim, 0.0, 0.0, s);
+    double soft = 0.0, total = 0.0, last_damage = 0.0;
+    const int n = 2000000;
+    for (int i = 1; i <= n; ++i) {
+      const LinkPhase before = s.phase;
+      const double rho = 1.0001 * end * i / n;
+      const CohesiveTraction t = cohesive_traction(p, kLim, rho * c, rho * sn, s);
+      const double dw = 0.5 * (radial(prev, theta) + radial(t, theta)) * (1.0001 * end / n);
+      total += dw;
+      if (before != LinkPhase::connective) soft += dw;
+      const double d = damage(kLim, s);
+      ASSERT_GE(d, last_damage);
+      last_damage = d;
+      prev = t;
+    }
+    EXPECT_EQ(s.phase, LinkPhase::contact) << "theta " << theta;
+    EXPECT_NEAR(soft, p.g_c, 1e-3 * p.g_c) << "theta " << theta;
+    // Stored up to the onset: (k_n c^2 + k_s s^2) onset^2 / (2A), the springs' work along
+    // the path (sigma_c onset / 2 in the pure modes).
+    const double stored = (p.kn * c * c + p.ks * sn * sn) * onset * onset / (2.0 * p.area);
+    EXPECT_NEAR(total - soft, stored, 2e-3 * stored) << "theta " << theta;
+  }
+  // Unloading half way down the softening branch and reloading: along the secant, no work.
+  const double theta = M_PI / 2, onset = traction_onset(theta);
+  const double peak = onset + 0.5 * 2.0 * p.g_c / p.sigma_c;
+  CohesiveState s;
+  for (int i = 1; i <= 1000; ++i) cohesive_traction(p, kLim, 0.0, peak * i / 1000, s);
+  const double t_peak = cohesive_traction(p, kLim, 0.0, peak, s).ts;
+  // Half way (to within the loading step by which initiation was passed, which sets dc):
+  // eq. 15 with this link's dc gives sigma_c (dc - peak) / (2 G_c / sigma_c), about sigma_c / 2.
+  const double gap = 2.0 * p.g_c / p.sigma_c;
+  EXPECT_NEAR(s.dc, onset + gap, peak / 1000);
+  EXPECT_NEAR(t_peak, p.sigma_c * (s.dc - peak) / gap, 1e-9 * p.sigma_c);
+  const double d_peak = damage(kLim, s);
+  EXPECT_NEAR(d_peak, (peak - (s.dc - gap)) / gap, 1e-9);
+  EXPECT_NEAR(d_peak, 0.5, 1e-3);
+  double work = 0.0, prev = t_peak;
+  const int m = 500;
+  for (int i = 1; i <= 2 * m; ++i) {
+    const double frac = i <= m ? 1.0 - static_cast<double>(i) / m : static_cast<double>(i - m) / m;
+    const double ts = cohesive_traction(p, kLim, 0.0, frac * peak, s).ts;
+    EXPECT_NEAR(ts, t_peak * frac, 1e-9 * p.sigma_c);
+    work += 0.5 * (prev + ts) * (i <= m ? -peak / m : peak / m);
+    prev = ts;
+    EXPECT_EQ(damage(kLim, s), d_peak);
+  }
+  EXPECT_LT(std::abs(work), 1e-9 * t_peak * peak);
+}
+
 TEST(LinkPhase, Names) {
   EXPECT_STREQ(to_string(LinkPhase::connective), "connective");
   EXPECT_STREQ(to_string(LinkPhase::cohesive), "cohesive");

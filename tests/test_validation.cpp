@@ -210,6 +210,7 @@ TEST(ValidationScenarioAsRun, EveryShippedScenarioReadsBackEqual) {
     EXPECT_EQ(a.stages, b.stages);
     EXPECT_EQ(a.mean_measure, b.mean_measure);
     EXPECT_EQ(ra.tiled_areas, rb.tiled_areas);
+    EXPECT_EQ(ra.material.initiation, rb.material.initiation);
     ++checked;
   }
   EXPECT_GE(checked, 8);
