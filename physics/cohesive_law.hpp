@@ -26,12 +26,9 @@
 /// Initiation::traction, cleave's correction of the jump above (the paper's law is
 /// Initiation::displacement, the default):
 /// - The jump is not small: on the cubic lattice k_s / k_n = (1 - 4 nu) / (1 + nu), 1/6 at
-///   nu = 0.2, so a link sheared to initiation carries sigma_c / 6 and then six times that,
-///   a secant six times stiffer than its spring. A plane loaded in shear stiffens as it
-///   starts to fail: the ENF's lattice carried 2-3 % more load than eq. 63 from the first
-///   steps and 4-10 % more than eq. 64 past mid-span, where the same lattice with an
-///   unbreakable plane is within 0.3 % of eq. 63, and beam theory with a continuous
-///   cohesive zone (physics/cohesive_beam.hpp) follows eq. 64 within 0.1 %.
+///   nu = 0.2, so a link sheared to initiation carries sigma_c / 6 and then six times that:
+///   its shear strength is sigma_c / 6 and its secant six times stiffer than its spring once
+///   it starts to fail. The traction rule is the law without that jump, to compare with.
 /// - With it, a link initiates on eq. 31's ellipse with dn0 and ds0 (eqs 12-13), which is
 ///   where its spring's traction |(T_n, T_s)| reaches sigma_c: the strength is sigma_c in
 ///   every direction (T_n0 = T_s0 = sigma_c, text after eq. 13).
