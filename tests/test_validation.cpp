@@ -121,8 +121,21 @@ TEST(CoarseValidation, DcbStageIFollowsCorrectedBeamTheoryAndPeaksAtTheLefmLoad)
   EXPECT_NEAR(peak_load(r, 2 * d_peak) / p_peak, 1.0, 0.22);
   // What a user opens: the curves, the errors, the plot and the provenance.
   for (const char* f : {"analytic.csv", "errors.csv", "load_deflection.svg", "run.toml",
-                        "scenario_as_run.toml"})
+                        "scenario_as_run.toml", "cohesive_beam.csv", "errors_cohesive_beam.csv"})
     EXPECT_TRUE(fs::exists(r.dir / f)) << f;
+  // Beam theory with the cohesive zone starts on eq. 59 (up to Winkler's 3/2 (chi_I h)^3 term,
+  // 1e-4 here) and, softening before LEFM's peak, stays below it.
+  const auto czm = read_csv(r.dir / "cohesive_beam.csv");  // delta_mm, load_N, crack, zone
+  ASSERT_GT(czm.size(), 100u);
+  EXPECT_NEAR(czm[5][1] / (slope * czm[5][0]), 1.0, 2e-3);
+  for (const auto& row : czm) {
+    if (row[0] > 0.0 && row[0] < d_peak) {
+      EXPECT_LE(row[1], slope * row[0] * (1 + 1e-9)) << "Delta = " << row[0] << " mm";
+    }
+  }
+  const auto zerr = read_csv(r.dir / "errors_cohesive_beam.csv");
+  ASSERT_EQ(zerr.size(), 2u);  // stage 1 and the peak
+  EXPECT_GT(zerr[0][3], 10);   // points compared
   fs::remove_all(r.dir);
 }
 
