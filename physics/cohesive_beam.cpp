@@ -64,6 +64,29 @@ std::array<double, 4> hermite(double xi, double e) {
           e * (x3 - x2)};
 }
 
+/// Nodes from 0 through each of `ends` in turn (skipping any not beyond the last), evenly
+/// spaced at most e apart between them.
+std::vector<double> beam_nodes(const std::array<double, 3>& ends, double e) {
+  std::vector<double> x{0.0};
+  for (double end : ends) {
+    const double from = x.back();
+    if (end <= from) continue;
+    const int n = std::max(1, static_cast<int>(std::ceil((end - from) / e - 1e-9)));
+    for (int i = 1; i < n; ++i) x.push_back(from + (end - from) * i / n);
+    x.push_back(end);  // exactly: the callers find their load line by its position
+  }
+  return x;
+}
+
+/// The bending stiffness of a Hermite beam element (EI, length e) on (w, w') at both ends.
+std::array<std::array<double, 4>, 4> bending_matrix(double EI, double e) {
+  const double c = EI / (e * e * e);
+  return {{{12 * c, 6 * e * c, -12 * c, 6 * e * c},
+           {6 * e * c, 4 * e * e * c, -6 * e * c, 2 * e * e * c},
+           {-12 * c, -6 * e * c, 12 * c, -6 * e * c},
+           {6 * e * c, 2 * e * e * c, -6 * e * c, 4 * e * e * c}}};
+}
+
 /// A symmetric banded matrix (half bandwidth 3 for a Hermite beam's two dofs per node, 7 for
 /// four), factorised
 /// as L D L^T without pivoting: the tangent of a stable equilibrium under displacement control
@@ -119,6 +142,32 @@ class BandMatrix {
   std::vector<double> a_;
 };
 
+/// Newton's method on u: assemble(u) fills residual and tangent at u (the fixed dofs' rows and
+/// columns made the identity's, their values already in u). Converged, with residual and
+/// tangent at the result, when no even dof (a deflection or stretch) moved by more than 1e-7
+/// of scale; false if it does not converge or a pivot is not positive.
+template <class Assemble>
+bool newton(std::vector<double>& u, const std::vector<double>& residual, BandMatrix& tangent,
+            const std::array<int, 3>& fixed, double scale, Assemble&& assemble) {
+  for (int it = 0; it < 60; ++it) {
+    assemble(u);
+    std::vector<double> du(residual.size());
+    for (size_t d = 0; d < du.size(); ++d) du[d] = -residual[d];
+    for (int d : fixed) du[d] = 0.0;
+    if (!tangent.solve(du)) return false;
+    double moved = 0;
+    for (size_t d = 0; d < du.size(); ++d) {
+      u[d] += du[d];
+      if (d % 2 == 0) moved = std::max(moved, std::abs(du[d]));
+    }
+    if (moved <= 1e-7 * std::max(scale, 1e-15)) {
+      assemble(u);
+      return true;
+    }
+  }
+  return false;
+}
+
 struct GaussPoint {
   int element;
   std::array<double, 4> N;
@@ -139,16 +188,8 @@ class Solver {
       throw std::invalid_argument(
           "cohesive_dcb_curve: the softening branch is steeper than the arm's spring "
           "(sigma_c^2 > G_Ic k / B')");
-    const double e = o.element > 0 ? o.element : t.h / 40.0;
     // Nodes on 0, a0, L and L + intact, evenly spaced in between.
-    x_.push_back(0.0);
-    const std::array<double, 3> ends = {t.a0, t.L, t.L + intact};
-    for (double end : ends) {
-      const double from = x_.back();
-      if (end <= from) continue;
-      const int n = std::max(1, static_cast<int>(std::ceil((end - from) / e - 1e-9)));
-      for (int i = 1; i <= n; ++i) x_.push_back(from + (end - from) * i / n);
-    }
+    x_ = beam_nodes({t.a0, t.L, t.L + intact}, o.element > 0 ? o.element : t.h / 40.0);
     const int elements = static_cast<int>(x_.size()) - 1;
     for (int el = 0; el < elements; ++el) {
       const double len = x_[el + 1] - x_[el];
@@ -171,23 +212,11 @@ class Solver {
   bool solve(double w0) {
     std::vector<double> u = u_;
     u[0] = w0;
-    for (int it = 0; it < 60; ++it) {
-      assemble(u);
-      std::vector<double> du(dofs_);
-      for (int d = 0; d < dofs_; ++d) du[d] = -residual_[d];
-      for (int d : fixed()) du[d] = 0.0;
-      if (!tangent_.solve(du)) return false;
-      for (int d = 0; d < dofs_; ++d) u[d] += du[d];
-      // Converged when the step moved no deflection by more than 1e-7 of the load line's.
-      double moved = 0;
-      for (int d = 0; d < dofs_; d += 2) moved = std::max(moved, std::abs(du[d]));
-      if (moved <= 1e-7 * std::max(std::abs(w0), 1e-15)) {
-        assemble(u);
-        trial_ = u;
-        return true;
-      }
-    }
-    return false;
+    if (!newton(u, residual_, tangent_, fixed(), std::abs(w0),
+                [&](const std::vector<double>& v) { assemble(v); }))
+      return false;
+    trial_ = u;
+    return true;
   }
 
   /// Accepts the last converged state: openings become history (eq. 21).
@@ -219,12 +248,7 @@ class Solver {
     tangent_.reset(dofs_);
     const int elements = static_cast<int>(x_.size()) - 1;
     for (int el = 0; el < elements; ++el) {
-      const double e = x_[el + 1] - x_[el];
-      const double c = EI_ / (e * e * e);
-      const double K[4][4] = {{12 * c, 6 * e * c, -12 * c, 6 * e * c},
-                              {6 * e * c, 4 * e * e * c, -6 * e * c, 2 * e * e * c},
-                              {-12 * c, -6 * e * c, 12 * c, -6 * e * c},
-                              {6 * e * c, 2 * e * e * c, -6 * e * c, 4 * e * e * c}};
+      const auto K = bending_matrix(EI_, x_[el + 1] - x_[el]);
       const int d0 = 2 * el;
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
@@ -290,16 +314,11 @@ class EnfSolver {
       throw std::invalid_argument(
           "cohesive_enf_curve: the softening branch is steeper than the arm's shear spring");
     viscosity_ = 2.0 * f_.qc / f_.dc;
-    const double e = o.element > 0 ? o.element : t.h / 20.0;
-    x_.push_back(0.0);
-    const std::array<double, 3> ends = {t.a0, t.L, 2.0 * t.L};
-    for (double end : ends) {
-      const double from = x_.back();
-      if (end <= from) continue;
-      const int n = std::max(1, static_cast<int>(std::ceil((end - from) / e - 1e-9)));
-      for (int i = 1; i <= n; ++i) x_.push_back(from + (end - from) * i / n);
-      if (end == t.L) mid_ = static_cast<int>(x_.size()) - 1;
-    }
+    // Nodes on 0, a0, the load line L and the far support 2L (a0 < L: checked by the caller).
+    x_ = beam_nodes({t.a0, t.L, 2.0 * t.L}, o.element > 0 ? o.element : t.h / 20.0);
+    mid_ = static_cast<int>(std::find(x_.begin(), x_.end(), t.L) - x_.begin());
+    if (mid_ >= static_cast<int>(x_.size()) - 1)
+      throw std::invalid_argument("cohesive_enf_curve: a0 must lie between 0 and L");
     const int elements = static_cast<int>(x_.size()) - 1;
     for (int el = 0; el < elements; ++el) {
       const double len = x_[el + 1] - x_[el];
@@ -325,24 +344,11 @@ class EnfSolver {
   bool solve(double delta, bool viscous) {
     std::vector<double> u = u_;
     u[4 * mid_] = -delta;
-    for (int it = 0; it < 60; ++it) {
-      assemble(u, viscous);
-      std::vector<double> du(dofs_);
-      for (int d = 0; d < dofs_; ++d) du[d] = -residual_[d];
-      for (int d : fixed()) du[d] = 0.0;
-      if (!tangent_.solve(du)) return false;
-      double moved = 0;
-      for (int d = 0; d < dofs_; ++d) {
-        u[d] += du[d];
-        if (d % 2 == 0) moved = std::max(moved, std::abs(du[d]));
-      }
-      if (moved <= 1e-7 * std::max(delta, 1e-15)) {
-        assemble(u, viscous);
-        trial_ = u;
-        return true;
-      }
-    }
-    return false;
+    if (!newton(u, residual_, tangent_, fixed(), delta,
+                [&](const std::vector<double>& v) { assemble(v, viscous); }))
+      return false;
+    trial_ = u;
+    return true;
   }
 
   /// Accepts the last solution; returns the largest change of slip it made (m).
@@ -389,12 +395,7 @@ class EnfSolver {
     tangent_.reset(dofs_);
     const int elements = static_cast<int>(x_.size()) - 1;
     for (int el = 0; el < elements; ++el) {
-      const double e = x_[el + 1] - x_[el];
-      const double c = 2.0 * EI_ / (e * e * e);  // both arms bend
-      const double K[4][4] = {{12 * c, 6 * e * c, -12 * c, 6 * e * c},
-                              {6 * e * c, 4 * e * e * c, -6 * e * c, 2 * e * e * c},
-                              {-12 * c, -6 * e * c, 12 * c, -6 * e * c},
-                              {6 * e * c, 2 * e * e * c, -6 * e * c, 4 * e * e * c}};
+      const auto K = bending_matrix(2.0 * EI_, x_[el + 1] - x_[el]);  // both arms bend
       const std::array<int, 4> w = {4 * el, 4 * el + 1, 4 * el + 4, 4 * el + 5};
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
