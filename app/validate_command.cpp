@@ -197,17 +197,27 @@ int validate_command(const ValidateOptions& options) {
       acsv += fmt::format("{},{:.9g},{:.9g},{:.9g}\n", p.stage, p.delta * 1e3, p.load,
                           p.crack * 1e3);
     io::write_file_atomically(out / "analytic.csv", acsv);
-    // DCB and ENF: the same beam theory with the weak plane's cohesive zone in place of
-    // LEFM's sharp tip (physics/cohesive_beam.hpp): what the closed form says with the
-    // scenario's sigma_c.
+    // The same beam theory with the weak plane's cohesive zone in place of LEFM's sharp tip
+    // (physics/cohesive_beam.hpp): what the closed form says with the scenario's sigma_c.
+    // Its plane has the lattice's G_c (one value for every mode mix, as the lattice's law).
     std::vector<physics::CohesiveBeamPoint> czm;
     std::string czm_note;
-    if (v.rig.kind != physics::BeamTestKind::mmb) {
+    {
       try {
-        czm = v.rig.kind == physics::BeamTestKind::dcb
-                  ? physics::cohesive_dcb_curve(test, v.rig.material.sigma_c,
-                                                v.rig.intact_length, v.deflection)
-                  : physics::cohesive_enf_curve(test, v.rig.material.sigma_c, v.deflection);
+        physics::BeamTest one_gc = test;
+        one_gc.g_Ic = one_gc.g_IIc = v.rig.material.g_c;
+        switch (v.rig.kind) {
+          case physics::BeamTestKind::dcb:
+            czm = physics::cohesive_dcb_curve(one_gc, v.rig.material.sigma_c,
+                                              v.rig.intact_length, v.deflection);
+            break;
+          case physics::BeamTestKind::enf:
+            czm = physics::cohesive_enf_curve(one_gc, v.rig.material.sigma_c, v.deflection);
+            break;
+          case physics::BeamTestKind::mmb:
+            czm = physics::cohesive_mmb_curve(one_gc, v.rig.material.sigma_c, v.deflection);
+            break;
+        }
         std::string ccsv = "delta_mm,load_N,crack_mm,process_zone_mm\n";
         for (const auto& p : czm)
           ccsv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", p.delta * 1e3, p.load,
@@ -304,7 +314,7 @@ int validate_command(const ValidateOptions& options) {
     io::write_file_atomically(out / "errors.csv", ecsv);
     if (!czm.empty()) {
       double zpeak = 0.0, zpeak_delta = 0.0;
-      for (const auto& p : czm)  // as the measured peak: up to twice eq. 59/63's deflection
+      for (const auto& p : czm)  // as the measured peak: up to twice the closed form's deflection
         if (p.delta <= 2.0 * apeak_delta && p.load > zpeak) zpeak = p.load, zpeak_delta = p.delta;
       const double zerr = std::abs(peak - zpeak) / zpeak;
       zcsv += fmt::format("peak,{:.6g},{:.6g},1,{:.6f},{:.6f}\n", peak_delta * 1e3,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace cleave::physics {
 
@@ -102,6 +103,11 @@ class BandMatrix {
   }
   /// Adds v to A(i, j) for j >= i, j - i <= kBand.
   void add(int i, int j, double v) { a_[static_cast<size_t>(i) * (kBand + 1) + (j - i)] += v; }
+  /// A(i, j) for j >= i, j - i <= kBand.
+  [[nodiscard]] double at(int i, int j) const {
+    return a_[static_cast<size_t>(i) * (kBand + 1) + (j - i)];
+  }
+  [[nodiscard]] int band() const { return kBand; }
   /// Makes row and column d the identity's.
   void fix(int d) {
     for (int k = 0; k <= kBand; ++k) {
@@ -112,7 +118,7 @@ class BandMatrix {
   }
 
   /// Solves A x = b in place; false if a pivot is not positive.
-  bool solve(std::vector<double>& b) {
+  bool solve(std::vector<double>& b) const {
     std::vector<double> d(n_), l(static_cast<size_t>(n_) * (kBand + 1), 0.0);
     auto A = [&](int i, int j) { return a_[static_cast<size_t>(i) * (kBand + 1) + (j - i)]; };
     auto Lm = [&](int j, int m) -> double& { return l[static_cast<size_t>(j) * (kBand + 1) + m]; };
@@ -457,6 +463,289 @@ class EnfSolver {
   BandMatrix tangent_;
 };
 
+
+/// The weak plane under a pair of arms in mixed mode, per unit length: the arms' opening spring
+/// kn (k/2 for the pair: each arm on k, as the DCB's) and shear spring kt (the ENF's), each in
+/// series with the paper's law isotropic in the jump (eqs 14-26 with delta_nc = delta_sc, as
+/// cohesive_law.hpp reads them): rigid until the traction's magnitude reaches qc (the circle
+/// of eq. 31 with T_n0 = T_s0 = sigma_c), then |T| = qc (1 - rho / dc) along the jump, where
+/// rho = |(delta_n, delta_s)|; unloading to the origin on the secant of the largest rho;
+/// compression (W < 0) bears on the faces by kn and never counts towards rho.
+struct MixedPlane {
+  double kn = 0, kt = 0, qc = 0, dc = 0;
+
+  struct Response {
+    double tn = 0, ts = 0;      ///< normal and shear force per unit length on the arms (N/m)
+    double t[2][2] = {{0, 0}, {0, 0}};  ///< d(tn, ts) / d(W, S)
+    double rho = 0;             ///< |jump| of the plane itself (m)
+  };
+
+  /// Tractions at total opening W and slip S, given the largest jump so far.
+  [[nodiscard]] Response at(double W, double S, double rho_max) const {
+    Response r;
+    const bool bearing = W < 0.0;
+    const double Wc = bearing ? 0.0 : W;
+    auto finish = [&](Response& out) {
+      if (bearing) {  // the faces bear on each other: a spring kn, apart from the law
+        out.tn = kn * W;
+        out.t[0][0] = kn, out.t[0][1] = out.t[1][0] = 0.0;
+      }
+      return out;
+    };
+    if (rho_max >= dc) return finish(r);  // decohered (eq. 16)
+    if (rho_max > 0.0) {
+      // On the secant of the largest jump (eqs 23-25): each spring in series with it.
+      const double sec = qc * (1.0 - rho_max / dc) / rho_max;
+      const double dn = kn * Wc / (kn + sec), ds = kt * S / (kt + sec);
+      if (std::hypot(dn, ds) <= rho_max) {
+        r.tn = sec * dn, r.ts = sec * ds;
+        r.t[0][0] = kn * sec / (kn + sec), r.t[1][1] = kt * sec / (kt + sec);
+        r.rho = std::hypot(dn, ds);
+        return finish(r);
+      }
+    } else if (std::hypot(kn * Wc, kt * S) <= qc) {
+      r.tn = kn * W, r.ts = kt * S;  // rigid plane: the arms' springs alone
+      r.t[0][0] = kn, r.t[1][1] = kt;
+      return r;
+    }
+    // Softening: the jump rho n with n = (kn W / (kn rho + g), kt S / (kt rho + g)) and
+    // g = qc (1 - rho / dc); |n| = 1 fixes rho, and |n| falls as rho grows (kn, kt > qc / dc),
+    // so the root in (rho_max, dc) is unique: bisection, then Newton's polish.
+    auto g = [&](double rho) { return qc * (1.0 - rho / dc); };
+    auto f = [&](double rho) {
+      const double a = kn * Wc / (kn * rho + g(rho)), b = kt * S / (kt * rho + g(rho));
+      return a * a + b * b - 1.0;
+    };
+    if (f(dc) >= 0.0) {
+      r.rho = std::hypot(Wc, S);  // past dc: decohered
+      return finish(r);
+    }
+    double lo = rho_max, hi = dc;
+    for (int i = 0; i < 200 && hi - lo > 1e-15 * dc; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (f(mid) > 0.0 ? lo : hi) = mid;
+    }
+    const double rho = 0.5 * (lo + hi);
+    const double gr = g(rho);
+    const double nx = kn * Wc / (kn * rho + gr), ny = kt * S / (kt * rho + gr);
+    r.rho = rho;
+    r.tn = gr * nx, r.ts = gr * ny;
+    // Tangent: T = K (Delta - delta) with dT = D d(delta), D = (g / rho)(I - n n^T) + g' n n^T,
+    // so dT / dDelta = K - K (K + D)^-1 K.
+    const double gp = -qc / dc, gs = rho > 0.0 ? gr / rho : 1e30 * kn;
+    const double D00 = gs * (1 - nx * nx) + gp * nx * nx, D11 = gs * (1 - ny * ny) + gp * ny * ny;
+    const double D01 = (gp - gs) * nx * ny;
+    const double M00 = kn + D00, M11 = kt + D11, M01 = D01;
+    const double det = M00 * M11 - M01 * M01;
+    const double i00 = M11 / det, i11 = M00 / det, i01 = -M01 / det;
+    r.t[0][0] = kn - kn * i00 * kn;
+    r.t[1][1] = kt - kt * i11 * kt;
+    r.t[0][1] = r.t[1][0] = -kn * i01 * kt;
+    if (bearing) r.t[0][1] = r.t[1][0] = 0.0;  // shear alone in the law (nx = 0)
+    return finish(r);
+  }
+};
+
+/// The MMB (sec. 7.3) as two arms, each an Euler beam (EI, EA): deflections w_t, w_b and the
+/// opposite stretch u (+u above, -u below), Hermite in all three. The plane, bonded from a0 to
+/// 2L, sees the opening W = w_t - w_b and the slip S = 2u + (h/2)(w_t' + w_b') through
+/// MixedPlane. Supports: the lower arm at x = 0, the beam at 2L (its lower arm). The lever
+/// (eq. 66) pulls the upper arm's end up by F and pushes the upper arm down at mid-span by
+/// F (C + L) / C; the end's rise Delta is prescribed, F is its reaction and the lever load
+/// P = F L / C. The mid-span force follows F, which adds the rank-one term (C + L) / C times
+/// row 0 of the stiffness to the mid-span row: Newton solves it by Sherman-Morrison on the
+/// banded factorisation.
+class MmbSolver {
+ public:
+  MmbSolver(const BeamTest& t, double sigma_c, const CohesiveBeamOptions& o) : tangent_(11) {
+    EI_ = t.E * t.B * t.h * t.h * t.h / 12.0;
+    EA_ = t.E * t.B * t.h;
+    h_ = t.h;
+    lever_ = (t.C + t.L) / t.C;
+    to_load_ = t.L / t.C;
+    const double lII = chi_II(t.E, t.nu) * t.h;
+    plane_.kn = 0.5 * cohesive_beam_spring(t);
+    plane_.kt = t.E * t.B * t.h / (8.0 * lII * lII);
+    plane_.qc = sigma_c * (t.B - 2.0 * t.r);
+    plane_.dc = 2.0 * t.g_Ic / sigma_c;
+    if (!(plane_.qc / plane_.dc < std::min(plane_.kn, plane_.kt)))
+      throw std::invalid_argument(
+          "cohesive_mmb_curve: the softening branch is steeper than the arms' springs "
+          "(sigma_c^2 > G_c k / B')");
+    viscosity_ = 2.0 * plane_.qc / plane_.dc;
+    x_ = beam_nodes({t.a0, t.L, 2.0 * t.L}, o.element > 0 ? o.element : t.h / 20.0);
+    mid_ = static_cast<int>(std::find(x_.begin(), x_.end(), t.L) - x_.begin());
+    if (mid_ >= static_cast<int>(x_.size()) - 1)
+      throw std::invalid_argument("cohesive_mmb_curve: a0 must lie between 0 and L");
+    const int elements = static_cast<int>(x_.size()) - 1;
+    for (int el = 0; el < elements; ++el) {
+      const double len = x_[el + 1] - x_[el];
+      const double mid = 0.5 * (x_[el] + x_[el + 1]);
+      for (int g = 0; g < 4; ++g)
+        quad_.push_back({{el, hermite(kGaussX[g], len), kGaussW[g] * len,
+                          x_[el] + kGaussX[g] * len, mid >= t.a0, 0.0},
+                         hermite_dx(kGaussX[g], len)});
+    }
+    dofs_ = 6 * static_cast<int>(x_.size());
+    u_.assign(dofs_, 0.0);
+    trial_ = u_;
+    residual_.assign(dofs_, 0.0);
+    jump_.assign(quad_.size(), {0.0, 0.0});
+    jump_prev_ = jump_;
+    rho_.assign(quad_.size(), 0.0);
+    a0_ = t.a0;
+  }
+
+  /// Moves the upper arm's end to delta; viscous: with a rate term on the plane's opening and
+  /// slip that keeps the tangent positive (a relaxation step through an unstable jump).
+  bool solve(double delta, bool viscous) {
+    std::vector<double> u = u_;
+    u[0] = delta;
+    const double scale = std::max(delta, 1e-15);
+    for (int it = 0; it < 60; ++it) {
+      assemble(u, viscous);
+      // J = K + lever e_mid k0^T on the free dofs (k0: row 0 of K, read before it was fixed).
+      std::vector<double> y(dofs_), z(dofs_, 0.0);
+      for (int d = 0; d < dofs_; ++d) y[d] = -residual_[d];
+      for (int d : fixed()) y[d] = 0.0;
+      z[6 * mid_] = 1.0;
+      if (!tangent_.solve(y) || !tangent_.solve(z)) return false;
+      double ky = 0, kz = 0;
+      for (size_t j = 1; j < row0_.size(); ++j) ky += row0_[j] * y[j], kz += row0_[j] * z[j];
+      const double denom = 1.0 + lever_ * kz;
+      if (!(denom > 0.0)) return false;
+      const double c = lever_ * ky / denom;
+      double moved = 0;
+      for (int d = 0; d < dofs_; ++d) {
+        const double du = y[d] - c * z[d];
+        u[d] += du;
+        if (d % 2 == 0) moved = std::max(moved, std::abs(du));
+      }
+      if (moved <= 1e-7 * scale) {
+        assemble(u, viscous);
+        trial_ = u;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Accepts the last solution; returns the largest change of the plane's opening or slip.
+  double commit() {
+    u_ = trial_;
+    load_ = residual_[0] * to_load_;  // the end's reaction F, as the lever's load
+    double change = 0;
+    for (size_t q = 0; q < quad_.size(); ++q) {
+      change = std::max({change, std::abs(jump_[q][0] - jump_prev_[q][0]),
+                         std::abs(jump_[q][1] - jump_prev_[q][1])});
+      jump_prev_[q] = jump_[q];
+      if (quad_[q].g.weak) quad_[q].g.open_max = std::max(quad_[q].g.open_max, rho_[q]);
+    }
+    return change;
+  }
+
+  [[nodiscard]] double decohesion() const { return plane_.dc; }
+
+  [[nodiscard]] CohesiveBeamPoint point() const {
+    CohesiveBeamPoint p{u_[0], load_, 0.0, a0_, a0_};
+    double crack = a0_;
+    for (const Quad& q : quad_) {
+      if (!q.g.weak) continue;
+      if (q.g.open_max > 0.0) p.process_zone = std::max(p.process_zone, q.g.x);
+      if (q.g.open_max >= plane_.dc && q.g.x <= crack + 2.0 * (x_[1] - x_[0]) + 1e-12)
+        crack = std::max(crack, q.g.x);
+    }
+    p.crack = crack;
+    return p;
+  }
+
+ private:
+  struct Quad {
+    GaussPoint g;
+    std::array<double, 4> dN;
+  };
+
+  [[nodiscard]] std::array<int, 3> fixed() const {
+    return {0, 2, dofs_ - 4};  // the end's rise, the supports under the lower arm
+  }
+
+  void assemble(const std::vector<double>& u, bool viscous) {
+    residual_.assign(dofs_, 0.0);
+    tangent_.reset(dofs_);
+    auto add = [&](const std::array<int, 4>& d, const std::array<std::array<double, 4>, 4>& K) {
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          residual_[d[i]] += K[i][j] * u[d[j]];
+          if (d[j] >= d[i]) tangent_.add(d[i], d[j], K[i][j]);
+        }
+    };
+    const int elements = static_cast<int>(x_.size()) - 1;
+    for (int el = 0; el < elements; ++el) {
+      const auto K = bending_matrix(EI_, x_[el + 1] - x_[el]);  // each arm on its own
+      add({6 * el, 6 * el + 1, 6 * el + 6, 6 * el + 7}, K);
+      add({6 * el + 2, 6 * el + 3, 6 * el + 8, 6 * el + 9}, K);
+    }
+    for (size_t qi = 0; qi < quad_.size(); ++qi) {
+      const Quad& q = quad_[qi];
+      const int n0 = 6 * q.g.element;
+      const std::array<int, 4> wt = {n0, n0 + 1, n0 + 6, n0 + 7};
+      const std::array<int, 4> wb = {n0 + 2, n0 + 3, n0 + 8, n0 + 9};
+      const std::array<int, 4> a = {n0 + 4, n0 + 5, n0 + 10, n0 + 11};
+      std::array<std::array<double, 4>, 4> Ka{};
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) Ka[i][j] = 2.0 * EA_ * q.dN[i] * q.dN[j] * q.g.weight;
+      add(a, Ka);  // both arms stretch: EA u'^2 per unit length
+      if (!q.g.weak) continue;
+      // W = w_t - w_b and S = 2u + (h/2)(w_t' + w_b') as rows over 12 dofs.
+      std::array<int, 12> d{};
+      std::array<double, 12> bw{}, bs{};
+      for (int i = 0; i < 4; ++i) {
+        d[i] = wt[i], d[4 + i] = wb[i], d[8 + i] = a[i];
+        bw[i] = q.g.N[i], bw[4 + i] = -q.g.N[i];
+        bs[i] = 0.5 * h_ * q.dN[i], bs[4 + i] = 0.5 * h_ * q.dN[i], bs[8 + i] = 2.0 * q.g.N[i];
+      }
+      double W = 0, S = 0;
+      for (int i = 0; i < 12; ++i) W += bw[i] * u[d[i]], S += bs[i] * u[d[i]];
+      MixedPlane::Response r = plane_.at(W, S, q.g.open_max);
+      if (viscous) {
+        r.tn += viscosity_ * (W - jump_prev_[qi][0]);
+        r.ts += viscosity_ * (S - jump_prev_[qi][1]);
+        r.t[0][0] += viscosity_, r.t[1][1] += viscosity_;
+      }
+      jump_[qi] = {W, S};
+      rho_[qi] = r.rho;
+      for (int i = 0; i < 12; ++i) {
+        residual_[d[i]] += q.g.weight * (r.tn * bw[i] + r.ts * bs[i]);
+        for (int j = 0; j < 12; ++j) {
+          if (d[j] < d[i]) continue;
+          const double k = r.t[0][0] * bw[i] * bw[j] + r.t[0][1] * bw[i] * bs[j] +
+                           r.t[1][0] * bs[i] * bw[j] + r.t[1][1] * bs[i] * bs[j];
+          tangent_.add(d[i], d[j], q.g.weight * k);
+        }
+      }
+    }
+    // The opposite stretch has no support once the plane is gone (as the ENF's).
+    const double tiny = 1e-9 * 2.0 * EA_ / x_.back();
+    residual_[4] += tiny * u[4];
+    tangent_.add(4, 4, tiny);
+    row0_.assign(tangent_.band() + 1, 0.0);
+    for (int j = 1; j <= tangent_.band(); ++j) row0_[j] = j == 2 ? 0.0 : tangent_.at(0, j);
+    // The mid-span load follows the end's reaction: residual R_mid + lever R_0.
+    residual_[6 * mid_] += lever_ * residual_[0];
+    for (int dd : fixed()) tangent_.fix(dd);
+  }
+
+  double EI_ = 0, EA_ = 0, h_ = 0, a0_ = 0, viscosity_ = 0, load_ = 0, lever_ = 0, to_load_ = 0;
+  MixedPlane plane_;
+  std::vector<double> x_;
+  std::vector<Quad> quad_;
+  std::vector<std::array<double, 2>> jump_, jump_prev_;  ///< (W, S) at each point
+  std::vector<double> rho_, row0_;
+  int dofs_ = 0, mid_ = 0;
+  std::vector<double> u_, trial_, residual_;
+  BandMatrix tangent_;
+};
+
 }  // namespace
 
 double cohesive_load(const std::vector<CohesiveBeamPoint>& curve, double delta) {
@@ -503,21 +792,21 @@ std::vector<CohesiveBeamPoint> cohesive_dcb_curve(const BeamTest& test, double s
 }
 
 
-std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double sigma_c,
-                                                  double delta_max,
-                                                  const CohesiveBeamOptions& options) {
-  if (test.kind != BeamTestKind::enf)
-    throw std::invalid_argument("cohesive_enf_curve: needs an ENF test");
-  if (!(sigma_c > 0) || !(delta_max > 0) || options.steps < 1 || !(test.a0 < test.L))
-    throw std::invalid_argument(
-        "cohesive_enf_curve: sigma_c, delta_max and steps must be > 0 and a0 < L");
-  EnfSolver solver(test, sigma_c, test.g_IIc, options);
+namespace {
+
+/// Displacement control with a fallback for the jumps: an increment that does not converge is
+/// taken in halves; one that still fails at 1/64 has no equilibrium near the last one (a
+/// snap-back, or a ligament that lets go), so under displacement control the load drops at
+/// that deflection: relax there with the rate term until the plane stops moving, then go on.
+template <class BeamSolver>
+std::vector<CohesiveBeamPoint> follow_with_jumps(BeamSolver& solver, double delta_max,
+                                                 int steps, const char* who) {
   std::vector<CohesiveBeamPoint> curve;
   curve.push_back(solver.point());
   double delta = 0;
-  const double dd = delta_max / options.steps;
-  for (int s = 1; s <= options.steps; ++s) {
-    const double target = delta_max * s / options.steps;
+  const double dd = delta_max / steps;
+  for (int s = 1; s <= steps; ++s) {
+    const double target = delta_max * s / steps;
     double step = dd;
     while (delta < target * (1.0 - 1e-14)) {
       const double next = std::min(target, delta + step);
@@ -528,17 +817,14 @@ std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double s
       }
       step *= 0.5;
       if (step >= dd / 64.0) continue;
-      // No equilibrium near the last one: the snap-back of eq. 63's stage II (or a ligament
-      // that lets go). Under displacement control the load drops at this deflection: relax
-      // there with a slip-rate term until the slips stop changing, then go on statically.
       curve.push_back(solver.point());
       bool settled = false;
       for (int k = 0; k < 200000 && !settled; ++k) {
         if (!solver.solve(next, true))
-          throw std::runtime_error("cohesive_enf_curve: the relaxation did not converge");
+          throw std::runtime_error(std::string(who) + ": the relaxation did not converge");
         settled = solver.commit() < 1e-9 * solver.decohesion();
       }
-      if (!settled) throw std::runtime_error("cohesive_enf_curve: the jump did not settle");
+      if (!settled) throw std::runtime_error(std::string(who) + ": the jump did not settle");
       curve.push_back(solver.point());
       delta = next;
       step = dd;
@@ -546,6 +832,37 @@ std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double s
     curve.push_back(solver.point());
   }
   return curve;
+}
+
+}  // namespace
+
+std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double sigma_c,
+                                                  double delta_max,
+                                                  const CohesiveBeamOptions& options) {
+  if (test.kind != BeamTestKind::enf)
+    throw std::invalid_argument("cohesive_enf_curve: needs an ENF test");
+  if (!(sigma_c > 0) || !(delta_max > 0) || options.steps < 1 || !(test.a0 < test.L))
+    throw std::invalid_argument(
+        "cohesive_enf_curve: sigma_c, delta_max and steps must be > 0 and a0 < L");
+  EnfSolver solver(test, sigma_c, test.g_IIc, options);
+  return follow_with_jumps(solver, delta_max, options.steps, "cohesive_enf_curve");
+}
+
+std::vector<CohesiveBeamPoint> cohesive_mmb_curve(const BeamTest& test, double sigma_c,
+                                                  double delta_max,
+                                                  const CohesiveBeamOptions& options) {
+  if (test.kind != BeamTestKind::mmb)
+    throw std::invalid_argument("cohesive_mmb_curve: needs an MMB test");
+  if (!(sigma_c > 0) || !(delta_max > 0) || options.steps < 1 || !(test.a0 < test.L) ||
+      !(test.C > 0))
+    throw std::invalid_argument(
+        "cohesive_mmb_curve: sigma_c, delta_max, steps and the lever arm C must be > 0 and "
+        "a0 < L");
+  if (test.g_Ic != test.g_IIc)
+    throw std::invalid_argument(
+        "cohesive_mmb_curve: the law has one G_c for every mode mix (g_Ic must equal g_IIc)");
+  MmbSolver solver(test, sigma_c, options);
+  return follow_with_jumps(solver, delta_max, options.steps, "cohesive_mmb_curve");
 }
 
 }  // namespace cleave::physics

@@ -7,7 +7,8 @@
 /// plane's linear-softening traction-separation law of eqs 14-30 in pure mode I (strength
 /// sigma_c, opening at decohesion delta_c = 2 G_Ic / sigma_c, unloading to the origin, damage
 /// from the largest opening). Its load-deflection curve is solved quasi-statically under
-/// displacement control by finite elements and Newton's method.
+/// displacement control by finite elements and Newton's method. The ENF (mode II) and the
+/// MMB (mixed mode) are solved the same way (see their functions below).
 ///
 /// Why: eqs 59-61 are linear elastic fracture mechanics, exact only when the cohesive zone is
 /// short against the arm. The material has Hillerborg's length E G_Ic / sigma_c^2 =
@@ -65,6 +66,16 @@ std::vector<CohesiveBeamPoint> cohesive_dcb_curve(const BeamTest& test, double s
 /// at that Delta (two points at one Delta, before and after), found by relaxing with a slip
 /// rate term until the slips stop changing. rotation is 0.
 std::vector<CohesiveBeamPoint> cohesive_enf_curve(const BeamTest& test, double sigma_c,
+                                                  double delta_max,
+                                                  const CohesiveBeamOptions& options = {});
+
+/// The MMB (sec. 7.3) the same way, in mixed mode: the upper and lower arms each bend and
+/// stretch, the plane between them opens (against the DCB's foundation) and slips (against
+/// the ENF's shear spring), each in series with the paper's law taken isotropic in the jump
+/// (one G_c for all mixes: test.g_Ic, which must equal test.g_IIc; strength sigma_c in every
+/// direction). The lever (arm test.C) ties the end's pull to the mid-span push (eq. 66).
+/// Delta is the opening at the loaded end, P the lever load. Jumps are relaxed as the ENF's.
+std::vector<CohesiveBeamPoint> cohesive_mmb_curve(const BeamTest& test, double sigma_c,
                                                   double delta_max,
                                                   const CohesiveBeamOptions& options = {});
 

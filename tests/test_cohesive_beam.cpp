@@ -2,7 +2,8 @@
 // against closed forms at both ends: before the zone opens the arm is a cantilever on
 // Winkler's elastic foundation (Hetenyi's semi-infinite beam); while the crack grows the
 // J-integral of the arm equals the fracture energy (Paris & Paris: J B' = 2 P theta at the
-// load line) and the load is eq. 60's; a stronger plane brings stage I to eq. 59.
+// load line) and the load is eq. 60's; a stronger plane brings stage I to eq. 59. The ENF and
+// the MMB likewise: eq. 63 and eq. 68 before the zone opens, eqs 64 and 69 while the crack runs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -214,4 +215,75 @@ TEST(CohesiveEnf, AStrongPlaneSnapsBackAtThePeakAWeakOneDoesNot) {
   };
   EXPECT_GT(largest_drop(300e6), 0.15);  // in one step of 1 micrometre
   EXPECT_LT(largest_drop(70e6), 0.03);
+}
+
+namespace {
+
+// The paper's MMB at beta = 50 % (sec. 7.3) on the lattice's as-built half span L = 15 mm,
+// with one G_c = G_IIc in both modes, as the scenario.
+BeamTest mmb() {
+  BeamTest t{BeamTestKind::mmb, 120e9, 0.2, 2e-3, 1e-3, 15e-3, 9e-3, 0.125e-3, 1002.0, 1002.0};
+  t.C = mmb_lever_arm(0.5, t.L);
+  return t;
+}
+
+}  // namespace
+
+TEST(CohesiveMmb, BeforeTheZoneOpensTheEndOpensAsTheDcbPartAlone) {
+  // Linear beams: the lever's loads split into an opening pair P_I = (3C - L) P / (4L) on the
+  // arms' ends and a symmetric ENF load (eq. 66). The symmetric part bends both arms alike
+  // and leaves the end's opening alone; so Delta / P is P_I / P times the DCB arm pair's
+  // compliance, Hetenyi's cantilever on Winkler's foundation (as in the DCB test above), up
+  // to the mid-span push's own dent in the foundation 6 mm (9 decay lengths) from the tip.
+  const BeamTest t = mmb();
+  const double a = t.a0, l = kLambda;
+  const double dcb = 2.0 / (3.0 * kEI) * (a * a * a + 3 * a * a * l + 3 * a * l * l + 1.5 * l * l * l);
+  const double p_I = (3.0 * t.C - t.L) / (4.0 * t.L);
+  const auto curve = cohesive_mmb_curve(t, 70e6, 0.02e-3, {0, 4});
+  ASSERT_EQ(curve.size(), 5u);
+  for (size_t i = 1; i < curve.size(); ++i) {
+    EXPECT_EQ(curve[i].process_zone, t.a0) << "the zone opened at Delta = " << curve[i].delta;
+    EXPECT_NEAR(curve[i].delta / curve[i].load, p_I * dcb, 1e-4 * p_I * dcb);
+  }
+  // Eq. 68 (the DCB's a + chi_I h in place of Hetenyi's terms) is the same to 2e-4.
+  const double eq68 = *analytic_load(t, 1, curve.back().delta);
+  EXPECT_NEAR(curve.back().load / eq68, 1.0, 2e-4);
+}
+
+TEST(CohesiveMmb, OnceTheCrackRunsTheLoadTendsToEq69sAsThePlaneStrengthens) {
+  // While the crack grows the energy released goes into the plane's G_c whatever the mode
+  // mix (the law is isotropic in the jump, so any radial path dissipates G_c), and the load
+  // is LEFM's with G_I + G_II = G_c (eq. 69, and its continuation past mid-span). The zone's
+  // own mode mix drifts along its length, so the match is only as good as the zone is short:
+  // the load's excess over LEFM past Delta = 1.3 mm (crack past mid-span) shrinks as
+  // sigma_c grows.
+  const BeamTest t = mmb();
+  double previous = 1.0;
+  for (double sigma_c : {70e6, 140e6}) {
+    const auto curve = cohesive_mmb_curve(t, sigma_c, 2e-3, {0, 400});
+    double worst = 0.0;
+    int compared = 0;
+    for (const CohesiveBeamPoint& p : curve) {
+      if (p.delta < 1.3e-3) continue;
+      const auto lefm = analytic_load(t, 3, p.delta);
+      ASSERT_TRUE(lefm.has_value()) << "Delta = " << p.delta;
+      worst = std::max(worst, std::abs(p.load / *lefm - 1.0));
+      ++compared;
+    }
+    EXPECT_GT(compared, 100);
+    EXPECT_LT(worst, previous) << "sigma_c = " << sigma_c;
+    EXPECT_LT(worst, sigma_c < 100e6 ? 0.015 : 0.005) << "sigma_c = " << sigma_c;
+    previous = worst;
+    // The crack has run past mid-span, and stays well short of the far support.
+    EXPECT_GT(curve.back().crack, t.L);
+    EXPECT_LT(curve.back().crack, 2.0 * t.L - 5e-3);
+  }
+}
+
+TEST(CohesiveMmb, RefusesWhatItCannotSolve) {
+  BeamTest t = mmb();
+  EXPECT_THROW(cohesive_mmb_curve(enf(), 70e6, 1e-3), std::invalid_argument);
+  EXPECT_THROW(cohesive_mmb_curve(t, 0.0, 1e-3), std::invalid_argument);
+  t.g_Ic = 260.0;  // the law has one G_c
+  EXPECT_THROW(cohesive_mmb_curve(t, 70e6, 1e-3), std::invalid_argument);
 }

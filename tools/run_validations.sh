@@ -53,7 +53,7 @@ for name in "${names[@]}"; do
       printf "| %s | %s | %.1f %% | %.1f %% | %s | %g %% | %s | %d min %02d s |\n",
              name, $1, 100 * $5, 100 * $6, slope, 100 * $7, $8, wall / 60, wall % 60
     }' "$out/$name/errors.csv" >> "$summary.tmp"
-  # DCB and ENF: the same points against beam theory with the cohesive zone (no tolerance:
+  # The same points against beam theory with the cohesive zone (no tolerance:
   # the issue's are on the closed forms). errors_cohesive_beam.csv: stage,from_mm,to_mm,
   # points,mean_rel_error,max_rel_error
   if [[ -f $out/$name/errors_cohesive_beam.csv ]]; then
