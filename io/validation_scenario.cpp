@@ -22,7 +22,7 @@ constexpr std::string_view kSpecimenKeys[] = {"test",          "length",        
                                               "intact_length"};
 constexpr std::string_view kMaterialKeys[] = {
     "young", "poisson", "density", "cohesive_strength", "fracture_energy",
-    "g_Ic",  "g_IIc",   "contact_penalty", "friction", "initiation"};
+    "g_Ic",  "g_IIc",   "contact_penalty", "friction", "initiation", "compression"};
 constexpr std::string_view kLoadingKeys[] = {"velocity", "ramp_time", "deflection"};
 constexpr std::string_view kDynamicsKeys[] = {"dt_safety", "global_damping", "threads",
                                               "records"};
@@ -116,6 +116,10 @@ void read_material(const TableReader& t, ValidationScenario& v) {
       {{"displacement", physics::Initiation::displacement},
        {"traction", physics::Initiation::traction}},
       physics::Initiation::displacement);
+  m.compression = t.choose<physics::Compression>(
+      "compression",
+      {{"link", physics::Compression::link}, {"plane", physics::Compression::plane}},
+      physics::Compression::link);
 }
 
 void read_loading(const TableReader& t, double unit, ValidationScenario& v) {
@@ -239,11 +243,12 @@ std::string validation_scenario_as_run(const ValidationScenario& v) {
   out += fmt::format(
       "\n[material]\nyoung = {}\npoisson = {}\ndensity = {}\ncohesive_strength = {}\n"
       "fracture_energy = {}\ng_Ic = {}\ng_IIc = {}\ncontact_penalty = {}\nfriction = {}\n"
-      "initiation = \"{}\"\n",
+      "initiation = \"{}\"\ncompression = \"{}\"\n",
       toml_number(m.young), toml_number(m.poisson), toml_number(m.density), toml_number(m.sigma_c),
       toml_number(m.g_c), toml_number(r.g_Ic), toml_number(r.g_IIc), toml_number(m.kappa),
       toml_number(m.friction),
-      m.initiation == physics::Initiation::traction ? "traction" : "displacement");
+      m.initiation == physics::Initiation::traction ? "traction" : "displacement",
+      m.compression == physics::Compression::plane ? "plane" : "link");
   out += fmt::format("\n[loading]\nvelocity = {}\nramp_time = {}\ndeflection = {}\n",
                      toml_number(r.velocity), toml_number(r.ramp_time), toml_number(v.deflection));
   out += fmt::format(

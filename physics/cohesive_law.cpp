@@ -29,10 +29,14 @@ const char* to_string(LinkPhase phase) {
 }
 
 CohesiveTraction cohesive_traction(const CohesiveParams& p, const CohesiveLimits& lim, double dn,
-                                   double ds, CohesiveState& s) {
+                                   double ds, CohesiveState& s, double closing) {
   CohesiveTraction t;
   if (s.phase == LinkPhase::contact) return t;
-  const double open = std::max(dn, 0.0);  // Macaulay bracket <dn>
+  // The part of dn that is compression (the penalty's) and the rest, a separation: by
+  // default the Macaulay bracket, <dn> apart and min(dn, 0) pressed.
+  if (std::isnan(closing)) closing = std::min(dn, 0.0);
+  const double apart = dn - closing;
+  const double open = std::abs(apart);
   const bool traction = p.initiation == Initiation::traction;
   if (s.phase == LinkPhase::connective) {
     const double psi = traction ? std::hypot(open / lim.dn0, ds / lim.ds0)  // eq. 31
@@ -68,7 +72,7 @@ CohesiveTraction cohesive_traction(const CohesiveParams& p, const CohesiveLimits
   // Eqs 23-26: T = sigma_c (1 - d) lambda / lambda_max and T_i = T (delta_i / dc) / lambda;
   // the lambda cancels, which also covers lambda = 0 (zero traction at the origin).
   const double t_over_lambda = p.sigma_c * (1.0 - d) / s.lambda_max;
-  t.tn = dn > 0 ? t_over_lambda * dn / dc : p.kn * dn / p.area;  // compressive penalty
+  t.tn = t_over_lambda * apart / dc + p.kn * closing / p.area;  // plus the compressive penalty
   t.ts = t_over_lambda * ds / dc;
   return t;
 }

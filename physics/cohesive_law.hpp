@@ -39,6 +39,7 @@
 /// - In pure mode I it is the paper's law (d_i = dn0).
 
 #include <cstdint>
+#include <limits>
 
 namespace cleave::physics {
 
@@ -102,7 +103,8 @@ struct CohesiveTraction {
 /// with delta_nc = delta_sc = dc, plus the compressive penalty. A link whose lambda reaches 1
 /// turns to contact, and from then on returns zero traction for good.
 CohesiveTraction cohesive_traction(const CohesiveParams& p, const CohesiveLimits& lim, double dn,
-                                   double ds, CohesiveState& state);
+                                   double ds, CohesiveState& state,
+                                   double closing = std::numeric_limits<double>::quiet_NaN());
 
 /// Damage d of eq. 22: (lambda_max - lambda_cr) / (1 - lambda_cr) while cohesive, 0 while
 /// connective, 1 in contact.

@@ -320,8 +320,18 @@ void CubicLattice::compute_forces(double dt) {
       const bool first = l.kind == 1;
       const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
       const double ds = l.shear.norm();
+      double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
+      if (def_.material.compression == Compression::plane) {
+        // The plane's own opening here: the mean opening of the two first-neighbour links
+        // across it at the ends of this one (i below the plane, j above).
+        const int layer = nx_ * ny_;
+        const double ja = (x_[l.i + layer] - x_[l.i]).norm() - (x0_[l.i + layer] - x0_[l.i]).norm();
+        const double jb = (x_[l.j] - x_[l.j - layer]).norm() - (x0_[l.j] - x0_[l.j - layer]).norm();
+        const double jn = 0.5 * (ja + jb);
+        closing = std::min(jn, 0.0) * (x0_[l.j].z() - x0_[l.i].z()) / l.rest;
+      }
       const CohesiveTraction t =
-          cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state);
+          cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
       // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
       fj = -p.area * t.tn * n;
       if (ds > 0.0) fj -= (p.area * t.ts / ds) * l.shear;

@@ -248,6 +248,36 @@ TEST(CohesiveLaw, CompressionMeetsThePenaltyAndCountsInNeitherPsiNorLambda) {
   }
 }
 
+TEST(CohesiveLaw, AShorteningThatIsNotThePlaneClosingSeparatesAsAnOpeningDoes) {
+  // The lattice's "plane" reading (physics/cubic_lattice.hpp, Compression::plane) tells the
+  // law how much of a link's shortening is the plane closing; the rest separates. Shortened
+  // with nothing of it closing, the link is the mirror image of an opened one: the same
+  // tractions, opposite in sign, and the same work to decohesion, A (G_c + sigma_c dn0 / 2).
+  CohesiveState opened, shortened;
+  const int n = 20000;
+  const double end = 1.05 * kLim.dc, h = end / n;
+  double work = 0.0, prev = 0.0;
+  for (int i = 1; i <= n; ++i) {
+    const double dn = end * i / n;
+    const CohesiveTraction a = cohesive_traction(kParams, kLim, dn, 0.0, opened);
+    const CohesiveTraction b = cohesive_traction(kParams, kLim, -dn, 0.0, shortened, 0.0);
+    EXPECT_DOUBLE_EQ(b.tn, -a.tn) << "dn = " << dn;
+    EXPECT_EQ(shortened.phase, opened.phase);
+    work += 0.5 * (prev - b.tn) * h;  // the work done on the link as it is shortened
+    prev = -b.tn;
+  }
+  EXPECT_EQ(shortened.phase, LinkPhase::contact);
+  // Per unit area: 260 + 7e7 * 8.5902924e-8 / 2 = 263.00660 N/m.
+  EXPECT_NEAR(work, 263.00660, 1e-3 * 263.0);
+  // Where part of it is the plane closing, that part meets the penalty and the rest counts:
+  // connective, the spring is linear in the whole shortening whatever the split.
+  CohesiveState s;
+  const CohesiveTraction t = cohesive_traction(kParams, kLim, -0.5 * kLim.d0, 0.0, s, -0.2 * kLim.d0);
+  EXPECT_EQ(s.phase, LinkPhase::connective);
+  EXPECT_NEAR(s.psi_max, 0.3, 1e-12);  // |(-0.5 + 0.2) d0| / d0
+  EXPECT_DOUBLE_EQ(t.tn, -0.5 * kParams.kn * kLim.d0 / kParams.area);
+}
+
 // Initiation::traction (cleave's rule, physics/cohesive_law.hpp): a link turns cohesive where
 // its spring's traction reaches sigma_c, and softens from there with its own dc.
 namespace {

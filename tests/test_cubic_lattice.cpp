@@ -245,6 +245,72 @@ TEST(CohesiveLatticeLink, PullingTwoCubesApartDissipatesGcTimesTheEffectiveArea)
   EXPECT_NEAR(lat.external_work(), expected, 2e-3 * expected);
 }
 
+namespace {
+
+struct PlaneLaw {
+  double peak = 0;  ///< largest traction on the plane (Pa)
+  double work = 0;  ///< work per unit area of plane to move delta_max (N/m)
+};
+
+/// The weak plane's own traction-separation law: two layers of 5 x 5 cubes, the lower held,
+/// the upper moved rigidly along `axis` (0: slip, 2: opening) to delta_max, spins held; read
+/// on the middle upper cube, whose five links down are one cell of the plane.
+PlaneLaw sheared_or_opened_plane(int axis, Compression compression, double delta_max) {
+  CubicLatticeDef def;
+  def.nx = def.ny = 5;
+  def.nz = 2;
+  def.radius = 0.125e-3;
+  def.material = paper_material();
+  def.material.g_c = 1002.0;  // G_IIc of the ENF
+  def.material.compression = compression;
+  def.weak_layer = 1;
+  def.link_bending = 1.5;
+  CubicLattice lat(def);
+  for (int b = 0; b < lat.size(); ++b) lat.prescribe(b, 15u);
+  const int steps = 20000;
+  const double dt = 1e-9, v = delta_max / (steps * dt), area = 4 * def.radius * def.radius;
+  for (int iy = 0; iy < 5; ++iy)
+    for (int ix = 0; ix < 5; ++ix) lat.set_velocity(lat.index(ix, iy, 1), axis, v);
+  const int middle = lat.index(2, 2, 1);
+  PlaneLaw law;
+  double prev = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    lat.step(dt);
+    const double t = -lat.forces()[middle][axis] / area;
+    law.work += 0.5 * (prev + t) * v * dt;
+    law.peak = std::max(law.peak, t);
+    prev = t;
+  }
+  return law;
+}
+
+}  // namespace
+
+TEST(WeakPlane, OpenedOrShearedItPeaksAtSigmaCAndPartsWithGcWhenOnlyItsClosingIsCompression) {
+  // A cell of plane holds one first-neighbour link and four second neighbours, whose areas
+  // tile it (tiled_areas): opened, each parts with A G_c, so the plane with G_c per unit area
+  // (plus the little elastic energy before initiation, sigma_c d0 / 2 = 3.4 N/m). Slipped, a
+  // second neighbour at 45 degrees either lengthens or shortens by s / sqrt 2; with
+  // Compression::plane that shortening separates too, so slip parts the plane with the same
+  // G_c and strength: the mode-II law the ENF needs. 4 G_c / sigma_c (57 um) is past every
+  // link's decohesion (dc = 28.7 um; a diagonal sees s / sqrt 2 or s).
+  const double gc = 1002.0, sigma_c = 70e6, delta = 4.0 * gc / sigma_c;
+  for (int axis : {2, 0}) {
+    const PlaneLaw law = sheared_or_opened_plane(axis, Compression::plane, delta);
+    SCOPED_TRACE(axis == 0 ? "slip" : "opening");
+    EXPECT_NEAR(law.peak / sigma_c, 1.0, 0.01);
+    EXPECT_NEAR(law.work / gc, 1.0, 0.01);
+  }
+  // The paper's reading: the shortened diagonals stay in compression as struts until their
+  // shear part alone reaches dc (s = sqrt 2 dc = 40 um): the slipped plane carries tens of
+  // sigma_c and takes tens of G_c to part. Opening is the same under both readings.
+  const PlaneLaw slip = sheared_or_opened_plane(0, Compression::link, delta);
+  EXPECT_GT(slip.peak, 10 * sigma_c);
+  EXPECT_GT(slip.work, 10 * gc);
+  const PlaneLaw open = sheared_or_opened_plane(2, Compression::link, delta);
+  EXPECT_NEAR(open.work / gc, 1.0, 0.01);
+}
+
 TEST(CubeFaceContact, HertzLawOverTheFacesCommonPatch) {
   // Two cubes across a notch (the link starts decohered): pressed together by delta, the
   // force is eq. 34 with r* = r/2 (equal cubes); shifted sideways by half a side, half of

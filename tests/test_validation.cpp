@@ -244,6 +244,7 @@ TEST(ValidationScenarioAsRun, EveryShippedScenarioReadsBackEqual) {
     EXPECT_EQ(a.mean_measure, b.mean_measure);
     EXPECT_EQ(ra.tiled_areas, rb.tiled_areas);
     EXPECT_EQ(ra.material.initiation, rb.material.initiation);
+    EXPECT_EQ(ra.material.compression, rb.material.compression);
     ++checked;
   }
   EXPECT_GE(checked, 8);
