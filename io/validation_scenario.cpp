@@ -118,8 +118,8 @@ void read_material(const TableReader& t, ValidationScenario& v) {
       physics::Initiation::displacement);
   m.compression = t.choose<physics::Compression>(
       "compression",
-      {{"link", physics::Compression::link}, {"plane", physics::Compression::plane}},
-      physics::Compression::link);
+      {{"plane", physics::Compression::plane}, {"link", physics::Compression::link}},
+      physics::Compression::plane);
 }
 
 void read_loading(const TableReader& t, double unit, ValidationScenario& v) {
