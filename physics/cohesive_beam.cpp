@@ -289,6 +289,25 @@ class Solver {
 };
 
 
+/// A quadrature point with the shape functions' slopes too (the ENF's and MMB's slips).
+struct Quad {
+  GaussPoint g;
+  std::array<double, 4> dN;
+};
+
+/// Sets p.crack, where the plane has decohered (history at least dc) from p.crack = a0 on
+/// without a gap wider than two elements (spacing: the first element's length), and
+/// p.process_zone, the farthest point of the plane that has softened.
+void mark_crack(CohesiveBeamPoint& p, const std::vector<Quad>& quad, double dc, double spacing) {
+  double crack = p.crack;
+  for (const Quad& q : quad) {
+    if (!q.g.weak) continue;
+    if (q.g.open_max > 0.0) p.process_zone = std::max(p.process_zone, q.g.x);
+    if (q.g.open_max >= dc && q.g.x <= crack + 2.0 * spacing + 1e-12) crack = std::max(crack, q.g.x);
+  }
+  p.crack = crack;
+}
+
 /// dN/dx of the Hermite shape functions of an element of length e at xi.
 std::array<double, 4> hermite_dx(double xi, double e) {
   const double x2 = xi * xi;
@@ -374,24 +393,11 @@ class EnfSolver {
 
   [[nodiscard]] CohesiveBeamPoint point() const {
     CohesiveBeamPoint p{0.0 - u_[4 * mid_], load_, 0.0, a0_, a0_};  // 0 - 0 is +0
-    // The crack: decohered from a0 on without a gap; the zone: the farthest softened point.
-    double crack = a0_;
-    for (const Quad& q : quad_) {
-      if (!q.g.weak) continue;
-      if (q.g.open_max > 0.0) p.process_zone = std::max(p.process_zone, q.g.x);
-      if (q.g.open_max >= f_.dc && q.g.x <= crack + 2.0 * (x_[1] - x_[0]) + 1e-12)
-        crack = std::max(crack, q.g.x);
-    }
-    p.crack = crack;
+    mark_crack(p, quad_, f_.dc, x_[1] - x_[0]);
     return p;
   }
 
  private:
-  struct Quad {
-    GaussPoint g;
-    std::array<double, 4> dN;
-  };
-
   [[nodiscard]] std::array<int, 3> fixed() const {
     return {0, 4 * mid_, dofs_ - 4};  // w on both supports, and the load line's
   }
@@ -648,23 +654,11 @@ class MmbSolver {
 
   [[nodiscard]] CohesiveBeamPoint point() const {
     CohesiveBeamPoint p{u_[0], load_, 0.0, a0_, a0_};
-    double crack = a0_;
-    for (const Quad& q : quad_) {
-      if (!q.g.weak) continue;
-      if (q.g.open_max > 0.0) p.process_zone = std::max(p.process_zone, q.g.x);
-      if (q.g.open_max >= plane_.dc && q.g.x <= crack + 2.0 * (x_[1] - x_[0]) + 1e-12)
-        crack = std::max(crack, q.g.x);
-    }
-    p.crack = crack;
+    mark_crack(p, quad_, plane_.dc, x_[1] - x_[0]);
     return p;
   }
 
  private:
-  struct Quad {
-    GaussPoint g;
-    std::array<double, 4> dN;
-  };
-
   [[nodiscard]] std::array<int, 3> fixed() const {
     return {0, 2, dofs_ - 4};  // the end's rise, the supports under the lower arm
   }
