@@ -202,31 +202,29 @@ int validate_command(const ValidateOptions& options) {
     // Its plane has the lattice's G_c (one value for every mode mix, as the lattice's law).
     std::vector<physics::CohesiveBeamPoint> czm;
     std::string czm_note;
-    {
-      try {
-        physics::BeamTest one_gc = test;
-        one_gc.g_Ic = one_gc.g_IIc = v.rig.material.g_c;
-        switch (v.rig.kind) {
-          case physics::BeamTestKind::dcb:
-            czm = physics::cohesive_dcb_curve(one_gc, v.rig.material.sigma_c,
-                                              v.rig.intact_length, v.deflection);
-            break;
-          case physics::BeamTestKind::enf:
-            czm = physics::cohesive_enf_curve(one_gc, v.rig.material.sigma_c, v.deflection);
-            break;
-          case physics::BeamTestKind::mmb:
-            czm = physics::cohesive_mmb_curve(one_gc, v.rig.material.sigma_c, v.deflection);
-            break;
-        }
-        std::string ccsv = "delta_mm,load_N,crack_mm,process_zone_mm\n";
-        for (const auto& p : czm)
-          ccsv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", p.delta * 1e3, p.load,
-                              p.crack * 1e3, p.process_zone * 1e3);
-        io::write_file_atomically(out / "cohesive_beam.csv", ccsv);
-      } catch (const std::exception& e) {
-        czm.clear();
-        czm_note = e.what();
+    try {
+      physics::BeamTest one_gc = test;
+      one_gc.g_Ic = one_gc.g_IIc = v.rig.material.g_c;
+      switch (v.rig.kind) {
+        case physics::BeamTestKind::dcb:
+          czm = physics::cohesive_dcb_curve(one_gc, v.rig.material.sigma_c,
+                                            v.rig.intact_length, v.deflection);
+          break;
+        case physics::BeamTestKind::enf:
+          czm = physics::cohesive_enf_curve(one_gc, v.rig.material.sigma_c, v.deflection);
+          break;
+        case physics::BeamTestKind::mmb:
+          czm = physics::cohesive_mmb_curve(one_gc, v.rig.material.sigma_c, v.deflection);
+          break;
       }
+      std::string ccsv = "delta_mm,load_N,crack_mm,process_zone_mm\n";
+      for (const auto& p : czm)
+        ccsv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", p.delta * 1e3, p.load,
+                            p.crack * 1e3, p.process_zone * 1e3);
+      io::write_file_atomically(out / "cohesive_beam.csv", ccsv);
+    } catch (const std::exception& e) {
+      czm.clear();
+      czm_note = e.what();
     }
 
     // Errors per stage and the peak.
