@@ -17,8 +17,8 @@
 #include "io/scenario_writer.hpp"
 #include "io/scenario.hpp"
 #include "io/validation_scenario.hpp"
-#include "physics/beam_test_rig.hpp"
-#include "physics/cohesive_beam.hpp"
+#include "validation/beam_test_rig.hpp"
+#include "validation/cohesive_beam.hpp"
 #include "run_control.hpp"
 
 namespace cleave::app {
@@ -198,7 +198,7 @@ int validate_command(const ValidateOptions& options) {
                           p.crack * 1e3);
     io::write_file_atomically(out / "analytic.csv", acsv);
     // The same beam theory with the weak plane's cohesive zone in place of LEFM's sharp tip
-    // (physics/cohesive_beam.hpp): what the closed form says with the scenario's sigma_c.
+    // (validation/cohesive_beam.hpp): what the closed form says with the scenario's sigma_c.
     // Its plane has the lattice's G_c (one value for every mode mix, as the lattice's law).
     std::vector<physics::CohesiveBeamPoint> czm;
     std::string czm_note;

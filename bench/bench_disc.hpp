@@ -10,8 +10,8 @@
 #include <memory>
 
 #include "geometry/specimen.hpp"
-#include "physics/fracture_book.hpp"
-#include "physics/world.hpp"
+#include "physics/transgranular/fracture_book.hpp"
+#include "physics/dem/world.hpp"
 
 namespace cleave::bench {
 

@@ -44,10 +44,10 @@
 
 #include "geometry/specimen.hpp"
 #include "geometry/rng.hpp"
-#include "physics/contact_law.hpp"
+#include "physics/dem/contact_law.hpp"
 #include "io/result_dir.hpp"
-#include "physics/state_codec.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/state_codec.hpp"
+#include "physics/dem/world.hpp"
 
 using namespace cleave;
 

@@ -15,9 +15,9 @@
 #include <memory>
 
 #include "geometry/specimen.hpp"
-#include "physics/fracture_book.hpp"
-#include "physics/transgranular.hpp"
-#include "physics/world.hpp"
+#include "physics/transgranular/fracture_book.hpp"
+#include "physics/transgranular/transgranular.hpp"
+#include "physics/dem/world.hpp"
 #include "bench_disc.hpp"
 
 using namespace cleave;

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "io/validation_scenario.hpp"
-#include "physics/beam_test_rig.hpp"
+#include "validation/beam_test_rig.hpp"
 
 using namespace cleave;
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "geometry/rng.hpp"
-#include "physics/neighbour_search.hpp"
+#include "physics/dem/neighbour_search.hpp"
 
 using cleave::geometry::SplitMix64;
 using namespace cleave::physics;

@@ -12,7 +12,7 @@
 
 #include "io/exact_store.hpp"
 #include "io/result_dir.hpp"
-#include "physics/state_codec.hpp"
+#include "physics/dem/state_codec.hpp"
 
 namespace cleave::io {
 

@@ -15,7 +15,7 @@
 ///                   book: present flag, then the FractureBook (exact shapes as the text of
 ///                         io/exact_store.hpp, exact planes as ExactPlane text, lineages,
 ///                         candidate planes, cuts made)
-///                   run: the run loop's own state (app/dynamics_run.cpp: stage, steps in
+///                   run: the run loop's own state (sim/dynamics.cpp: stage, steps in
 ///                        it, histories written so far), opaque here
 ///   last 64 bytes SHA-256 of everything before it, lowercase hex
 /// Exact numbers are written as exact rationals; doubles as their bit patterns.
@@ -32,8 +32,8 @@
 #include <string>
 #include <string_view>
 
-#include "physics/fracture_book.hpp"
-#include "physics/world.hpp"
+#include "physics/transgranular/fracture_book.hpp"
+#include "physics/dem/world.hpp"
 
 namespace cleave::io {
 
@@ -62,7 +62,7 @@ struct Checkpoint {
   CheckpointMeta meta;
   physics::World world;
   std::optional<physics::FractureBook> book;
-  std::string run_state;  ///< the run loop's own state (app/dynamics_run.cpp)
+  std::string run_state;  ///< the run loop's own state (sim/dynamics.cpp)
 };
 
 /// The bytes of a checkpoint file.

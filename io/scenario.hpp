@@ -14,11 +14,11 @@
 #include "geometry/specimen.hpp"
 #include "io/mesh_grains.hpp"
 #include "io/mesh_io.hpp"
-#include "physics/bond_law.hpp"
-#include "physics/contact_law.hpp"
-#include "physics/fracture_criterion.hpp"
-#include "physics/neighbour_search.hpp"
-#include "physics/wall.hpp"
+#include "physics/bonds/bond_law.hpp"
+#include "physics/dem/contact_law.hpp"
+#include "physics/transgranular/fracture_criterion.hpp"
+#include "physics/dem/neighbour_search.hpp"
+#include "physics/dem/wall.hpp"
 
 namespace cleave::io {
 

@@ -12,7 +12,7 @@
 ///                     each of length, breadth, height a whole number of diameters 2r
 ///                     mode_mix = 0.5 (MMB only, required there: beta = G_II/G_T in (0, 1))
 ///                     bending_springs = 1 (>= 0: the links' bending springs as a multiple of
-///                     E (2r)^3 / 12; 0 gives the paper's lattice, see physics/cubic_lattice.hpp)
+///                     E (2r)^3 / 12; 0 gives the paper's lattice, see physics/lattice/cubic_lattice.hpp)
 ///                     effective_areas = "tiled" (default: eq. 10's areas scaled to tile a
 ///                     plane, physics::tiled_areas) or "paper" (eq. 10 as it stands)
 ///                     intact_length = 0 (DCB only; length unit, a whole number of 2r: the
@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/beam_test_rig.hpp"
+#include "validation/beam_test_rig.hpp"
 
 namespace cleave::io {
 

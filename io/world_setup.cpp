@@ -90,7 +90,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.threads = dyn.threads;
   ws.local_damping = dyn.local_damping;
   physics::World world(ws);
-  // World shape k is specimen shape k (dynamics_run registers them so with the fracture book).
+  // World shape k is specimen shape k (sim/dynamics.cpp registers them so with the fracture book).
   std::vector<std::uint32_t> ids;
   for (const auto& shape : shapes) ids.push_back(world.add_shape(shape));
   std::vector<double> shape_low;

@@ -6,7 +6,7 @@
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/world.hpp"
 
 namespace cleave::io {
 

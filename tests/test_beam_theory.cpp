@@ -10,7 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "physics/beam_theory.hpp"
+#include "validation/beam_theory.hpp"
 
 using namespace cleave::physics;
 

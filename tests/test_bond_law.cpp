@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "physics/bond_law.hpp"
+#include "physics/bonds/bond_law.hpp"
 
 using namespace cleave::physics;
 

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "geometry/exact_polyhedron.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/world.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;

@@ -16,15 +16,15 @@
 #include <sstream>
 #include <thread>
 
-#include "app/dynamics_run.hpp"
+#include "sim/dynamics.hpp"
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/specimen.hpp"
 #include "io/checkpoint.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
-#include "physics/rigid_shape.hpp"
-#include "physics/state_codec.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/rigid_shape.hpp"
+#include "physics/dem/state_codec.hpp"
+#include "physics/dem/world.hpp"
 
 extern char** environ;
 
@@ -129,7 +129,7 @@ class Checkpoint : public ::testing::Test {
 struct StoppedRun {
   std::uint64_t step = 0;
   std::size_t breaks = 0, pieces = 0;
-  app::DynamicsSummary summary;
+  sim::DynamicsSummary summary;
 };
 
 }  // namespace
@@ -160,8 +160,8 @@ TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTh
 
   // 1. The run without interruption.
   const fs::path whole = dir_ / "whole";
-  const app::DynamicsSummary reference = app::run_dynamics(scenario, specimen, whole, true);
-  ASSERT_EQ(reference.ending, app::RunEnding::completed);
+  const sim::DynamicsSummary reference = sim::run_dynamics(scenario, specimen, whole, true);
+  ASSERT_EQ(reference.ending, sim::RunEnding::completed);
   ASSERT_GT(reference.bond_counts.broken(), 0u);
   ASSERT_GT(reference.splits, 0u);
 
@@ -175,9 +175,9 @@ TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTh
   meta.scenario_text = slurp(kScenario);
   StoppedRun stopped;
   bool stop = false;
-  app::RunHooks hooks;
+  sim::RunHooks hooks;
   hooks.checkpoint_every = 1;
-  hooks.on_checkpoint = [&](const app::RunPoint& p) {
+  hooks.on_checkpoint = [&](const sim::RunPoint& p) {
     if (stop || p.stage != "loading" || p.world.bond_breaks().empty() || !p.book) return;
     std::size_t pieces = 0;
     for (const auto& e : p.book->entries(p.world)) pieces += e.lineage.path.empty() ? 0 : 1;
@@ -189,8 +189,8 @@ TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTh
     stop = true;
   };
   hooks.stop_requested = [&] { return stop; };
-  stopped.summary = app::run_dynamics(scenario, specimen, part, true, 0, hooks);
-  ASSERT_EQ(stopped.summary.ending, app::RunEnding::interrupted);
+  stopped.summary = sim::run_dynamics(scenario, specimen, part, true, 0, hooks);
+  ASSERT_EQ(stopped.summary.ending, sim::RunEnding::interrupted);
   ASSERT_GT(stopped.step, 0u) << "no step had both a broken bond and a split grain";
   EXPECT_GT(stopped.breaks, 0u);
   EXPECT_GT(stopped.pieces, 0u);
@@ -202,10 +202,10 @@ TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTh
   EXPECT_EQ(ck.world.steps(), stopped.step);
   EXPECT_EQ(ck.meta.scenario_text, meta.scenario_text);
   ASSERT_TRUE(ck.book.has_value());
-  app::RunResume resume{std::move(ck.world), std::move(ck.book), std::move(ck.run_state)};
-  const app::DynamicsSummary restarted =
-      app::run_dynamics(scenario, specimen, part, true, 0, {}, &resume);
-  EXPECT_EQ(restarted.ending, app::RunEnding::completed);
+  sim::RunResume resume{std::move(ck.world), std::move(ck.book), std::move(ck.run_state)};
+  const sim::DynamicsSummary restarted =
+      sim::run_dynamics(scenario, specimen, part, true, 0, {}, &resume);
+  EXPECT_EQ(restarted.ending, sim::RunEnding::completed);
   EXPECT_EQ(restarted.state_hash, reference.state_hash);
   EXPECT_EQ(restarted.steps, reference.steps);
   EXPECT_EQ(restarted.time, reference.time);

@@ -1,4 +1,4 @@
-// The DCB as corrected beam theory with a cohesive zone (physics/cohesive_beam.hpp). Checked
+// The DCB as corrected beam theory with a cohesive zone (validation/cohesive_beam.hpp). Checked
 // against closed forms at both ends: before the zone opens the arm is a cantilever on
 // Winkler's elastic foundation (Hetenyi's semi-infinite beam); while the crack grows the
 // J-integral of the arm equals the fracture energy (Paris & Paris: J B' = 2 P theta at the
@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "physics/beam_theory.hpp"
-#include "physics/cohesive_beam.hpp"
+#include "validation/beam_theory.hpp"
+#include "validation/cohesive_beam.hpp"
 
 using namespace cleave::physics;
 

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "physics/cohesive_law.hpp"
-#include "physics/hertz_mindlin.hpp"
+#include "physics/bonds/cohesive_law.hpp"
+#include "physics/lattice/hertz_mindlin.hpp"
 
 using namespace cleave::physics;
 
@@ -249,7 +249,7 @@ TEST(CohesiveLaw, CompressionMeetsThePenaltyAndCountsInNeitherPsiNorLambda) {
 }
 
 TEST(CohesiveLaw, AShorteningThatIsNotThePlaneClosingSeparatesAsAnOpeningDoes) {
-  // The lattice's "plane" reading (physics/cubic_lattice.hpp, Compression::plane) tells the
+  // The lattice's "plane" reading (physics/lattice/cubic_lattice.hpp, Compression::plane) tells the
   // law how much of a link's shortening is the plane closing; the rest separates. Shortened
   // with nothing of it closing, the link is the mirror image of an opened one: the same
   // tractions, opposite in sign, and the same work to decohesion, A (G_c + sigma_c dn0 / 2).
@@ -278,7 +278,7 @@ TEST(CohesiveLaw, AShorteningThatIsNotThePlaneClosingSeparatesAsAnOpeningDoes) {
   EXPECT_DOUBLE_EQ(t.tn, -0.5 * kParams.kn * kLim.d0 / kParams.area);
 }
 
-// Initiation::traction (cleave's rule, physics/cohesive_law.hpp): a link turns cohesive where
+// Initiation::traction (cleave's rule, physics/bonds/cohesive_law.hpp): a link turns cohesive where
 // its spring's traction reaches sigma_c, and softens from there with its own dc.
 namespace {
 

@@ -1,4 +1,4 @@
-// Contact kernels between the primitives of dilated polyhedra (physics/contact_kernels.hpp).
+// Contact kernels between the primitives of dilated polyhedra (physics/dem/contact_kernels.hpp).
 //
 // Hand-computed cases: every expected point, normal and penetration below is worked out in
 // the comments from the definitions (penetration = sum of radii - distance between the
@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "geometry/rng.hpp"
-#include "physics/contact_kernels.hpp"
+#include "physics/dem/contact_kernels.hpp"
 
 using cleave::geometry::SplitMix64;
 using Eigen::Vector3d;

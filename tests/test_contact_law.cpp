@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "geometry/exact_polyhedron.hpp"
-#include "physics/contact_law.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/contact_law.hpp"
+#include "physics/dem/world.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;

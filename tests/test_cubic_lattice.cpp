@@ -8,8 +8,8 @@
 #include <cstdio>
 
 #include "io/validation_scenario.hpp"
-#include "physics/beam_test_rig.hpp"
-#include "physics/cubic_lattice.hpp"
+#include "validation/beam_test_rig.hpp"
+#include "physics/lattice/cubic_lattice.hpp"
 
 using namespace cleave::physics;
 

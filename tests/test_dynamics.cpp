@@ -8,7 +8,7 @@
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
 #include "io/world_setup.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/world.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;

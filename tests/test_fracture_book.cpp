@@ -5,8 +5,8 @@
 
 #include <set>
 
-#include "physics/fracture_book.hpp"
-#include "physics/transgranular.hpp"
+#include "physics/transgranular/fracture_book.hpp"
+#include "physics/transgranular/transgranular.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;

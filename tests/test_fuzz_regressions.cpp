@@ -15,7 +15,7 @@
 #include "io/mesh_io.hpp"
 #include "io/scenario.hpp"
 #include "io/validation_scenario.hpp"
-#include "physics/state_codec.hpp"
+#include "physics/dem/state_codec.hpp"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "physics/grain_stress.hpp"
+#include "physics/bonds/grain_stress.hpp"
 
 using namespace cleave::physics;
 

@@ -7,7 +7,7 @@
 
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/rng.hpp"
-#include "physics/narrow_phase.hpp"
+#include "physics/dem/narrow_phase.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "geometry/rng.hpp"
-#include "physics/neighbour_search.hpp"
+#include "physics/dem/neighbour_search.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "geometry/exact_polyhedron.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/world.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;

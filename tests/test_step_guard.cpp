@@ -1,4 +1,4 @@
-// The step guard (physics/step_guard.hpp): a run that blows up is caught at the step it
+// The step guard (physics/dem/step_guard.hpp): a run that blows up is caught at the step it
 // happens, with the body and a time step that would have kept the motion in bounds.
 #include <gtest/gtest.h>
 
@@ -6,9 +6,9 @@
 #include <limits>
 
 #include "geometry/exact_polyhedron.hpp"
-#include "physics/rigid_shape.hpp"
-#include "physics/step_guard.hpp"
-#include "physics/world.hpp"
+#include "physics/dem/rigid_shape.hpp"
+#include "physics/dem/step_guard.hpp"
+#include "physics/dem/world.hpp"
 
 using namespace cleave::physics;
 

@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "physics/crack_plane.hpp"
-#include "physics/face_traction.hpp"
-#include "physics/fracture_criterion.hpp"
+#include "physics/transgranular/crack_plane.hpp"
+#include "physics/transgranular/face_traction.hpp"
+#include "physics/transgranular/fracture_criterion.hpp"
 
 using namespace cleave::physics;
 using Eigen::Vector3d;

@@ -1,0 +1,88 @@
+#include "physics/bonds/bond_law.hpp"
+#include "physics/bonds/tangent.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cleave::physics {
+
+double BondSection::area() const { return M_PI * radius * radius; }
+double BondSection::inertia() const { return 0.25 * M_PI * (radius * radius) * (radius * radius); }
+double BondSection::polar() const { return 2.0 * inertia(); }
+
+BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
+                      const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
+                      BondState& b, double dt) {
+  BondResult out;
+  if (b.broken) return out;
+  // Spring stiffnesses from the continuum ones (eqs 2.10, 2.11).
+  const double Kbn = p.kbn * s.area();
+  const double Kbs = p.kbs * s.area();
+  const double Kbr = p.kbn * s.inertia();
+  const double Kbt = p.kbs * s.polar();
+  // Increments (eqs 2.12, 2.13): opening along n is tension.
+  const double vn = velocity.dot(n);
+  const Eigen::Vector3d vs = velocity - vn * n;
+  const double wt = spin.dot(n);
+  const Eigen::Vector3d wr = spin - wt * n;
+  b.normal += Kbn * vn * dt;
+  b.shear = into_plane(b.shear, n) - Kbs * dt * vs;
+  b.bending = into_plane(b.bending, n) - Kbr * dt * wr;
+  b.torsion -= Kbt * dt * wt;
+  if (p.law == BondLaw::cohesive) {
+    const double A = s.area();
+    const double dn = b.normal / Kbn;
+    const double shear = b.shear.norm();
+    const double ds = Kbs > 0.0 ? shear / Kbs : 0.0;
+    const CohesiveParams cp{Kbn, Kbs, A, p.sigma_c, p.g_c};
+    const CohesiveLimits limits = cohesive_limits(cp);
+    const CohesiveTraction t = cohesive_traction(cp, limits, dn, ds, b.cohesive);
+    if (b.cohesive.phase == LinkPhase::contact) {
+      out.failure = std::max(dn, 0.0) >= ds ? BondFailure::tension : BondFailure::shear;
+      out.at_failure = b;
+      b = BondState{};
+      b.broken = true;
+      b.cohesive.phase = LinkPhase::contact;
+      return out;
+    }
+    // Eqs 27-29: tractions times the area; tension pulls B back, shear opposes the slip.
+    out.force = -A * t.tn * n;
+    if (shear > 0.0) out.force += (A * t.ts / shear) * b.shear;
+    out.moment = (1.0 - damage(limits, b.cohesive)) * (b.bending + b.torsion * n);
+    return out;
+  }
+  // Limits (eq. 2.15) and failure (eq. 2.16), checked in this order.
+  const double r = s.radius;
+  if (b.normal > p.tbn * s.area()) {
+    out.failure = BondFailure::tension;
+  } else if (b.shear.norm() > p.tbs * s.area()) {
+    out.failure = BondFailure::shear;
+  } else if (b.bending.norm() > p.tbn * s.inertia() / r) {
+    out.failure = BondFailure::bending;
+  } else if (std::abs(b.torsion) > p.tbs * s.polar() / r) {
+    out.failure = BondFailure::torsion;
+  }
+  if (out.failure != BondFailure::none) {
+    out.at_failure = b;
+    b = BondState{};
+    b.broken = true;
+    return out;
+  }
+  // Tension pulls B back towards A.
+  out.force = -b.normal * n + b.shear;
+  out.moment = b.bending + b.torsion * n;
+  return out;
+}
+
+const char* to_string(BondFailure mode) {
+  switch (mode) {
+    case BondFailure::none: return "none";
+    case BondFailure::tension: return "tension";
+    case BondFailure::shear: return "shear";
+    case BondFailure::bending: return "bending";
+    case BondFailure::torsion: return "torsion";
+  }
+  return "unknown";
+}
+
+}  // namespace cleave::physics

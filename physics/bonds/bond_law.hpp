@@ -1,0 +1,91 @@
+#pragma once
+/// \file
+/// The bond law of sec. 2.3.3 (eqs 2.9-2.16) of the dissertation (seed 000), as a pure
+/// function: a bonded contact carries normal and shear forces and rolling (bending) and
+/// torsional moments, all incremental from the relative motion at the bond, in parallel
+/// with the contact law; it breaks for good when any of them passes its limit.
+///
+/// Readings fixed here:
+/// - Eq. 2.11 prints K_br = k_bs J_b and K_bt = k_bn I_b, while eq. 2.15 limits bending by
+///   t_bn I/r and torsion by t_bs J/r. As in the bonded-particle model the section follows
+///   (Potyondy & Cundall 2004), bending goes with the normal stiffness and the area moment,
+///   torsion with the shear stiffness and the polar moment: K_br = k_bn I_b, K_bt = k_bs J_b.
+/// - Eq. 2.16 prints the moment conditions as equalities with a friction term; they are read
+///   as M_br > M_r_limit and M_bt > M_t_limit, like the force conditions.
+/// - The normal force is positive in tension; the tension limit applies to tension only.
+
+#include <Eigen/Dense>
+
+#include "physics/bonds/cohesive_law.hpp"
+
+namespace cleave::physics {
+
+/// Which law a bond follows once it is loaded.
+enum class BondLaw {
+  /// The bonded-particle law of the dissertation (eqs 2.9-2.16): brittle, breaks at a limit.
+  bonded_particle,
+  /// The cohesive crack law of Chen et al. 2020 (seed 002, eqs 14-33): the same springs until
+  /// the circular initiation criterion (eq. 32), then linear softening that dissipates G_c per
+  /// unit bond area before the bond lets go (lambda = 1, eq. 16).
+  cohesive,
+};
+
+/// Eqs 2.9 and 2.14: continuum stiffnesses (N/m^3: stress per opening) and strengths (Pa).
+struct BondParams {
+  double kbn = 0.0;  ///< bond normal stiffness k_bn
+  double kbs = 0.0;  ///< bond shear stiffness k_bs
+  double tbn = 0.0;  ///< bond normal ("tensile") strength t_bn (bonded-particle law)
+  double tbs = 0.0;  ///< bond shear strength t_bs (bonded-particle law)
+  BondLaw law = BondLaw::bonded_particle;
+  double sigma_c = 0.0;  ///< cohesive law: strength (Pa), T_n0 = T_s0 = sigma_c
+  double g_c = 0.0;      ///< cohesive law: critical energy release rate (N/m), eq. 18
+};
+
+/// The bond's section (eqs 2.10, 2.11, 2.15): radius r, A = pi r^2, I = pi r^4 / 4, J = 2 I.
+struct BondSection {
+  double radius = 0.0;
+  [[nodiscard]] double area() const;
+  [[nodiscard]] double inertia() const;  ///< I_b
+  [[nodiscard]] double polar() const;    ///< J_b
+};
+
+/// What a bond carries from step to step (all on B, world axes).
+struct BondState {
+  double normal = 0.0;                                ///< F_bn, positive in tension
+  Eigen::Vector3d shear = Eigen::Vector3d::Zero();    ///< F_bs
+  Eigen::Vector3d bending = Eigen::Vector3d::Zero();  ///< M_br
+  double torsion = 0.0;                               ///< M_bt about the normal
+  CohesiveState cohesive;  ///< the cohesive law's phase and history (eqs 21, 33)
+  bool broken = false;
+};
+
+enum class BondFailure { none, tension, shear, bending, torsion };
+
+struct BondResult {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B (A gets the opposite)
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();  ///< on B
+  BondFailure failure = BondFailure::none;           ///< set on the step it breaks
+  BondState at_failure;  ///< the loads that broke it (when `failure` is set)
+};
+
+/// Lower-case name of a failure mode ("none", "tension", ...).
+const char* to_string(BondFailure mode);
+
+/// One step of the bond at unit normal n (from A towards B) with relative velocity
+/// `velocity` (B's material point minus A's at the bond) and relative spin `spin`
+/// (w_B - w_A): eqs 2.12-2.13 increment the state, eq. 2.16 checks the limits of eq. 2.15.
+/// A bond that breaks returns no force and stays broken.
+///
+/// With the cohesive law, the springs of eqs 2.12-2.13 measure the separations, delta_n =
+/// F_bn / K_bn and delta_s = |F_bs| / K_bs, which go through cohesive_traction with the
+/// spring stiffnesses K_bn, K_bs and the bond area (a bond's traction is its force per area,
+/// so eq. 2.9's k_bn is eq. 7's k_n / A). Readings: the bending and torsion moments of eq.
+/// 2.13 (which the seed's point-contact model has no counterpart for) are carried while
+/// connective and scaled by (1 - d) once cohesive; the limits of eq. 2.15 do not apply; a bond
+/// whose lambda reaches 1 breaks, logged as tension or shear by the larger of <delta_n> and
+/// delta_s at that moment.
+BondResult bond_force(const BondParams& p, const BondSection& section, const Eigen::Vector3d& n,
+                      const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
+                      BondState& state, double dt);
+
+}  // namespace cleave::physics

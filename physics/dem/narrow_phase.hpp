@@ -1,0 +1,118 @@
+#pragma once
+/// \file
+/// Fine contact detection between two dilated convex polyhedra (sec. 2.3.1, App. B.2 of
+/// the dissertation, seed 000) from the primitive kernels of contact_kernels.hpp.
+///
+/// Which primitive pairs count, so that one touching region is never counted twice and
+/// the result does not depend on how faces are triangulated (faces are whole polygons):
+/// - a face of A and a face of B that face each other (outward normals opposite within
+///   about 6 degrees) and are within reach form a patch: contacts at the corners of the
+///   overlap of the two polygons seen along their common normal (A's corners over B's
+///   face, B's corners over A's face, and the crossings of the two rims). These points move
+///   continuously as the faces rock, where single-feature contacts would flicker. The
+///   patch replaces every vertex and edge contact between those two faces;
+/// - every vertex of A against B, and every vertex of B against A: the vertex's sphere is
+///   tested against the one feature of the other body that holds its closest point (a
+///   face interior -> sphere-facet, an edge interior -> sphere-cylinder, a corner ->
+///   sphere-sphere); corner-corner pairs are taken from A's side only;
+/// - edge against edge (cylinder-cylinder) only where the segments cross (not parallel)
+///   and the contact normal lies in both edges' normal cones (boundary included): the
+///   crossings of two faces' rims are the corners of a face-to-face contact patch that are
+///   not corners of either body. Parallel edges are left to the vertex contacts at the
+///   ends of their overlap.
+/// A vertex found inside the other body (deeper than its dilation) is reported against the
+/// face it is least deep under, so fast bodies are pushed back out rather than lost.
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "physics/dem/body.hpp"
+#include "physics/dem/contact_kernels.hpp"
+#include "physics/dem/rigid_shape.hpp"
+
+namespace cleave::physics {
+
+/// A body's primitives placed in the world for one step (computed once per body per step).
+struct PosedShape {
+  // What a pair that the near-feature cache holds apart reads comes first, in one cache line.
+  const geometry::ContactPrimitives* primitives = nullptr;
+  double radius = 0.0;  ///< dilation radius
+  /// Motion bounds summed over every update since the first: the centre's path length, and
+  /// the sum of |q_new - q_old| (nearer sign), which bounds half the chord any unit vector of
+  /// the body swept (a unit vector turned by theta moves 2 sin(theta/2) <= 2 |dq|). By the
+  /// triangle inequality they bound the net motion between any two updates.
+  double travel = 0.0, turn = 0.0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< principal frame -> world
+  std::vector<Eigen::Vector3d> vertices;      ///< world
+  /// The face planes (world, outward normals; normal . x = offset on the face) as four rows
+  /// of plane_stride() numbers: the normals' x, y and z, then the offsets, the rows padded to
+  /// an even length with zeros, so that the distance tables' loops take two faces at a time.
+  std::vector<double> planes;
+  std::size_t faces = 0;  ///< the shape's face count, kept beside the planes (one cache line less)
+  std::size_t plane_stride() const { return planes.size() / 4; }
+  Eigen::Vector3d face_normal(std::size_t f) const {
+    const std::size_t s = plane_stride();
+    return {planes[f], planes[s + f], planes[2 * s + f]};
+  }
+  double face_offset(std::size_t f) const { return planes[3 * plane_stride() + f]; }
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< principal frame -> world
+  /// Edge e's unit direction (world, from edge.a to edge.b), turned when asked for.
+  Eigen::Vector3d edge_direction(std::size_t e) const { return rotation * primitives->edge_units[e]; }
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero();  ///< world box of the vertices (undilated)
+  Eigen::Vector3d hi = Eigen::Vector3d::Zero();
+
+  void update(const RigidShape& shape, const BodyState& state);
+};
+
+/// Feature codes: kind in the top bits, index below.
+enum class FeatureKind : std::uint32_t { vertex = 0, edge = 1, face = 2 };
+constexpr std::uint32_t feature_code(FeatureKind kind, std::uint32_t index) {
+  return (static_cast<std::uint32_t>(kind) << 16) | index;
+}
+
+struct FeatureContact {
+  std::uint32_t feature_a = 0;  ///< feature of A
+  std::uint32_t feature_b = 0;  ///< feature of B
+  PrimitiveContact contact;     ///< normal from A towards B
+};
+
+/// Appends every contact between A and B with penetration > -margin, in a fixed order.
+/// `culls` = false turns off the search's shortcuts that skip feature pairs which provably
+/// add nothing (edge pairs, and a corner's candidate edges, ruled out by plane distances):
+/// only to check that the result is the same bit for bit.
+void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
+                         std::vector<FeatureContact>& out, bool culls = true);
+
+/// The features of a pair that a full search found within reach plus a skin `skin` of each
+/// other, and the bodies' motion bounds at that search. While the motion since then moves
+/// any distance between a point of A and a point of B, and any distance of a point of one
+/// from a face plane of the other, by less than half the skin (bounded by the travels plus
+/// twice the lever times the turns), no other feature can come within reach, so a search
+/// over these alone finds exactly the contacts the full search would: the same contacts in
+/// the same order, bit for bit.
+struct NearFeatures {
+  double travel = 0.0, turn = 0.0;  ///< A's plus B's PosedShape::travel and turn at the search
+  /// Bounds, while the cache holds, the distance of any point of A or B from either centre.
+  double lever = 0.0;
+  double skin = 0.0;   ///< 0: nothing cached
+  bool none = false;   ///< nothing below may come within reach (the pair was apart by the skin)
+  bool touching = false;  ///< the last search found contacts (its early outs are then skipped)
+  std::uint64_t vertices_a = 0, vertices_b = 0;  ///< vertices that may come within reach
+  std::uint64_t rows_a = 0, rows_b = 0;          ///< vertices whose plane distances are read
+  std::array<std::uint64_t, 3> edges_a{}, edges_b{};  ///< edges that may come within reach
+  /// Face pairs that may turn into a face-to-face patch, ascending (face of A, face of B).
+  std::array<std::array<std::uint8_t, 2>, 12> face_pairs{};
+  std::uint8_t face_pair_count = 0;
+};
+
+/// polyhedron_contacts with margin 0 through `near`: searches the cached features while the
+/// relative motion since they were found allows, otherwise searches in full and caches the
+/// features within `skin` (m) of reach. The result is always that of the full search.
+/// Returns true when the cached features were searched.
+bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near,
+                         std::vector<FeatureContact>& out);
+
+}  // namespace cleave::physics

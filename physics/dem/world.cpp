@@ -1,0 +1,834 @@
+#include "physics/dem/world.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <tuple>
+#include <stdexcept>
+#include <string>
+
+#include "physics/dem/integrator.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace cleave::physics {
+
+World::World(WorldSettings settings)
+    : settings_(std::move(settings)), search_(settings_.search) {
+  if (!(settings_.dt > 0.0)) throw std::invalid_argument("time step must be positive");
+  if (!(settings_.search_skin >= 0.0)) throw std::invalid_argument("search skin must be >= 0");
+}
+
+std::uint32_t World::add_shape(RigidShape shape) {
+  shapes_.push_back(std::move(shape));
+  return static_cast<std::uint32_t>(shapes_.size() - 1);
+}
+
+BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x,
+                       const Eigen::Quaterniond& q, const Eigen::Vector3d& v,
+                       const Eigen::Vector3d& w, int grain_id) {
+  if (shape >= shapes_.size()) throw std::out_of_range("add_body: no shape " + std::to_string(shape));
+  if (!(rho > 0.0)) throw std::invalid_argument("add_body: density must be positive");
+  std::uint32_t slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = static_cast<std::uint32_t>(states_.size());
+    states_.emplace_back();
+    infos_.emplace_back();
+  }
+  const RigidShape& s = shapes_[shape];
+  BodyInfo& b = infos_[slot];
+  b.shape = shape;
+  b.mass = rho * s.volume;
+  b.inv_mass = 1.0 / b.mass;
+  b.inertia = rho * s.principal_moments;
+  b.inv_inertia = b.inertia.cwiseInverse();
+  b.grain_id = grain_id;
+  b.alive = true;
+  b.fixed = false;
+  ++b.generation;
+  BodyState& st = states_[slot];
+  st = BodyState{};
+  st.x = x;
+  st.q = q.normalized();
+  st.v = v;
+  ++live_;
+  forces_current_ = false;
+  pairs_current_ = false;
+  const BodyId id{slot, b.generation};
+  set_angular_velocity(id, w);
+  return id;
+}
+
+void World::remove_body(BodyId id) {
+  if (!contains(id)) throw std::out_of_range("remove_body: stale or invalid body id");
+  infos_[id.index].alive = false;
+  free_slots_.push_back(id.index);
+  --live_;
+  pairs_current_ = false;
+  // Contact history is keyed by slot: a body that later takes this slot must not inherit
+  // the removed body's springs.
+  const std::uint32_t slot = id.index;
+  std::erase_if(history_, [slot](const HistoryEntry& e) {
+    return ((e.key.a & kWallFlag) == 0 && e.key.a == slot) || e.key.b == slot;
+  });
+  std::erase_if(bonds_, [slot](const Bond& bd) { return bd.a == slot || bd.b == slot; });
+  std::erase_if(offsets_, [slot](const PairOffset& o) { return o.a == slot || o.b == slot; });
+}
+
+Fragment fragment_placement(const RigidShape& parent, const RigidShape& piece, std::uint32_t shape) {
+  Fragment f;
+  f.shape = shape;
+  // Both principal frames are given in the same shape coordinates.
+  f.offset = parent.axes.transpose() * (piece.centroid - parent.centroid);
+  f.turn = Eigen::Quaterniond(Eigen::Matrix3d(parent.axes.transpose() * piece.axes)).normalized();
+  return f;
+}
+
+std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>& pieces) {
+  if (!contains(parent)) throw std::out_of_range("split_body: stale or invalid body id");
+  if (pieces.empty()) throw std::invalid_argument("split_body: no pieces");
+  const BodyState ps = states_[parent.index];
+  const BodyInfo pi = infos_[parent.index];
+  const double rho = pi.mass / shapes_[pi.shape].volume;
+  const std::uint32_t old_slot = parent.index;
+  // The parent's bonds, taken out before its slot is freed.
+  std::vector<Bond> moved;
+  // Neighbours whose overlap with the parent counted from a stored value: every piece
+  // gets that value with them (a piece may touch a neighbour its bond did not follow).
+  std::vector<std::pair<std::uint32_t, double>> stored;
+  auto remember = [&](std::uint32_t other, double overlap) {
+    if (overlap > 0.0) stored.emplace_back(other, overlap);
+  };
+  for (const Bond& bd : bonds_) {
+    if (bd.a != old_slot && bd.b != old_slot) continue;
+    moved.push_back(bd);
+    double most = 0.0;
+    for (const auto& o : bd.initial) most = std::max(most, o.overlap);
+    remember(bd.a == old_slot ? bd.b : bd.a, most);
+  }
+  for (const PairOffset& o : offsets_) {
+    if (o.a == old_slot) remember(o.b, o.overlap);
+    if (o.b == old_slot) remember(o.a, o.overlap);
+  }
+  remove_body(parent);  // drops the parent's bonds, offsets and contact history
+  std::vector<BodyId> ids;
+  for (const Fragment& f : pieces) {
+    if (f.shape >= shapes_.size()) throw std::out_of_range("split_body: no shape " + std::to_string(f.shape));
+    const Eigen::Vector3d x = ps.x + ps.q * f.offset;
+    const BodyId id = add_body(f.shape, rho, x, ps.q * f.turn, ps.v + ps.w.cross(x - ps.x), ps.w,
+                               pi.grain_id);
+    infos_[id.index].fixed = pi.fixed;
+    ids.push_back(id);
+  }
+  // Each bond follows its material point to the piece that holds it.
+  for (Bond bd : moved) {
+    const bool parent_is_a = bd.a == old_slot;
+    const Eigen::Vector3d arm = parent_is_a ? bd.arm_a : bd.arm_b;
+    const Eigen::Vector3d normal = parent_is_a ? bd.normal_a : bd.normal_b;
+    const Eigen::Vector3d point = ps.x + ps.q * arm;  // world, at the split
+    std::size_t best = 0;
+    double best_depth = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const BodyState& s = states_[ids[k].index];
+      const auto& faces = shapes_[infos_[ids[k].index].shape].primitives.faces;
+      const Eigen::Vector3d local = s.q.conjugate() * (point - s.x);
+      double depth = -std::numeric_limits<double>::infinity();  // largest signed distance
+      for (const auto& face : faces) depth = std::max(depth, face.normal.dot(local) - face.offset);
+      if (depth < best_depth) {
+        best_depth = depth;
+        best = k;
+      }
+    }
+    const BodyState& s = states_[ids[best].index];
+    const std::uint32_t slot = ids[best].index;
+    const Eigen::Vector3d new_arm = s.q.conjugate() * (point - s.x);
+    const Eigen::Vector3d new_normal = s.q.conjugate() * (ps.q * normal);
+    if (parent_is_a) {
+      bd.a = slot;
+      bd.arm_a = new_arm;
+      bd.normal_a = new_normal;
+    } else {
+      bd.b = slot;
+      bd.arm_b = new_arm;
+      bd.normal_b = new_normal;
+    }
+    if (bd.a > bd.b) {
+      // A and B trade places: the normal turns round, and the loads on B become those on A.
+      std::swap(bd.a, bd.b);
+      std::swap(bd.arm_a, bd.arm_b);
+      std::swap(bd.normal_a, bd.normal_b);
+      bd.normal_a = -bd.normal_a;
+      bd.normal_b = -bd.normal_b;
+      bd.normal = -bd.normal;
+      bd.state.shear = -bd.state.shear;
+      bd.state.bending = -bd.state.bending;
+      bd.force = -bd.force;
+      bd.moment = -bd.moment;
+    }
+    // The new piece's features are numbered anew: the largest stored overlap stands for all.
+    double stored = 0.0;
+    for (const auto& o : bd.initial) stored = std::max(stored, o.overlap);
+    bd.initial.clear();
+    if (stored > 0.0) bd.initial.push_back({Bond::kAnyFeature, Bond::kAnyFeature, stored});
+    bonds_.push_back(std::move(bd));
+  }
+  std::sort(bonds_.begin(), bonds_.end(),
+            [](const Bond& x, const Bond& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  // The pieces meet along the new crack with their dilations overlapping by the sum of
+  // their radii: that overlap, and the parent's stored ones, count as zero.
+  auto offset = [&](std::uint32_t a, std::uint32_t b, double overlap) {
+    offsets_.push_back({std::min(a, b), std::max(a, b), overlap});
+  };
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const double ri = shapes_[infos_[ids[i].index].shape].primitives.dilation_radius;
+    for (std::size_t j = i + 1; j < ids.size(); ++j) {
+      const double rj = shapes_[infos_[ids[j].index].shape].primitives.dilation_radius;
+      offset(ids[i].index, ids[j].index, ri + rj);
+    }
+    for (const auto& [other, overlap] : stored) offset(ids[i].index, other, overlap);
+  }
+  std::sort(offsets_.begin(), offsets_.end(), [](const PairOffset& x, const PairOffset& y) {
+    return std::tie(x.a, x.b, x.overlap) < std::tie(y.a, y.b, y.overlap);
+  });
+  // One entry per pair: the largest.
+  std::vector<PairOffset> merged;
+  for (const PairOffset& o : offsets_) {
+    if (!merged.empty() && merged.back().a == o.a && merged.back().b == o.b) {
+      merged.back().overlap = std::max(merged.back().overlap, o.overlap);
+    } else {
+      merged.push_back(o);
+    }
+  }
+  offsets_ = std::move(merged);
+  forces_current_ = false;
+  return ids;
+}
+
+void World::set_fixed(BodyId id, bool fixed) {
+  if (!contains(id)) throw std::out_of_range("set_fixed: stale or invalid body id");
+  infos_[id.index].fixed = fixed;
+}
+
+bool World::contains(BodyId id) const {
+  return id.index < infos_.size() && infos_[id.index].alive &&
+         infos_[id.index].generation == id.generation;
+}
+
+const BodyState& World::state(BodyId id) const {
+  if (!contains(id)) throw std::out_of_range("stale or invalid body id");
+  return states_[id.index];
+}
+BodyState& World::state(BodyId id) {
+  if (!contains(id)) throw std::out_of_range("stale or invalid body id");
+  return states_[id.index];
+}
+const BodyInfo& World::info(BodyId id) const {
+  if (!contains(id)) throw std::out_of_range("stale or invalid body id");
+  return infos_[id.index];
+}
+
+BodyId World::id_at(std::uint32_t slot) const {
+  if (slot >= infos_.size() || !infos_[slot].alive) {
+    throw std::out_of_range("no live body in slot " + std::to_string(slot));
+  }
+  return {slot, infos_[slot].generation};
+}
+
+void World::set_angular_velocity(BodyId id, const Eigen::Vector3d& w) {
+  BodyState& s = state(id);
+  const BodyInfo& b = infos_[id.index];
+  const Eigen::Vector3d w_body = s.q.conjugate() * w;
+  s.L = s.q * b.inertia.cwiseProduct(w_body);
+  s.w = w;
+}
+
+std::size_t World::add_wall(Wall wall) {
+  walls_.push_back(std::move(wall));
+  forces_current_ = false;
+  return walls_.size() - 1;
+}
+
+std::vector<BodyId> World::body_ids() const {
+  std::vector<BodyId> ids;
+  for (std::uint32_t i = 0; i < infos_.size(); ++i) {
+    if (infos_[i].alive) ids.push_back({i, infos_[i].generation});
+  }
+  return ids;
+}
+
+namespace {
+/// Loops shorter than this run on one thread: for small worlds the cost of waking threads
+/// every step exceeds the work (and oversubscribed cores make it far worse).
+constexpr std::ptrdiff_t kParallelMin = 512;
+
+/// The contiguous block [begin, end) of n items that the calling thread takes, split over
+/// the threads actually running (OpenMP may give fewer than asked): blocks follow thread
+/// order, so joining them in order keeps the items' order.
+struct Block {
+  std::size_t thread, begin, end;
+};
+Block thread_block(std::size_t n) {
+#ifdef _OPENMP
+  const auto t = static_cast<std::size_t>(omp_get_thread_num());
+  const auto teams = static_cast<std::size_t>(omp_get_num_threads());
+#else
+  const std::size_t t = 0, teams = 1;
+#endif
+  return {t, n * t / teams, n * (t + 1) / teams};
+}
+
+int thread_count(int wanted) {
+#ifdef _OPENMP
+  return wanted > 0 ? wanted : omp_get_max_threads();
+#else
+  (void)wanted;
+  return 1;
+#endif
+}
+}  // namespace
+
+void World::compute_forces() {
+  live_slots_.clear();
+  for (std::uint32_t i = 0; i < states_.size(); ++i) {
+    if (infos_[i].alive) live_slots_.push_back(i);
+  }
+  posed_.resize(states_.size());
+  const int nt = thread_count(settings_.threads);
+  const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
+  // The neighbour search's pairs hold every pair that can touch until some body has moved
+  // half its skin (bounding spheres are centred on the centroid, so rotation does not move
+  // them): the bodies that have are counted here, with the poses.
+  const bool searched = pairs_current_ && searched_at_.size() == live_slots_.size();
+  const double limit = 0.25 * skin_ * skin_;
+  std::size_t moved = 0;
+#pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin) reduction(+ : moved)
+  for (std::ptrdiff_t k = 0; k < live; ++k) {
+    const std::uint32_t i = live_slots_[static_cast<std::size_t>(k)];
+    states_[i].f = infos_[i].mass * settings_.gravity;
+    states_[i].tau.setZero();
+    posed_[i].update(shapes_[infos_[i].shape], states_[i]);
+    if (searched) moved += !((states_[i].x - searched_at_[static_cast<std::size_t>(k)]).squaredNorm() < limit);
+  }
+  for (auto& w : walls_) w.reaction.setZero();
+  body_contacts(nt, !searched || moved > 0);
+  wall_contacts(nt);
+  join_pending();
+  evaluate_and_apply(nt);
+  bond_forces(nt);
+  if (settings_.local_damping > 0.0) apply_local_damping(nt);
+  forces_current_ = true;
+}
+
+void World::body_contacts(int nt, bool stale) {
+  // Neighbour search with a Verlet skin (see compute_forces).
+  if (stale) {
+    spheres_.clear();
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::uint32_t slot : live_slots_) {
+      const double r = shapes_[infos_[slot].shape].bounding_radius();
+      spheres_.push_back({states_[slot].x, r});
+      smallest = std::min(smallest, r);
+    }
+    skin_ = live_slots_.empty() ? 0.0 : settings_.search_skin * smallest;
+    search_.find_pairs(spheres_, skin_, pairs_);
+    near_.clear();
+    searched_at_.clear();
+    for (std::uint32_t slot : live_slots_) searched_at_.push_back(states_[slot].x);
+    pairs_current_ = true;
+  }
+  // The pairs in chunks of consecutive pairs, handed to the threads as they come free (the
+  // cost of a pair varies a hundredfold); the chunks' contacts are joined in chunk order,
+  // so the contact list (and everything after it) is the same for any number of threads.
+  const std::size_t n = pairs_.size();
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+  constexpr std::size_t kChunk = 256;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  if (chunk_pending_.size() < chunks) chunk_pending_.resize(chunks);
+  parts_.clear();
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) parts_.push_back(&chunk_pending_[chunk]);
+  // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
+  // them gives what the full search would, bit for bit, and skips what cannot touch.
+  const bool cached = settings_.feature_skin > 0.0;
+  if (cached) near_.resize(n);
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    std::vector<FeatureContact> features;
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+      auto& out = chunk_pending_[chunk];
+      out.clear();
+      const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
+      for (std::size_t p = begin; p < end; ++p) {
+        const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
+        features.clear();
+        if (cached) {
+          const double skin = settings_.feature_skin * (posed_[a].radius + posed_[b].radius);
+          polyhedron_contacts(posed_[a], posed_[b], skin, near_[p], features);
+        } else {
+          polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+        }
+        // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
+        std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
+          return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+        });
+        for (const auto& fc : features) {
+          if (fc.contact.penetration > 0.0) {
+            out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
+          }
+        }
+      }
+    }
+  }
+}
+
+void World::wall_contacts(int nt) {
+  // Each thread takes a block of body slots and lists its contacts with every wall; the
+  // blocks are joined in order, wall by wall, as one thread would list them.
+  const auto slots = live_slots_.size();
+  if (static_cast<std::ptrdiff_t>(slots) < kParallelMin || walls_.empty()) nt = 1;
+  const std::size_t lists = static_cast<std::size_t>(nt) * walls_.size();
+  if (wall_pending_.size() < lists) wall_pending_.resize(lists);
+  for (std::size_t k = 0; k < lists; ++k) wall_pending_[k].clear();  // OpenMP may run fewer threads
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const auto [t, begin, end] = thread_block(slots);
+    for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+      auto& out = wall_pending_[w * static_cast<std::size_t>(nt) + t];
+      const Wall& wall = walls_[w];
+      const std::uint32_t a = w | kWallFlag;
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t slot = live_slots_[k];
+        const PosedShape& p = posed_[slot];
+        const double reach = shapes_[infos_[slot].shape].bounding_radius();
+        // Broad test against the wall's surface (planes) or axis (cylinders).
+        if (wall.kind != Wall::Kind::cylinder) {
+          if (wall.normal.dot(p.centre - wall.origin) > reach) continue;
+        } else {
+          const Eigen::Vector3d rel = p.centre - wall.origin;
+          const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
+          if ((rel - s * wall.normal).norm() > reach + wall.radius) continue;
+        }
+        for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
+          if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
+            out.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
+          }
+        }
+        if (wall.kind == Wall::Kind::cylinder) {
+          const auto& edges = p.primitives->edges;
+          for (std::uint32_t e = 0; e < edges.size(); ++e) {
+            auto c = wall.edge_contact(p.vertices[edges[e].a], p.vertices[edges[e].b], p.radius);
+            if (c && c->penetration > 0.0) {
+              out.push_back({{a, slot, 0, feature_code(FeatureKind::edge, e)}, *c});
+            }
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t k = 0; k < lists; ++k) parts_.push_back(&wall_pending_[k]);
+}
+
+void World::join_pending() {
+  part_start_.assign(parts_.size() + 1, 0);
+  for (std::size_t k = 0; k < parts_.size(); ++k) part_start_[k + 1] = part_start_[k] + parts_[k]->size();
+}
+
+template <class F>
+void World::for_pending(std::size_t begin, std::size_t end, F&& f) const {
+  if (begin >= end) return;
+  // The list holding contact `begin`: the last one starting at or before it.
+  auto part = static_cast<std::size_t>(std::upper_bound(part_start_.begin(), part_start_.end(), begin) -
+                                       part_start_.begin()) - 1;
+  for (std::size_t k = begin; k < end; ++part) {
+    const std::vector<Pending>& list = *parts_[part];
+    const std::size_t stop = std::min(end, part_start_[part + 1]);
+    for (std::size_t i = k - part_start_[part]; k < stop; ++k, ++i) f(k, list[i]);
+  }
+}
+
+std::size_t World::history_index(const ContactKey& key) const {
+  return static_cast<std::size_t>(
+      std::lower_bound(history_.begin(), history_.end(), key,
+                       [](const HistoryEntry& e, const ContactKey& k) { return e.key < k; }) -
+      history_.begin());
+}
+
+const ContactHistory* World::previous_history(const ContactKey& key) const {
+  const std::size_t i = history_index(key);
+  return i < history_.size() && history_[i].key == key ? &history_[i].history : nullptr;
+}
+
+void World::evaluate_and_apply(int nt) {
+  // The contact law for every contact, in parallel: each reads only the bodies' states and
+  // the previous step's history, and writes its own slot.
+  const std::size_t n = pending_count();
+  forces_.resize(n);
+  overlaps_.resize(n);
+  next_history_.resize(n);
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    // Plain variables, not a structured binding: the lambda below captures them.
+    const Block block = thread_block(n);
+    const std::size_t begin = block.begin, end = block.end;
+    // Keys ascend through the contacts, as through the history: one search, then a walk.
+    std::size_t cursor = 0, bond_cursor = 0;
+    for_pending(begin, end, [&](std::size_t k, const Pending& p) {
+      if (k == begin) {
+        cursor = history_index(p.key);
+        if (!bonds_.empty()) {
+          bond_cursor = static_cast<std::size_t>(
+              std::lower_bound(bonds_.begin(), bonds_.end(), p.key.a,
+                               [](const Bond& bd, std::uint32_t a) { return bd.a < a; }) -
+              bonds_.begin());
+        }
+      }
+      evaluate_contact(p, k, cursor, bond_cursor);
+    });
+  }
+  sum_forces(nt);
+}
+
+void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& cursor, std::size_t& bond_cursor) {
+  const bool wall = (p.key.a & kWallFlag) != 0;
+  const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+  const PrimitiveContact& c = p.contact;
+  const BodyState& sb = states_[b];
+  const BodyInfo& ib = infos_[b];
+  ContactKinematics kin;
+  kin.normal = c.normal;
+  kin.overlap = c.penetration;
+  Eigen::Vector3d va_point, wa;
+  if (wall) {
+    va_point = walls_[a].velocity;
+    wa.setZero();
+    kin.m_crit = ib.mass;
+    kin.i_crit = ib.inertia.minCoeff();
+  } else {
+    const BodyState& sa = states_[a];
+    const BodyInfo& ia = infos_[a];
+    va_point = sa.v + sa.w.cross(c.point - sa.x);
+    wa = sa.w;
+    kin.m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
+    const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
+    kin.i_crit = i1 * i2 / (i1 + i2);
+  }
+  kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
+  kin.spin = sb.w - wa;
+  kin.lever = posed_[b].radius;
+  if (!wall && (!bonds_.empty() || !offsets_.empty())) {
+    // Overlaps count from the one stored at bonding (end of sec. 2.3.3) or at a split.
+    double stored = bonds_.empty() ? 0.0 : initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
+    if (!offsets_.empty()) stored = std::max(stored, pair_offset(a, b));
+    kin.overlap -= stored;
+  }
+  ContactHistory h;
+  if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
+    if (const ContactHistory* old = previous_history(p.key)) h = *old;  // out of order
+  } else {
+    while (cursor < history_.size() && history_[cursor].key < p.key) ++cursor;
+    if (cursor < history_.size() && history_[cursor].key == p.key) h = history_[cursor].history;
+  }
+  const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
+  forces_[k] = contact_force(params, kin, h, settings_.dt);
+  overlaps_[k] = kin.overlap;
+  next_history_[k] = {p.key, h};
+}
+
+void World::sum_forces(int nt) {
+  // Each thread sums onto the bodies of its own block of slots, going through all contacts
+  // in order: every body's force is summed in contact order, the same for any number of
+  // threads. Wall reactions are summed by the first thread.
+  const std::size_t n = pending_count();
+  records_current_ = false;  // contacts() makes them from this evaluation when asked
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+  const std::size_t slots = states_.size();
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const Block block = thread_block(slots);  // captured below: not a structured binding
+    const std::size_t t = block.thread, lo = block.begin, hi = block.end;
+    for_pending(0, n, [&](std::size_t k, const Pending& p) {
+      const bool wall = (p.key.a & kWallFlag) != 0;
+      const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+      const ContactForce& f = forces_[k];
+      if (b >= lo && b < hi) {
+        BodyState& sb = states_[b];
+        sb.f += f.force;
+        sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
+      }
+      if (wall) {
+        if (t == 0) walls_[a].reaction -= f.force;
+      } else if (a >= lo && a < hi) {
+        BodyState& sa = states_[a];
+        sa.f -= f.force;
+        sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
+      }
+    });
+  }
+  std::swap(history_, next_history_);
+}
+
+const std::vector<ContactRecord>& World::contacts() const {
+  if (!records_current_) {
+    records_.clear();
+    records_.reserve(pending_count());
+    for_pending(0, pending_count(), [&](std::size_t k, const Pending& p) {
+      const bool wall = (p.key.a & kWallFlag) != 0;
+      records_.push_back({p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
+                          forces_[k].force});
+    });
+    records_current_ = true;
+  }
+  return records_;
+}
+
+void World::step() {
+  const double h = settings_.dt;
+  if (!forces_current_) compute_forces();
+  const int nt = thread_count(settings_.threads);
+  const auto slots = static_cast<std::ptrdiff_t>(states_.size());
+#pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < slots; ++i) {
+    if (!infos_[i].alive) continue;
+    if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
+    drift(states_[i], infos_[i], h);  // sets w
+  }
+  for (auto& w : walls_) w.origin += h * w.velocity;
+  compute_forces();
+#pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < slots; ++i) {
+    if (!infos_[i].alive || infos_[i].fixed) continue;
+    kick(states_[i], infos_[i], 0.5 * h);
+  }
+  time_ += h;
+  ++steps_;
+}
+
+std::vector<Eigen::Matrix3d> World::body_stresses() const {
+  // Sum d (x) f per body from the contact records (contact order: deterministic), then
+  // symmetrise and divide by 2V (eq. 2.17).
+  std::vector<Eigen::Matrix3d> sum(states_.size(), Eigen::Matrix3d::Zero());
+  for (const ContactRecord& c : contacts()) {
+    sum[c.b] += (c.point - states_[c.b].x) * c.force.transpose();
+    if (!c.wall) sum[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
+  }
+  for (const Bond& bd : bonds_) {  // bond forces are contact forces too
+    if (!bd.intact()) continue;
+    sum[bd.b] += (bd.point - states_[bd.b].x) * bd.force.transpose();
+    sum[bd.a] -= (bd.point - states_[bd.a].x) * bd.force.transpose();
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    if (!infos_[i].alive) {
+      sum[i].setZero();
+      continue;
+    }
+    const double volume = shapes_[infos_[i].shape].volume;
+    sum[i] = (sum[i] + sum[i].transpose()) / (2.0 * volume);
+  }
+  return sum;
+}
+
+double World::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa,
+                              std::uint32_t fb, std::size_t& cursor) const {
+  auto before = [&](const Bond& bd) { return bd.a < a || (bd.a == a && bd.b < b); };
+  if (cursor > 0 && cursor <= bonds_.size() && !before(bonds_[cursor - 1])) {
+    // Out of order (a new thread block starts mid-pair): search again.
+    cursor = static_cast<std::size_t>(
+        std::lower_bound(bonds_.begin(), bonds_.end(), std::pair{a, b},
+                         [](const Bond& bd, std::pair<std::uint32_t, std::uint32_t> k) {
+                           return std::pair{bd.a, bd.b} < k;
+                         }) -
+        bonds_.begin());
+  }
+  while (cursor < bonds_.size() && before(bonds_[cursor])) ++cursor;
+  if (cursor == bonds_.size() || bonds_[cursor].a != a || bonds_[cursor].b != b) return 0.0;
+  double any = 0.0;
+  for (const Bond::Overlap& o : bonds_[cursor].initial) {
+    if (o.fa == fa && o.fb == fb) return o.overlap;
+    if (o.fa == Bond::kAnyFeature) any = o.overlap;
+  }
+  return any;
+}
+
+double World::pair_offset(std::uint32_t a, std::uint32_t b) const {
+  const auto it = std::lower_bound(offsets_.begin(), offsets_.end(), std::pair{a, b},
+                                   [](const PairOffset& o, std::pair<std::uint32_t, std::uint32_t> k) {
+                                     return std::pair{o.a, o.b} < k;
+                                   });
+  return it != offsets_.end() && it->a == a && it->b == b ? it->overlap : 0.0;
+}
+
+std::size_t World::initialise_bonds(const BondParams& params, double distance) {
+  if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
+  if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
+  if (!forces_current_) compute_forces();  // posed shapes and live slots of this state
+  std::vector<BoundingSphere> spheres;
+  for (std::uint32_t slot : live_slots_) {
+    spheres.push_back({states_[slot].x, shapes_[infos_[slot].shape].bounding_radius()});
+  }
+  std::vector<BodyPair> pairs;
+  NeighbourSearch search(settings_.search);
+  search.find_pairs(spheres, distance, pairs);
+  std::vector<FeatureContact> features;
+  for (const auto& [i, j] : pairs) {
+    const std::uint32_t a = live_slots_[i], b = live_slots_[j];
+    features.clear();
+    polyhedron_contacts(posed_[a], posed_[b], distance, features);
+    if (features.empty()) continue;
+    Bond bd;
+    bd.a = a;
+    bd.b = b;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+    for (const FeatureContact& fc : features) {
+      point += fc.contact.point;
+      normal += fc.contact.normal;
+      if (fc.contact.penetration > 0.0) {
+        bd.initial.push_back({fc.feature_a, fc.feature_b, fc.contact.penetration});
+      }
+    }
+    point /= static_cast<double>(features.size());
+    if (normal.norm() < 1e-12) continue;  // opposed normals: no well-defined bond
+    normal.normalize();
+    const BodyState& sa = states_[a];
+    const BodyState& sb = states_[b];
+    bd.arm_a = sa.q.conjugate() * (point - sa.x);
+    bd.arm_b = sb.q.conjugate() * (point - sb.x);
+    bd.normal_a = sa.q.conjugate() * normal;
+    bd.normal_b = sb.q.conjugate() * normal;
+    bd.section.radius = std::min(posed_[a].radius, posed_[b].radius);
+    bd.point = point;
+    bd.normal = normal;
+    bonds_.push_back(std::move(bd));
+  }
+  bond_params_ = params;
+  // The stress-free start: at rest, no shear or rolling springs, forces recomputed.
+  for (std::uint32_t slot : live_slots_) {
+    if (infos_[slot].fixed) continue;
+    states_[slot].v.setZero();
+    states_[slot].L.setZero();
+    states_[slot].w.setZero();
+  }
+  history_.clear();
+  forces_current_ = false;
+  compute_forces();
+  return bonds_.size();
+}
+
+void World::bond_forces(int nt) {
+  const std::size_t n = bonds_.size();
+  if (n == 0) return;
+  bond_results_.assign(n, BondResult{});
+  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
+  // Each bond reads the two bodies and writes only itself.
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
+    Bond& bd = bonds_[static_cast<std::size_t>(k)];
+    if (!bd.intact()) continue;
+    const BodyState& sa = states_[bd.a];
+    const BodyState& sb = states_[bd.b];
+    const Eigen::Vector3d pa = sa.x + sa.q * bd.arm_a, pb = sb.x + sb.q * bd.arm_b;
+    bd.point = 0.5 * (pa + pb);
+    bd.normal = (sa.q * bd.normal_a + sb.q * bd.normal_b).normalized();
+    const Eigen::Vector3d velocity =
+        sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
+    BondResult& r = bond_results_[static_cast<std::size_t>(k)];
+    r = bond_force(bond_params_, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state,
+                   settings_.dt);
+    bd.force = r.force;
+    bd.moment = r.moment;
+  }
+  // Sum and log in bond order, on one thread (deterministic for any thread count).
+  for (std::size_t k = 0; k < n; ++k) {
+    Bond& bd = bonds_[k];
+    const BondResult& r = bond_results_[k];
+    if (r.failure != BondFailure::none) {
+      bd.failure = r.failure;
+      bd.broken_at = time_;
+      bd.force.setZero();
+      bd.moment.setZero();
+      breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id,
+                         bd.point, bd.normal, r.failure, r.at_failure});
+      continue;
+    }
+    if (!bd.intact()) continue;
+    BodyState& sa = states_[bd.a];
+    BodyState& sb = states_[bd.b];
+    sb.f += r.force;
+    sb.tau += (bd.point - sb.x).cross(r.force) + r.moment;
+    sa.f -= r.force;
+    sa.tau -= (bd.point - sa.x).cross(r.force) + r.moment;
+  }
+}
+
+void World::apply_local_damping(int nt) {
+  const double alpha = settings_.local_damping;
+  const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
+  if (live < kParallelMin) nt = 1;
+  auto damp = [alpha](Eigen::Vector3d& f, const Eigen::Vector3d& v) {
+    for (int c = 0; c < 3; ++c) {
+      if (v[c] != 0.0) f[c] -= alpha * std::abs(f[c]) * (v[c] > 0.0 ? 1.0 : -1.0);
+    }
+  };
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::ptrdiff_t k = 0; k < live; ++k) {
+    const std::uint32_t i = live_slots_[static_cast<std::size_t>(k)];
+    if (infos_[i].fixed) continue;
+    damp(states_[i].f, states_[i].v);
+    damp(states_[i].tau, states_[i].w);
+  }
+}
+
+BondCounts World::bond_counts() const {
+  BondCounts c;
+  for (const Bond& bd : bonds_) {
+    switch (bd.failure) {
+      case BondFailure::none: ++c.intact; break;
+      case BondFailure::tension: ++c.tension; break;
+      case BondFailure::shear: ++c.shear; break;
+      case BondFailure::bending: ++c.bending; break;
+      case BondFailure::torsion: ++c.torsion; break;
+    }
+  }
+  return c;
+}
+
+double World::kinetic_energy() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (!infos_[i].alive) continue;
+    const BodyState& s = states_[i];
+    e += 0.5 * infos_[i].mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L);
+  }
+  return e;
+}
+
+double World::potential_energy() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (infos_[i].alive) e -= infos_[i].mass * settings_.gravity.dot(states_[i].x);
+  }
+  return e;
+}
+
+Eigen::Vector3d World::linear_momentum() const {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (infos_[i].alive) p += infos_[i].mass * states_[i].v;
+  }
+  return p;
+}
+
+Eigen::Vector3d World::angular_momentum() const {
+  Eigen::Vector3d l = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (!infos_[i].alive) continue;
+    l += states_[i].L + states_[i].x.cross(infos_[i].mass * states_[i].v);
+  }
+  return l;
+}
+
+}  // namespace cleave::physics

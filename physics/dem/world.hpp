@@ -1,0 +1,313 @@
+#pragma once
+/// \file
+/// The world: shapes, bodies in contiguous arrays addressed by stable ids, and the step
+/// orchestrator. `step()` runs named stages in order (see docs/ARCHITECTURE.md):
+///   kick + drift -> forces (gravity, then contacts) -> kick.
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+
+#include "physics/dem/body.hpp"
+#include "physics/bonds/bond_law.hpp"
+#include "physics/dem/contact_law.hpp"
+#include "physics/dem/narrow_phase.hpp"
+#include "physics/dem/neighbour_search.hpp"
+#include "physics/dem/rigid_shape.hpp"
+#include "physics/dem/wall.hpp"
+
+namespace cleave::physics {
+
+class StateWriter;
+class StateReader;
+
+struct WorldSettings {
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.80665);  ///< m/s^2
+  double dt = 1e-6;                                               ///< time step, s
+  ContactParams particle_particle;  ///< table 2.3, particle-particle set
+  ContactParams particle_wall;      ///< table 2.3, particle-wall set
+  SearchMethod search = SearchMethod::bounding_box;
+  /// Threads for the per-body and per-contact loops (0: OpenMP's default, i.e. all cores).
+  /// Results are bit-identical for any count: work is split into ordered blocks and the
+  /// forces are summed in contact order.
+  int threads = 0;
+  /// Verlet skin of the neighbour search, as a fraction of the smallest bounding radius:
+  /// pairs are searched with this margin and reused until some body has moved more than
+  /// half of it (0: search every step).
+  double search_skin = 0.1;
+  /// Local (non-viscous) damping of Cundall, as in PFC and Yade: every component of a
+  /// body's force and torque is reduced by `local_damping` times its magnitude when it
+  /// drives the motion and raised by as much when it resists it (0: none, 0.7: PFC's
+  /// default for quasi-static loading). It removes kinetic energy without viscosity, so a
+  /// slowly loaded specimen stays near equilibrium; it is not in the seed's model.
+  double local_damping = 0.0;
+  /// Skin of each pair's near-feature cache (narrow_phase.hpp), as a fraction of the sum of
+  /// the pair's dilation radii: the features found within reach plus this skin are the only
+  /// ones searched while the two bodies' motion since (a bound on how far any distance
+  /// between them changed) stays under half of it (0: every pair searched in full every
+  /// step). It changes speed only: results are bit-identical.
+  double feature_skin = 0.5;
+};
+
+/// A bond between two bodies (sec. 2.3.3): eqs 2.9-2.16 act at the bond point in parallel
+/// with the contact law (quasi-parallel model). The bond point and normal are material:
+/// each is stored in both bodies' principal frames at bonding and followed as they move.
+struct Bond {
+  std::uint32_t a = 0, b = 0;                       ///< body slots, a < b
+  Eigen::Vector3d arm_a = Eigen::Vector3d::Zero();  ///< bond point from A's centroid, A's frame
+  Eigen::Vector3d arm_b = Eigen::Vector3d::Zero();  ///< bond point from B's centroid, B's frame
+  Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
+  Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
+  BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
+  BondState state;
+  BondFailure failure = BondFailure::none;  ///< the mode it broke in
+  double broken_at = -1.0;                   ///< simulated time of the break, s
+  /// The physical overlap of each touching feature pair at bonding (end of 2.3.3): later
+  /// overlaps of the same features count from it, so the bonded assembly starts stress-free.
+  /// Kept after the bond breaks, so a broken bond does not spring apart.
+  struct Overlap {
+    std::uint32_t fa, fb;  ///< kAnyFeature for both: any feature pair (after a split)
+    double overlap;
+  };
+  static constexpr std::uint32_t kAnyFeature = 0xFFFFFFFFu;
+  std::vector<Overlap> initial;
+  // Last force evaluation (world): the bond point, normal, and the force and moment on B.
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  [[nodiscard]] bool intact() const { return !state.broken; }
+};
+
+/// One bond failure (eq. 2.16), as logged.
+struct BondBreak {
+  double time = 0.0;
+  std::uint64_t step = 0;
+  std::size_t bond = 0;  ///< index into World::bonds()
+  std::uint32_t a = 0, b = 0;
+  int grain_a = -1, grain_b = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  BondFailure mode = BondFailure::none;
+  BondState loads;  ///< the bond's forces and moments when it broke
+};
+
+/// One piece a body breaks into (chapter 3): a registered shape placed in the parent's
+/// principal frame. `fragment_placement` computes the placement from the two shapes.
+struct Fragment {
+  std::uint32_t shape = 0;                               ///< World shape index
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();      ///< its centroid, parent's frame
+  Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();  ///< its frame -> parent's frame
+};
+
+/// Where piece `piece` (cut from `parent`'s exact shape, in the same shape coordinates)
+/// sits in the parent's principal frame.
+Fragment fragment_placement(const RigidShape& parent, const RigidShape& piece, std::uint32_t shape);
+
+/// Intact bonds and broken ones by mode.
+struct BondCounts {
+  std::size_t intact = 0, tension = 0, shear = 0, bending = 0, torsion = 0;
+  [[nodiscard]] std::size_t broken() const { return tension + shear + bending + torsion; }
+};
+
+/// One contact of the last step, for output and tests.
+struct ContactRecord {
+  std::uint32_t a = 0;          ///< body slot of A, or wall index when `wall` is set
+  std::uint32_t b = 0;          ///< body slot of B
+  bool wall = false;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< from A towards B
+  double overlap = 0.0;  ///< beyond the overlap stored at bonding or a split (raw otherwise)
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B
+};
+
+class World {
+ public:
+  explicit World(WorldSettings settings = {});
+
+  /// Registers a shape; bodies refer to it by the returned index.
+  std::uint32_t add_shape(RigidShape shape);
+  [[nodiscard]] const RigidShape& shape(std::uint32_t index) const { return shapes_[index]; }
+  [[nodiscard]] std::size_t shape_count() const { return shapes_.size(); }
+
+  /// Adds a body of `shape` with density `rho` (kg/m^3), centroid at `x`, principal frame
+  /// turned to world by `q`, velocity `v` and angular velocity `w` (world).
+  BodyId add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x,
+                  const Eigen::Quaterniond& q, const Eigen::Vector3d& v = Eigen::Vector3d::Zero(),
+                  const Eigen::Vector3d& w = Eigen::Vector3d::Zero(), int grain_id = -1);
+  /// Removes a body; its id (and any copy of it) becomes invalid.
+  void remove_body(BodyId id);
+  /// Replaces a body by the pieces it breaks into (between steps). Each piece moves with
+  /// the parent's rigid velocity field, v + w x r, and spins with w, so that mass, linear
+  /// momentum and angular momentum are kept (exactly, up to round-off, when the pieces'
+  /// mass properties add up to the parent's). Bonds of the parent go to the piece that
+  /// holds the bond point (the one whose dilated shape it is deepest inside); their overlaps
+  /// stored at bonding count for any feature pair of the new piece. Returns the new ids in
+  /// the order of `pieces`; the parent's id becomes invalid.
+  std::vector<BodyId> split_body(BodyId parent, const std::vector<Fragment>& pieces);
+  [[nodiscard]] bool contains(BodyId id) const;
+  [[nodiscard]] std::size_t body_count() const { return live_; }
+
+  /// Access by id; throws std::out_of_range for a stale or invalid id.
+  [[nodiscard]] const BodyState& state(BodyId id) const;
+  [[nodiscard]] BodyState& state(BodyId id);
+  [[nodiscard]] const BodyInfo& info(BodyId id) const;
+  /// The body in a slot (as contacts and bonds name them); throws std::out_of_range when no
+  /// live body is there.
+  [[nodiscard]] BodyId id_at(std::uint32_t slot) const;
+  /// Sets a body's angular velocity (world), i.e. its angular momentum L = R I R^T w.
+  void set_angular_velocity(BodyId id, const Eigen::Vector3d& w);
+  /// A fixed body keeps its velocity and angular momentum whatever the forces (a prescribed
+  /// motion, like PFC's "fix velocity" or Yade's blocked DOFs); forces on it are still
+  /// summed, so they read as the reaction.
+  void set_fixed(BodyId id, bool fixed);
+
+  /// Bond initialisation (end of sec. 2.3.3): every pair of bodies whose dilated surfaces
+  /// are within `distance` (m) of each other gets a bond with parameters `params`, at the
+  /// mean of the pair's contact points, with the pair's mean normal; the overlaps at this
+  /// moment are stored so that the assembly starts stress-free; velocities, contact
+  /// histories, forces and moments are reset. Walls are never bonded. Returns the number
+  /// of bonds made; throws std::logic_error when bonds already exist.
+  std::size_t initialise_bonds(const BondParams& params, double distance);
+  [[nodiscard]] const std::vector<Bond>& bonds() const { return bonds_; }
+  [[nodiscard]] BondCounts bond_counts() const;
+  /// Every bond failure so far, in the order they happened.
+  [[nodiscard]] const std::vector<BondBreak>& bond_breaks() const { return breaks_; }
+
+  /// Adds a wall; returns its index.
+  std::size_t add_wall(Wall wall);
+  [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
+  [[nodiscard]] Wall& wall(std::size_t i) { return walls_.at(i); }
+
+  /// Sets WorldSettings::feature_skin (speed only: results are bit-identical for any value).
+  void set_feature_skin(double fraction) {
+    settings_.feature_skin = fraction;
+    near_.clear();
+  }
+
+  /// Advances the world by one time step.
+  void step();
+  /// Contacts of the last force evaluation.
+  /// (Made from the last evaluation on the first call after it: not for concurrent calls.)
+  [[nodiscard]] const std::vector<ContactRecord>& contacts() const;
+  /// Slots of live bodies in ascending order, with their ids.
+  [[nodiscard]] std::vector<BodyId> body_ids() const;
+  /// The averaged stress (eq. 2.17, grain_stress.hpp) of every body from the contacts of
+  /// the last force evaluation, indexed by slot (zero for slots without a live body).
+  [[nodiscard]] std::vector<Eigen::Matrix3d> body_stresses() const;
+  [[nodiscard]] double time() const { return time_; }
+  [[nodiscard]] std::uint64_t steps() const { return steps_; }
+  [[nodiscard]] const WorldSettings& settings() const { return settings_; }
+
+  /// Totals over live bodies (for tests and reports).
+  [[nodiscard]] double kinetic_energy() const;
+  [[nodiscard]] double potential_energy() const;  ///< -m g . x
+  [[nodiscard]] Eigen::Vector3d linear_momentum() const;
+  [[nodiscard]] Eigen::Vector3d angular_momentum() const;  ///< about the world origin
+
+  /// Checkpoints (world_state.cpp): everything the world carries from one step to the
+  /// next, bit for bit: settings, shapes, bodies (with the forces of the last evaluation,
+  /// which the next step's first half-kick uses), free slots, walls, bonds with their state
+  /// and stored overlaps, bond breaks, contact histories and records, pair offsets, the
+  /// neighbour search's Verlet list, time and step count. A world that loads what another
+  /// saved steps on exactly as the other would have. `threads` is kept as this world's.
+  void save_state(StateWriter& out) const;
+  /// Replaces this world's state by a saved one; throws StateError on malformed data.
+  void load_state(StateReader& in);
+  /// FNV-1a hash of the physical state: time, steps, every live body's slot, generation
+  /// and state, walls, bonds (state, failure), contact histories and pair offsets. Equal
+  /// runs (and a run restarted from a checkpoint) end with equal hashes.
+  [[nodiscard]] std::uint64_t state_hash() const;
+
+ private:
+  void compute_forces();
+  /// `stale`: the pairs of the last neighbour search may miss some (a body has moved half
+  /// the search skin since, or bodies came or went).
+  void body_contacts(int threads, bool stale);
+  void wall_contacts(int nt);
+  void evaluate_and_apply(int threads);
+  void sum_forces(int threads);
+  void bond_forces(int threads);
+  void apply_local_damping(int threads);
+  /// The overlap stored at bonding for features (fa, fb) of bonded pair (a, b), or 0;
+  /// `cursor` walks forward through bonds_ (sorted by pair) as keys ascend.
+  double initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa, std::uint32_t fb,
+                         std::size_t& cursor) const;
+
+  /// A contact's identity across steps: the two bodies (or wall and body) and the two
+  /// features touching. Contacts are produced in ascending key order every step, so the
+  /// history of the previous step is found by a forward merge, without hashing.
+  struct ContactKey {
+    std::uint32_t a, b, fa, fb;
+    auto operator<=>(const ContactKey&) const = default;
+  };
+  struct HistoryEntry {
+    ContactKey key;
+    ContactHistory history;
+  };
+  /// A contact found this step, before the law is applied.
+  struct Pending {
+    ContactKey key;  // a carries kWallFlag for wall contacts
+    PrimitiveContact contact;
+  };
+  const ContactHistory* previous_history(const ContactKey& key) const;
+  /// Index of the first entry of history_ whose key is not below `key`.
+  std::size_t history_index(const ContactKey& key) const;
+  static constexpr std::uint32_t kWallFlag = 0x80000000u;
+  /// The contact law for contact k (`p`): reads the bodies' states and the previous step's
+  /// history (walking `history_cursor` forward through it), writes only slot k.
+  void evaluate_contact(const Pending& p, std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
+
+  WorldSettings settings_;
+  std::vector<RigidShape> shapes_;
+  std::vector<BodyState> states_;  // hot, indexed by slot
+  std::vector<BodyInfo> infos_;    // cold, indexed by slot
+  std::vector<std::uint32_t> free_slots_;
+  std::size_t live_ = 0;
+  std::vector<Wall> walls_;
+  std::vector<PosedShape> posed_;         // by slot, refreshed each force evaluation
+  std::vector<std::uint32_t> live_slots_;
+  std::vector<BoundingSphere> spheres_;
+  std::vector<BodyPair> pairs_;
+  std::vector<NearFeatures> near_;  // by pair; cleared with each new pair list and on load
+  std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
+  double skin_ = 0.0;                         // margin of the last search
+  bool pairs_current_ = false;
+  NeighbourSearch search_;
+  std::vector<HistoryEntry> history_, next_history_;  // sorted by key
+  /// This step's contacts, in the order the law and the sums go through them: the lists of
+  /// the chunks of pairs, then those of the walls (wall by wall, thread by thread), read in
+  /// place rather than copied into one list.
+  std::vector<std::vector<Pending>> chunk_pending_, wall_pending_;
+  std::vector<const std::vector<Pending>*> parts_;  // the lists in order
+  std::vector<std::size_t> part_start_;             // index of each list's first contact; back(): all
+  [[nodiscard]] std::size_t pending_count() const { return part_start_.empty() ? 0 : part_start_.back(); }
+  /// Calls f(k, contact k) for k in [begin, end), in order.
+  template <class F>
+  void for_pending(std::size_t begin, std::size_t end, F&& f) const;
+  void join_pending();
+  std::vector<ContactForce> forces_;
+  std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
+  mutable std::vector<ContactRecord> records_;  // contacts(), made when first asked for
+  mutable bool records_current_ = true;
+  std::vector<Bond> bonds_;  // sorted by (a, b)
+  /// Overlaps that count as zero between pairs that are not bonded (or no longer have the
+  /// bond that stored them): pieces of one split, whose dilated surfaces overlap across
+  /// the new crack by the sum of their dilation radii, and pieces of a split body with the
+  /// parent's neighbours. Sorted by (a, b), a < b.
+  struct PairOffset {
+    std::uint32_t a, b;
+    double overlap;
+  };
+  std::vector<PairOffset> offsets_;
+  [[nodiscard]] double pair_offset(std::uint32_t a, std::uint32_t b) const;
+  BondParams bond_params_;
+  std::vector<BondResult> bond_results_;
+  std::vector<BondBreak> breaks_;
+  double time_ = 0.0;
+  std::uint64_t steps_ = 0;
+  bool forces_current_ = false;
+};
+
+}  // namespace cleave::physics

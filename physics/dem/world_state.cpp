@@ -1,0 +1,490 @@
+// World checkpoints: save_state / load_state (bit-exact) and the state hash.
+
+#include <cstring>
+#include <string>
+
+#include "physics/dem/state_codec.hpp"
+#include "physics/dem/world.hpp"
+
+namespace cleave::physics {
+
+namespace {
+
+/// The layout of this file's records; a change in what is saved changes it, and the
+/// checkpoint reader refuses other layouts.
+constexpr std::uint32_t kWorldLayout = 1;
+
+void put_params(StateWriter& w, const ContactParams& p) {
+  for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
+}
+ContactParams get_params(StateReader& r) {
+  ContactParams p;
+  for (double* v : {&p.kn, &p.ks, &p.kr, &p.kt, &p.c_res, &p.mu_s, &p.mu_r, &p.damping_ratio}) {
+    *v = r.get<double>();
+  }
+  return p;
+}
+
+void put_shape(StateWriter& w, const RigidShape& s) {
+  w.put(s.volume);
+  w.put(s.principal_moments);
+  w.put(s.centroid);
+  w.put(s.axes);
+  const geometry::ContactPrimitives& p = s.primitives;
+  w.put(p.origin);
+  w.put(p.vertices);
+  w.count(p.edges.size());
+  for (const auto& e : p.edges) {
+    for (int v : {e.a, e.b, e.left_face, e.right_face}) w.put<std::int32_t>(v);
+  }
+  w.count(p.faces.size());
+  for (const auto& f : p.faces) {
+    w.count(f.vertices.size());
+    for (int v : f.vertices) w.put<std::int32_t>(v);
+    w.put(f.normal);
+    w.put(f.offset);
+    w.put(f.centroid);
+    w.put(f.area);
+  }
+  w.count(p.triangles.size());
+  for (const auto& t : p.triangles) {
+    for (int v : {t.v[0], t.v[1], t.v[2], t.face}) w.put<std::int32_t>(v);
+  }
+  w.put(p.dilation_radius);
+  w.put(p.bounding_radius);
+}
+
+RigidShape get_shape(StateReader& r) {
+  RigidShape s;
+  s.volume = r.get<double>();
+  s.principal_moments = r.vec3();
+  s.centroid = r.vec3();
+  s.axes = r.mat3();
+  geometry::ContactPrimitives& p = s.primitives;
+  p.origin = r.vec3();
+  p.vertices = r.vec3s();
+  const auto nv = static_cast<std::int32_t>(p.vertices.size());
+  auto vertex = [&](std::int32_t v) {
+    if (v < 0 || v >= nv) r.fail("a shape's vertex index is out of range");
+    return static_cast<int>(v);
+  };
+  p.edges.resize(r.count(16));
+  for (auto& e : p.edges) {
+    e.a = vertex(r.get<std::int32_t>());
+    e.b = vertex(r.get<std::int32_t>());
+    e.left_face = r.get<std::int32_t>();
+    e.right_face = r.get<std::int32_t>();
+  }
+  p.faces.resize(r.count(8));
+  for (auto& f : p.faces) {
+    f.vertices.resize(r.count(4));
+    for (int& v : f.vertices) v = vertex(r.get<std::int32_t>());
+    f.normal = r.vec3();
+    f.offset = r.get<double>();
+    f.centroid = r.vec3();
+    f.area = r.get<double>();
+  }
+  p.triangles.resize(r.count(16));
+  for (auto& t : p.triangles) {
+    for (int& v : t.v) v = vertex(r.get<std::int32_t>());
+    t.face = r.get<std::int32_t>();
+  }
+  p.dilation_radius = r.get<double>();
+  p.bounding_radius = r.get<double>();
+  if (!geometry::finish_primitives(p)) r.fail("a side of a shape's face is not one of its edges");
+  return s;
+}
+
+void put_bond_state(StateWriter& w, const BondState& s) {
+  w.put(s.normal);
+  w.put(s.shear);
+  w.put(s.bending);
+  w.put(s.torsion);
+  w.put(s.cohesive.phase);
+  w.put(s.cohesive.psi_max);
+  w.put(s.cohesive.lambda_max);
+  // cohesive.dc and lambda_cr are not kept: bonds use the paper's initiation rule, under
+  // which they stay 0 (BondParams has no other; the traction rule is the lattice's).
+  w.put(s.broken);
+}
+BondState get_bond_state(StateReader& r) {
+  BondState s;
+  s.normal = r.get<double>();
+  s.shear = r.vec3();
+  s.bending = r.vec3();
+  s.torsion = r.get<double>();
+  s.cohesive.phase = r.get_enum(LinkPhase::contact);
+  s.cohesive.psi_max = r.get<double>();
+  s.cohesive.lambda_max = r.get<double>();
+  s.broken = r.get_bool();
+  return s;
+}
+
+/// FNV-1a over the bytes of values.
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, std::size_t n) {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) {
+      h ^= c[i];
+      h *= 1099511628211ull;
+    }
+  }
+  template <class T>
+  void add(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(&v, sizeof(T));
+  }
+  void add(const Eigen::Vector3d& v) { bytes(v.data(), 3 * sizeof(double)); }
+  void add(const Eigen::Quaterniond& q) { bytes(q.coeffs().data(), 4 * sizeof(double)); }
+};
+
+}  // namespace
+
+void World::save_state(StateWriter& w) const {
+  w.put(kWorldLayout);
+  // Settings (threads and the feature skin stay the loader's: results do not depend on them).
+  w.put(settings_.gravity);
+  w.put(settings_.dt);
+  put_params(w, settings_.particle_particle);
+  put_params(w, settings_.particle_wall);
+  w.put(settings_.search);
+  w.put(settings_.search_skin);
+  w.put(settings_.local_damping);
+
+  w.count(shapes_.size());
+  for (const RigidShape& s : shapes_) put_shape(w, s);
+
+  w.count(states_.size());
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    const BodyInfo& b = infos_[i];
+    w.put(b.shape);
+    w.put(b.mass);
+    w.put(b.inv_mass);
+    w.put(b.inertia);
+    w.put(b.inv_inertia);
+    w.put<std::int32_t>(b.grain_id);
+    w.put(b.generation);
+    w.put(b.alive);
+    w.put(b.fixed);
+    const BodyState& s = states_[i];
+    for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.L, &s.w, &s.f, &s.tau}) w.put(*v);
+    w.put(s.q);
+  }
+  w.put(free_slots_);
+  w.put<std::uint64_t>(live_);
+
+  w.count(walls_.size());
+  for (const Wall& wall : walls_) {
+    w.put(wall.kind);
+    w.put(wall.name);
+    for (const Eigen::Vector3d* v : {&wall.origin, &wall.normal, &wall.u, &wall.velocity, &wall.reaction,
+                                     &wall.load_axis}) {
+      w.put(*v);
+    }
+    for (double v : {wall.half_u, wall.half_v, wall.length, wall.radius}) w.put(v);
+  }
+
+  // The neighbour search's Verlet list: reused until a body moves half the skin.
+  w.put(pairs_current_);
+  w.put(skin_);
+  w.put(searched_at_);
+  w.count(pairs_.size());
+  for (const auto& [i, j] : pairs_) {
+    w.put(i);
+    w.put(j);
+  }
+
+  w.count(history_.size());
+  for (const HistoryEntry& e : history_) {
+    for (std::uint32_t k : {e.key.a, e.key.b, e.key.fa, e.key.fb}) w.put(k);
+    w.put(e.history.shear);
+    w.put(e.history.rolling);
+    w.put(e.history.torsion);
+    w.put(e.history.max_overlap);
+  }
+  w.count(contacts().size());
+  for (const ContactRecord& c : contacts()) {
+    w.put(c.a);
+    w.put(c.b);
+    w.put(c.wall);
+    w.put(c.point);
+    w.put(c.normal);
+    w.put(c.overlap);
+    w.put(c.force);
+  }
+
+  w.count(bonds_.size());
+  for (const Bond& bd : bonds_) {
+    w.put(bd.a);
+    w.put(bd.b);
+    for (const Eigen::Vector3d* v : {&bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.point, &bd.normal,
+                                     &bd.force, &bd.moment}) {
+      w.put(*v);
+    }
+    w.put(bd.section.radius);
+    put_bond_state(w, bd.state);
+    w.put(bd.failure);
+    w.put(bd.broken_at);
+    w.count(bd.initial.size());
+    for (const Bond::Overlap& o : bd.initial) {
+      w.put(o.fa);
+      w.put(o.fb);
+      w.put(o.overlap);
+    }
+  }
+  w.count(offsets_.size());
+  for (const PairOffset& o : offsets_) {
+    w.put(o.a);
+    w.put(o.b);
+    w.put(o.overlap);
+  }
+  for (double v : {bond_params_.kbn, bond_params_.kbs, bond_params_.tbn, bond_params_.tbs,
+                   bond_params_.sigma_c, bond_params_.g_c}) {
+    w.put(v);
+  }
+  w.put(bond_params_.law);
+  w.count(breaks_.size());
+  for (const BondBreak& b : breaks_) {
+    w.put(b.time);
+    w.put(b.step);
+    w.put<std::uint64_t>(b.bond);
+    w.put(b.a);
+    w.put(b.b);
+    w.put<std::int32_t>(b.grain_a);
+    w.put<std::int32_t>(b.grain_b);
+    w.put(b.point);
+    w.put(b.normal);
+    w.put(b.mode);
+    put_bond_state(w, b.loads);
+  }
+  w.put(time_);
+  w.put(steps_);
+  w.put(forces_current_);
+}
+
+void World::load_state(StateReader& r) {
+  if (const auto layout = r.get<std::uint32_t>(); layout != kWorldLayout) {
+    r.fail("world layout " + std::to_string(layout) + " is not supported (this build reads " +
+           std::to_string(kWorldLayout) + ")");
+  }
+  WorldSettings ws;
+  ws.threads = settings_.threads;
+  ws.feature_skin = settings_.feature_skin;
+  ws.gravity = r.vec3();
+  ws.dt = r.get<double>();
+  ws.particle_particle = get_params(r);
+  ws.particle_wall = get_params(r);
+  ws.search = r.get_enum(SearchMethod::bounding_box);
+  ws.search_skin = r.get<double>();
+  ws.local_damping = r.get<double>();
+  if (!(ws.dt > 0.0)) r.fail("the time step is not positive");
+
+  std::vector<RigidShape> shapes(r.count(8));
+  for (RigidShape& s : shapes) s = get_shape(r);
+
+  const std::size_t slots = r.count(8);
+  std::vector<BodyState> states(slots);
+  std::vector<BodyInfo> infos(slots);
+  for (std::size_t i = 0; i < slots; ++i) {
+    BodyInfo& b = infos[i];
+    b.shape = r.get<std::uint32_t>();
+    if (b.shape >= shapes.size()) r.fail("a body's shape index is out of range");
+    b.mass = r.get<double>();
+    b.inv_mass = r.get<double>();
+    b.inertia = r.vec3();
+    b.inv_inertia = r.vec3();
+    b.grain_id = r.get<std::int32_t>();
+    b.generation = r.get<std::uint32_t>();
+    b.alive = r.get_bool();
+    b.fixed = r.get_bool();
+    BodyState& s = states[i];
+    for (Eigen::Vector3d* v : {&s.x, &s.v, &s.L, &s.w, &s.f, &s.tau}) *v = r.vec3();
+    s.q = r.quat();
+  }
+  std::vector<std::uint32_t> free_slots = r.numbers<std::uint32_t>();
+  const auto live = r.get<std::uint64_t>();
+  std::size_t alive = 0;
+  for (const BodyInfo& b : infos) alive += b.alive ? 1 : 0;
+  if (alive != live) r.fail("the live body count does not match the bodies");
+  for (std::uint32_t f : free_slots) {
+    if (f >= slots || infos[f].alive) r.fail("a free slot holds a live body");
+  }
+  auto slot = [&](std::uint32_t s) {
+    if (s >= slots) r.fail("a body slot is out of range");
+    return s;
+  };
+
+  std::vector<Wall> walls(r.count(8));
+  for (Wall& wall : walls) {
+    wall.kind = r.get_enum(Wall::Kind::cylinder);
+    wall.name = r.string();
+    for (Eigen::Vector3d* v : {&wall.origin, &wall.normal, &wall.u, &wall.velocity, &wall.reaction,
+                               &wall.load_axis}) {
+      *v = r.vec3();
+    }
+    for (double* v : {&wall.half_u, &wall.half_v, &wall.length, &wall.radius}) *v = r.get<double>();
+  }
+
+  const bool pairs_current = r.get_bool();
+  const double skin = r.get<double>();
+  std::vector<Eigen::Vector3d> searched_at = r.vec3s();
+  std::vector<BodyPair> pairs(r.count(8));
+  for (auto& [i, j] : pairs) {
+    i = r.get<std::uint32_t>();
+    j = r.get<std::uint32_t>();
+    if (i >= searched_at.size() || j >= searched_at.size()) r.fail("a searched pair is out of range");
+  }
+
+  std::vector<HistoryEntry> history(r.count(16));
+  for (HistoryEntry& e : history) {
+    e.key.a = r.get<std::uint32_t>();
+    e.key.b = slot(r.get<std::uint32_t>());
+    e.key.fa = r.get<std::uint32_t>();
+    e.key.fb = r.get<std::uint32_t>();
+    e.history.shear = r.vec3();
+    e.history.rolling = r.vec3();
+    e.history.torsion = r.get<double>();
+    e.history.max_overlap = r.get<double>();
+  }
+  std::vector<ContactRecord> records(r.count(8));
+  for (ContactRecord& c : records) {
+    c.a = r.get<std::uint32_t>();
+    c.b = slot(r.get<std::uint32_t>());
+    c.wall = r.get_bool();
+    if (c.wall ? c.a >= walls.size() : c.a >= slots) r.fail("a contact's body or wall is out of range");
+    c.point = r.vec3();
+    c.normal = r.vec3();
+    c.overlap = r.get<double>();
+    c.force = r.vec3();
+  }
+
+  std::vector<Bond> bonds(r.count(8));
+  for (Bond& bd : bonds) {
+    bd.a = slot(r.get<std::uint32_t>());
+    bd.b = slot(r.get<std::uint32_t>());
+    for (Eigen::Vector3d* v : {&bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.point, &bd.normal,
+                               &bd.force, &bd.moment}) {
+      *v = r.vec3();
+    }
+    bd.section.radius = r.get<double>();
+    bd.state = get_bond_state(r);
+    bd.failure = r.get_enum(BondFailure::torsion);
+    bd.broken_at = r.get<double>();
+    bd.initial.resize(r.count(16));
+    for (Bond::Overlap& o : bd.initial) {
+      o.fa = r.get<std::uint32_t>();
+      o.fb = r.get<std::uint32_t>();
+      o.overlap = r.get<double>();
+    }
+  }
+  std::vector<PairOffset> offsets(r.count(16));
+  for (PairOffset& o : offsets) {
+    o.a = slot(r.get<std::uint32_t>());
+    o.b = slot(r.get<std::uint32_t>());
+    o.overlap = r.get<double>();
+  }
+  BondParams bp;
+  for (double* v : {&bp.kbn, &bp.kbs, &bp.tbn, &bp.tbs, &bp.sigma_c, &bp.g_c}) *v = r.get<double>();
+  bp.law = r.get_enum(BondLaw::cohesive);
+  std::vector<BondBreak> breaks(r.count(8));
+  for (BondBreak& b : breaks) {
+    b.time = r.get<double>();
+    b.step = r.get<std::uint64_t>();
+    b.bond = r.get<std::uint64_t>();
+    b.a = r.get<std::uint32_t>();
+    b.b = r.get<std::uint32_t>();
+    b.grain_a = r.get<std::int32_t>();
+    b.grain_b = r.get<std::int32_t>();
+    b.point = r.vec3();
+    b.normal = r.vec3();
+    b.mode = r.get_enum(BondFailure::torsion);
+    b.loads = get_bond_state(r);
+  }
+  const double time = r.get<double>();
+  const auto steps = r.get<std::uint64_t>();
+  const bool forces_current = r.get_bool();
+
+  // All read: replace the state.
+  settings_ = ws;
+  search_ = NeighbourSearch(settings_.search);
+  shapes_ = std::move(shapes);
+  states_ = std::move(states);
+  infos_ = std::move(infos);
+  free_slots_ = std::move(free_slots);
+  live_ = live;
+  walls_ = std::move(walls);
+  pairs_current_ = pairs_current;
+  skin_ = skin;
+  searched_at_ = std::move(searched_at);
+  pairs_ = std::move(pairs);
+  near_.clear();
+  history_ = std::move(history);
+  next_history_.clear();
+  records_ = std::move(records);
+  records_current_ = true;
+  bonds_ = std::move(bonds);
+  offsets_ = std::move(offsets);
+  bond_params_ = bp;
+  breaks_ = std::move(breaks);
+  time_ = time;
+  steps_ = steps;
+  forces_current_ = forces_current;
+  // The posed shapes of this state (initialise_bonds reads them when the forces are current).
+  live_slots_.clear();
+  posed_.assign(states_.size(), PosedShape{});
+  for (std::uint32_t i = 0; i < states_.size(); ++i) {
+    if (!infos_[i].alive) continue;
+    live_slots_.push_back(i);
+    posed_[i].update(shapes_[infos_[i].shape], states_[i]);
+  }
+  if (pairs_current_ && searched_at_.size() != live_slots_.size()) pairs_current_ = false;
+}
+
+std::uint64_t World::state_hash() const {
+  Fnv h;
+  h.add(time_);
+  h.add(steps_);
+  for (std::uint32_t i = 0; i < states_.size(); ++i) {
+    if (!infos_[i].alive) continue;
+    const BodyState& s = states_[i];
+    h.add(i);
+    h.add(infos_[i].generation);
+    h.add(infos_[i].shape);
+    for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.L, &s.w, &s.f, &s.tau}) h.add(*v);
+    h.add(s.q);
+  }
+  for (const Wall& w : walls_) {
+    h.add(w.origin);
+    h.add(w.velocity);
+    h.add(w.reaction);
+  }
+  for (const Bond& bd : bonds_) {
+    h.add(bd.a);
+    h.add(bd.b);
+    h.add(bd.state.normal);
+    h.add(bd.state.shear);
+    h.add(bd.state.bending);
+    h.add(bd.state.torsion);
+    h.add(bd.state.broken);
+    h.add(bd.failure);
+  }
+  for (const HistoryEntry& e : history_) {
+    h.add(e.key.a);
+    h.add(e.key.b);
+    h.add(e.key.fa);
+    h.add(e.key.fb);
+    h.add(e.history.shear);
+    h.add(e.history.rolling);
+    h.add(e.history.torsion);
+    h.add(e.history.max_overlap);
+  }
+  for (const PairOffset& o : offsets_) {
+    h.add(o.a);
+    h.add(o.b);
+    h.add(o.overlap);
+  }
+  return h.h;
+}
+
+}  // namespace cleave::physics

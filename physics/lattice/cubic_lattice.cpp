@@ -1,0 +1,574 @@
+#include "physics/lattice/cubic_lattice.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace cleave::physics {
+
+namespace {
+
+constexpr int kParallelMin = 2048;
+
+/// Turns a stored shear separation into the plane normal to n (the link turned since it was
+/// stored). A link turns by a tiny angle in one step, so dropping the normal component loses
+/// only a second-order sliver of the length.
+Eigen::Vector3d turn_into_plane(const Eigen::Vector3d& s, const Eigen::Vector3d& n) {
+  return s - s.dot(n) * n;
+}
+
+void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t k = 0; k < n; ++k) {
+    h ^= p[k];
+    h *= 1099511628211ULL;
+  }
+}
+
+}  // namespace
+
+/// Eq. 3 (Yu's cubic cell): k_n1 = k_n2 = 2 E r / (5 (1 - 2 nu)),
+/// k_s1 = k_s2 = 2 E r (1 - 4 nu) / (5 (1 - 2 nu)(1 + nu)); the effective areas of the text
+/// after eq. 10: pi r^2 / 4 for first and 2 pi r^2 / 9 for second neighbours.
+LatticeSprings lattice_springs(double E, double nu, double r) {
+  LatticeSprings s;
+  s.kn1 = s.kn2 = 2.0 * E * r / (5.0 * (1.0 - 2.0 * nu));
+  s.ks1 = s.ks2 = 2.0 * E * r * (1.0 - 4.0 * nu) / (5.0 * (1.0 - 2.0 * nu) * (1.0 + nu));
+  s.area1 = M_PI * r * r / 4.0;
+  s.area2 = 2.0 * M_PI * r * r / 9.0;
+  return s;
+}
+
+LatticeSprings tiled_areas(LatticeSprings s, double r) {
+  const double scale = 4.0 * r * r / (s.area1 + 4.0 * s.area2);
+  s.area1 *= scale;
+  s.area2 *= scale;
+  return s;
+}
+
+SurfaceCompensation surface_compensation(const LatticeSprings& s, double nu) {
+  const double b = nu / (1.0 - nu);
+  SurfaceCompensation c;
+  c.kn_edge = 0.5 * (s.kn2 + s.ks2);
+  c.kn_diagonal = 0.5 * (s.kn1 * b * b + 2.0 * b * (b - 1.0) * s.kn2 + 2.0 * b * (b + 1.0) * s.ks2);
+  c.ks_edge = s.ks2 - 2.0 * c.kn_diagonal;
+  c.ks_diagonal = 0.0;
+  return c;
+}
+
+CubicLattice::CubicLattice(const CubicLatticeDef& def)
+    : def_(def), nx_(def.nx), ny_(def.ny), nz_(def.nz) {
+  const LatticeMaterial& mat = def.material;
+  if (nx_ < 1 || ny_ < 1 || nz_ < 1) throw std::invalid_argument("lattice: empty grid");
+  if (!(def.radius > 0)) throw std::invalid_argument("lattice: radius must be > 0");
+  if (!(mat.young > 0) || !(mat.density > 0))
+    throw std::invalid_argument("lattice: Young's modulus and density must be > 0");
+  if (!(mat.poisson >= 0.0 && mat.poisson < 0.25))
+    throw std::invalid_argument("lattice: Poisson's ratio must lie in [0, 0.25) (eq. 3)");
+  const double r = def.radius;
+  springs_ = lattice_springs(mat.young, mat.poisson, r);
+  if (def.tiled_areas) springs_ = tiled_areas(springs_, r);
+  cohesive1_ = {springs_.kn1, springs_.ks1, springs_.area1, mat.sigma_c, mat.g_c, mat.initiation};
+  cohesive2_ = {springs_.kn2, springs_.ks2, springs_.area2, mat.sigma_c, mat.g_c, mat.initiation};
+  const bool weak = def.weak_layer > 0 && def.weak_layer < nz_;
+  if (weak) {
+    if (!(mat.sigma_c > 0) || !(mat.g_c > 0))
+      throw std::invalid_argument("lattice: a weak plane needs sigma_c > 0 and G_c > 0");
+    limits1_ = cohesive_limits(cohesive1_);
+    limits2_ = cohesive_limits(cohesive2_);
+  }
+  hertz_ = hertz_mindlin_params(mat.young, mat.poisson, r, mat.young, mat.poisson, r,
+                                mat.kappa, mat.friction);
+  mass_ = mat.density * 8.0 * r * r * r;
+  inertia_ = mass_ * 4.0 * r * r / 6.0;
+
+  const int n = nx_ * ny_ * nz_;
+  x0_.resize(n);
+  for (int iz = 0; iz < nz_; ++iz)
+    for (int iy = 0; iy < ny_; ++iy)
+      for (int ix = 0; ix < nx_; ++ix)
+        x0_[index(ix, iy, iz)] = Eigen::Vector3d((2 * ix + 1) * r, (2 * iy + 1) * r,
+                                                 (2 * iz + 1) * r);
+  x_ = x0_;
+  v_.assign(n, Eigen::Vector3d::Zero());
+  w_.assign(n, Eigen::Vector3d::Zero());
+  f_.assign(n, Eigen::Vector3d::Zero());
+  m_.assign(n, Eigen::Vector3d::Zero());
+  q_.assign(n, Eigen::Quaterniond::Identity());
+  prescribed_.assign(n, 0);
+
+  const SurfaceCompensation comp = surface_compensation(springs_, mat.poisson);
+  // Links to the 6 first and 12 second neighbours, each once (i < j).
+  for (int iz = 0; iz < nz_; ++iz)
+    for (int iy = 0; iy < ny_; ++iy)
+      for (int ix = 0; ix < nx_; ++ix)
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int order = std::abs(dx) + std::abs(dy) + std::abs(dz);
+              if (order == 0 || order == 3) continue;  // self, third neighbours (k = 0)
+              const int jx = ix + dx, jy = iy + dy, jz = iz + dz;
+              if (jx < 0 || jy < 0 || jz < 0 || jx >= nx_ || jy >= ny_ || jz >= nz_) continue;
+              const int i = index(ix, iy, iz), j = index(jx, jy, jz);
+              if (j <= i) continue;
+              LatticeLink l;
+              l.i = i;
+              l.j = j;
+              l.kind = static_cast<std::uint8_t>(order);
+              l.rest = (x0_[j] - x0_[i]).norm();
+              l.kn = order == 1 ? springs_.kn1 : springs_.kn2;
+              l.ks = order == 1 ? springs_.ks1 : springs_.ks2;
+              // A link lying in an outer face (both ends in its layer) is compensated.
+              const int ci[3] = {ix, iy, iz}, cj[3] = {jx, jy, jz}, n3[3] = {nx_, ny_, nz_};
+              for (int a = 0; a < 3; ++a) {
+                if (ci[a] != cj[a]) continue;
+                const int faces = (ci[a] == 0 ? 1 : 0) + (ci[a] == n3[a] - 1 ? 1 : 0);
+                l.kn += faces * (order == 1 ? comp.kn_edge : comp.kn_diagonal);
+                l.ks += faces * (order == 1 ? comp.ks_edge : comp.ks_diagonal);
+              }
+              // A link lying in a face of the weak plane is compensated as the plane opens.
+              if (weak && iz == jz && (iz == def.weak_layer - 1 || iz == def.weak_layer)) {
+                l.face_kn = order == 1 ? comp.kn_edge : comp.kn_diagonal;
+                l.face_ks = order == 1 ? comp.ks_edge : comp.ks_diagonal;
+              }
+              l.breakable = weak && std::min(iz, jz) == def.weak_layer - 1 &&
+                            std::max(iz, jz) == def.weak_layer &&
+                            0.5 * (x0_[i].x() + x0_[j].x()) <= def.weak_end_x + 1e-6 * r;
+              if (order == 1 && !l.breakable)
+                l.kb = def.link_bending * mat.young * 8.0 * r * r * r / 12.0;
+              if (l.breakable && 0.5 * (x0_[i].x() + x0_[j].x()) < def.notch_x - 1e-6 * r)
+                l.state.phase = LinkPhase::contact;
+              links_.push_back(l);
+            }
+  // Incident lists, in link order (the order the gather sums in).
+  incident_start_.assign(n + 1, 0);
+  for (const LatticeLink& l : links_) {
+    ++incident_start_[l.i + 1];
+    ++incident_start_[l.j + 1];
+  }
+  for (int b = 0; b < n; ++b) incident_start_[b + 1] += incident_start_[b];
+  incident_.resize(incident_start_[n]);
+  std::vector<int> fill(incident_start_.begin(), incident_start_.end() - 1);
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
+    incident_[fill[links_[k].i]++] = 2 * k;
+    incident_[fill[links_[k].j]++] = 2 * k + 1;
+  }
+  // Only the faces of the weak plane need the bodies' orientations (for face contacts).
+  oriented_.assign(n, 0);
+  if (weak)
+    for (int iy = 0; iy < ny_; ++iy)
+      for (int ix = 0; ix < nx_; ++ix) {
+        oriented_[index(ix, iy, def.weak_layer)] = 1;
+        oriented_[index(ix, iy, def.weak_layer - 1)] = 1;
+      }
+  freedom_.assign(n, 0.0);
+  cross_links_.assign(n, {});
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k)
+    if (links_[k].breakable) {
+      cross_links_[links_[k].i].push_back(k);
+      cross_links_[links_[k].j].push_back(k);
+    }
+  link_force_.assign(links_.size(), Eigen::Vector3d::Zero());
+  link_moment_.assign(links_.size(), Eigen::Vector3d::Zero());
+  link_couple_.assign(links_.size(), Eigen::Vector3d::Zero());
+
+  if (weak) {
+    const int upper = nx_ * ny_;
+    contact_state_.assign(upper * kStencil * kStencil, {});
+    contact_force_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
+    contact_moment_up_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
+    contact_moment_down_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
+    contact_centre_.resize(upper);
+    for (int u = 0; u < upper; ++u) contact_centre_[u] = {u % nx_, u / nx_};
+    // The link (if any) between each upper body and the lower body of each stencil slot.
+    stencil_link_.assign(upper * kStencil * kStencil, -1);
+    const int half = kStencil / 2;
+    const int layer = nx_ * ny_;
+    for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
+      const LatticeLink& l = links_[k];
+      // Every link across the plane, the bulk ones beyond its end included (never in contact,
+      // they keep those pairs out of the face contacts).
+      if (l.i / layer != def.weak_layer - 1 || l.j / layer != def.weak_layer) continue;
+      const int lower = l.i, upper_body = l.j;  // i < j: i lies in the lower layer
+      const int ux = upper_body % nx_, uy = (upper_body / nx_) % ny_;
+      const int lx = lower % nx_, ly = (lower / nx_) % ny_;
+      const int sx = lx - ux + half, sy = ly - uy + half;
+      stencil_link_[(ux + nx_ * uy) * kStencil * kStencil + sy * kStencil + sx] = k;
+    }
+  }
+}
+
+double CubicLattice::critical_time_step() const {
+  // Gershgorin on the mass-normalised stiffness M^-1/2 K M^-1/2: omega^2 is at most its
+  // largest absolute row sum. A link between bodies i and j (unit n, arm a = |d|/2 from each
+  // centre) has the blocks K_tt = kn n n^T + ks (I - n n^T), K_tr = ks a [n x] and
+  // K_rr = ks a^2 (I - n n^T), each once on the diagonal and once off it.
+  const double mi = std::sqrt(mass_ * inertia_);
+  double worst = 0.0;
+  for (int b = 0; b < size(); ++b) {
+    Eigen::Array3d sum_t = Eigen::Array3d::Zero(), sum_r = Eigen::Array3d::Zero();
+    for (int k = incident_start_[b]; k < incident_start_[b + 1]; ++k) {
+      const LatticeLink& l = links_[incident_[k] / 2];
+      const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2)
+                                    : l.kn + std::max(0.0, l.face_kn);
+      const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2)
+                                    : l.ks + std::max(0.0, l.face_ks);
+      const Eigen::Vector3d n = (x0_[l.j] - x0_[l.i]).normalized();
+      const double arm = 0.5 * l.rest;
+      const Eigen::Matrix3d nn = n * n.transpose();
+      const Eigen::Matrix3d tt = kn * nn + ks * (Eigen::Matrix3d::Identity() - nn);
+      Eigen::Matrix3d cross;
+      cross << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
+      const Eigen::Matrix3d tr = ks * arm * cross;
+      const Eigen::Matrix3d rr = (ks * arm * arm + l.kb) * (Eigen::Matrix3d::Identity() - nn);
+      sum_t += 2.0 * (tt.cwiseAbs().rowwise().sum().array() / mass_ +
+                      tr.cwiseAbs().rowwise().sum().array() / mi);
+      sum_r += 2.0 * (rr.cwiseAbs().rowwise().sum().array() / inertia_ +
+                      tr.transpose().cwiseAbs().rowwise().sum().array() / mi);
+    }
+    worst = std::max({worst, sum_t.maxCoeff(), sum_r.maxCoeff()});
+  }
+  return 2.0 / std::sqrt(worst);
+}
+
+void CubicLattice::prescribe(int b, unsigned axes) {
+  prescribed_[b] = static_cast<std::uint8_t>(axes & 15u);
+}
+
+void CubicLattice::step(double dt) {
+  // The first evaluation of a run: forces of the state as it is, no separation increments.
+  if (!forces_current_) compute_forces(0.0);
+  const int n = size();
+  const double c = def_.global_damping;
+  const double a = 1.0 - 0.5 * c * dt, b = 1.0 / (1.0 + 0.5 * c * dt);
+  double work = 0.0, damp = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : work, damp) if (n >= kParallelMin)
+  for (int k = 0; k < n; ++k) {
+    // Eqs 48-49 (leapfrog form) with the damping semi-implicit.
+    const Eigen::Vector3d vold = v_[k];
+    Eigen::Vector3d vnew = (a * vold + (dt / mass_) * f_[k]) * b;
+    for (int ax = 0; ax < 3; ++ax)
+      if ((prescribed_[k] >> ax) & 1u) {
+        vnew[ax] = vold[ax];
+        // The reaction the prescribed motion supplies does work on the body.
+        work += -f_[k][ax] * vold[ax] * dt;
+      }
+    damp += c * mass_ * 0.25 * (vold + vnew).squaredNorm() * dt;
+    v_[k] = vnew;
+    x_[k] += dt * vnew;
+    const Eigen::Vector3d wold = w_[k];
+    w_[k] = (prescribed_[k] & 8u) ? Eigen::Vector3d::Zero()
+                                  : Eigen::Vector3d((a * wold + (dt / inertia_) * m_[k]) * b);
+    damp += c * inertia_ * 0.25 * (wold + w_[k]).squaredNorm() * dt;
+    const double angle = oriented_[k] ? w_[k].norm() * dt : 0.0;
+    if (angle > 0.0) {
+      q_[k] = Eigen::Quaterniond(Eigen::AngleAxisd(angle, w_[k].normalized())) * q_[k];
+      q_[k].normalize();
+    }
+  }
+  external_work_ += work;
+  damping_work_ += damp;
+  compute_forces(dt);
+}
+
+void CubicLattice::compute_forces(double dt) {
+  const int nl = static_cast<int>(links_.size());
+  // How free each crack-face body is, from the damage of its links across the plane as the
+  // last evaluation left them.
+  for (int b = 0; b < static_cast<int>(cross_links_.size()); ++b) {
+    const auto& cross = cross_links_[b];
+    if (cross.empty()) continue;
+    double sum = 0.0;
+    for (int k : cross) {
+      const LatticeLink& l = links_[k];
+      sum += damage(l.kind == 1 ? limits1_ : limits2_, l.state);
+    }
+    freedom_[b] = sum / static_cast<double>(cross.size());
+  }
+#pragma omp parallel for schedule(static) if (nl >= kParallelMin)
+  for (int k = 0; k < nl; ++k) {
+    LatticeLink& l = links_[k];
+    if (l.state.phase == LinkPhase::contact) {
+      link_force_[k].setZero();
+      link_moment_[k].setZero();
+      link_couple_[k].setZero();
+      continue;
+    }
+    const Eigen::Vector3d d = x_[l.j] - x_[l.i];
+    const double dist = d.norm();
+    const Eigen::Vector3d n = d * (1.0 / dist);
+    const Eigen::Vector3d half = 0.5 * d;
+    // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
+    const Eigen::Vector3d vrel = (v_[l.j] - w_[l.j].cross(half)) - (v_[l.i] + w_[l.i].cross(half));
+    const Eigen::Vector3d vs = vrel - vrel.dot(n) * n;
+    l.shear = turn_into_plane(l.shear, n) + dt * vs;  // eqs 54-55
+    const double dn = dist - l.rest;                  // opening is positive
+    Eigen::Vector3d fj;
+    if (!l.breakable) {
+      // Eqs 1 and 5: connective springs.
+      double kn = l.kn, ks = l.ks;
+      if (l.face_kn != 0.0 || l.face_ks != 0.0) {
+        const double w = 0.5 * (freedom_[l.i] + freedom_[l.j]);
+        kn += w * l.face_kn;
+        ks += w * l.face_ks;
+      }
+      fj = -kn * dn * n - ks * l.shear;
+    } else {
+      const bool first = l.kind == 1;
+      const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
+      const double ds = l.shear.norm();
+      double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
+      if (def_.material.compression == Compression::plane) {
+        // The plane's own opening here: the mean opening of the two first-neighbour links
+        // across it at the ends of this one (i below the plane, j above).
+        const int layer = nx_ * ny_;
+        const double ja = (x_[l.i + layer] - x_[l.i]).norm() - (x0_[l.i + layer] - x0_[l.i]).norm();
+        const double jb = (x_[l.j] - x_[l.j - layer]).norm() - (x0_[l.j] - x0_[l.j - layer]).norm();
+        const double jn = 0.5 * (ja + jb);
+        closing = std::min(jn, 0.0) * (x0_[l.j].z() - x0_[l.i].z()) / l.rest;
+      }
+      const CohesiveTraction t =
+          cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
+      // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
+      fj = -p.area * t.tn * n;
+      if (ds > 0.0) fj -= (p.area * t.ts / ds) * l.shear;
+    }
+    link_force_[k] = fj;
+    if (l.kb > 0.0) {
+      const Eigen::Vector3d wrel = w_[l.j] - w_[l.i];
+      l.bend = turn_into_plane(l.bend, n) + dt * (wrel - wrel.dot(n) * n);
+      double scale = 1.0;
+      if (l.breakable && l.state.phase == LinkPhase::cohesive)
+        scale = 1.0 - damage(l.kind == 1 ? limits1_ : limits2_, l.state);
+      link_couple_[k] = -scale * l.kb * l.bend;
+    }
+    link_moment_[k] = (-half).cross(fj);  // eq. 6 on j; the same on i (r_i = -r_j, f_i = -f_j)
+  }
+  const int n = size();
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (int b = 0; b < n; ++b) {
+    Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+    for (int e = incident_start_[b]; e < incident_start_[b + 1]; ++e) {
+      const int k = incident_[e] / 2;
+      if (incident_[e] & 1)
+        f += link_force_[k];
+      else
+        f -= link_force_[k];
+      m += link_moment_[k];
+      if (incident_[e] & 1)
+        m += link_couple_[k];
+      else
+        m -= link_couple_[k];
+    }
+    f_[b] = f;
+    m_[b] = m;
+  }
+  if (!contact_state_.empty()) face_contacts(dt);
+  forces_current_ = true;
+}
+
+void CubicLattice::face_contacts(double dt) {
+  const int up = def_.weak_layer, down = def_.weak_layer - 1;
+  const double r = def_.radius;
+  const int half = kStencil / 2;
+  const int upper_count = nx_ * ny_;
+  rotation_.resize(2 * upper_count);
+  for (int u = 0; u < upper_count; ++u) {
+    rotation_[u] = q_[index(u % nx_, u / nx_, down)].toRotationMatrix();
+    rotation_[upper_count + u] = q_[index(u % nx_, u / nx_, up)].toRotationMatrix();
+  }
+  // The live link (if any) of each stencil pair: a pair still linked by a connective or
+  // cohesive spring does not touch through a contact as well.
+#pragma omp parallel for schedule(static) if (upper_count * 25 >= kParallelMin)
+  for (int u = 0; u < upper_count; ++u) {
+    const int ix = u % nx_, iy = u / nx_;
+    const int bu = index(ix, iy, up);
+    const Eigen::Matrix3d& Ru = rotation_[upper_count + u];
+    // The stencil follows the slip of the faces: it is centred on the lower body nearest
+    // under this one, walked from last step's (the faces slip far less than a cube a step).
+    // Once a beam is split, nothing bounds how far its halves slide along each other.
+    int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
+    const Eigen::Vector3d& xu = x_[bu];
+    const auto dx = [&](int jx) { return std::abs(x_[index(jx, cy, down)].x() - xu.x()); };
+    while (cx + 1 < nx_ && dx(cx + 1) < dx(cx)) ++cx;
+    while (cx > 0 && dx(cx - 1) < dx(cx)) --cx;
+    const auto dy = [&](int jy) { return std::abs(x_[index(cx, jy, down)].y() - xu.y()); };
+    while (cy + 1 < ny_ && dy(cy + 1) < dy(cy)) ++cy;
+    while (cy > 0 && dy(cy - 1) < dy(cy)) --cy;
+    if (cx != contact_centre_[u][0] || cy != contact_centre_[u][1]) {
+      // The same lower bodies keep their contact state in their new slots.
+      const int mx = cx - contact_centre_[u][0], my = cy - contact_centre_[u][1];
+      std::array<HertzMindlinState, kStencil * kStencil> moved{};
+      for (int sy = 0; sy < kStencil; ++sy)
+        for (int sx = 0; sx < kStencil; ++sx) {
+          const int ox = sx + mx, oy = sy + my;
+          if (ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil)
+            moved[sy * kStencil + sx] = contact_state_[u * kStencil * kStencil + oy * kStencil + ox];
+        }
+      std::copy(moved.begin(), moved.end(), contact_state_.begin() + u * kStencil * kStencil);
+      contact_centre_[u] = {cx, cy};
+    }
+    for (int sy = 0; sy < kStencil; ++sy)
+      for (int sx = 0; sx < kStencil; ++sx) {
+        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
+        const int jx = cx + sx - half, jy = cy + sy - half;
+        contact_force_[slot].setZero();
+        contact_moment_up_[slot].setZero();
+        contact_moment_down_[slot].setZero();
+        if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
+        const int bd = index(jx, jy, down);
+        // A pair with a live spring between them is held by it (links join neighbours in
+        // the rest lattice, so by offsets from this body's own column).
+        const int ox = jx - ix + half, oy = jy - iy + half;
+        const int link = ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil
+                             ? stencil_link_[u * kStencil * kStencil + oy * kStencil + ox]
+                             : -1;
+        const bool linked = link >= 0 && links_[link].state.phase != LinkPhase::contact;
+        HertzMindlinState& state = contact_state_[slot];
+        if (linked) {
+          state = {};
+          continue;
+        }
+        // Far apart sideways (beyond what any tilt of the faces could bring within reach).
+        const Eigen::Vector3d gap = x_[bu] - x_[bd];
+        if (std::abs(gap.x()) >= 3.0 * r || std::abs(gap.y()) >= 3.0 * r || gap.z() >= 3.0 * r) {
+          state = {};
+          continue;
+        }
+        const Eigen::Matrix3d& Rd = rotation_[jx + nx_ * jy];
+        // Mean face normal, from the lower cube (A) towards the upper (B).
+        Eigen::Vector3d nrm = Rd.col(2) + Ru.col(2);
+        nrm.normalize();
+        const Eigen::Vector3d d = x_[bu] - x_[bd];
+        const double s = d.dot(nrm);
+        const double overlap = 2.0 * r - s;
+        const Eigen::Vector3d t = d - s * nrm;
+        const double fx = 1.0 - std::abs(t.dot(Rd.col(0))) / (2.0 * r);
+        const double fy = 1.0 - std::abs(t.dot(Rd.col(1))) / (2.0 * r);
+        if (overlap <= 0.0 || fx <= 0.0 || fy <= 0.0) {
+          state = {};
+          continue;
+        }
+        // The axis of least penetration (the separating axes of two nearly aligned cubes):
+        // the faces, as a rule; a side face when a cube comes in from the side deeper than it
+        // overlaps sideways (a beam's end sliding past the end of the beam below it), which
+        // the faces' Hertz law would meet with the full depth at once.
+        Eigen::Vector3d axis = nrm;
+        double depth = overlap, fraction = fx * fy;
+        const double side_x = 2.0 * r * fx, side_y = 2.0 * r * fy;  // sideways overlaps
+        if (side_x < depth || side_y < depth) {
+          const double fz = std::min(1.0, overlap / (2.0 * r));
+          if (side_x <= side_y) {
+            axis = (t.dot(Rd.col(0)) >= 0.0 ? 1.0 : -1.0) * Rd.col(0);
+            depth = side_x;
+            fraction = fz * fy;
+          } else {
+            axis = (t.dot(Rd.col(1)) >= 0.0 ? 1.0 : -1.0) * Rd.col(1);
+            depth = side_y;
+            fraction = fz * fx;
+          }
+        }
+        // The contact point: between the faces, over the middle of their common patch.
+        const Eigen::Vector3d c = x_[bd] + 0.5 * (s * nrm) + 0.5 * t;
+        const Eigen::Vector3d rb = c - x_[bu], ra = c - x_[bd];
+        const Eigen::Vector3d vrel = (v_[bu] + w_[bu].cross(rb)) - (v_[bd] + w_[bd].cross(ra));
+        const HertzMindlinForce hm = hertz_mindlin_force(hertz_, depth, axis, vrel, state, dt);
+        const Eigen::Vector3d fb = fraction * hm.force;
+        contact_force_[slot] = fb;
+        contact_moment_up_[slot] = rb.cross(fb);
+        contact_moment_down_[slot] = ra.cross(-fb);
+      }
+  }
+  // Gather serially in a fixed order (any thread count sums alike): each upper body its 25
+  // slots, each slot's reaction to its lower body.
+  for (int u = 0; u < upper_count; ++u) {
+    const int bu = index(u % nx_, u / nx_, up);
+    const int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
+    for (int sy = 0; sy < kStencil; ++sy)
+      for (int sx = 0; sx < kStencil; ++sx) {
+        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
+        f_[bu] += contact_force_[slot];
+        m_[bu] += contact_moment_up_[slot];
+        const int jx = cx + sx - half, jy = cy + sy - half;
+        if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
+        const int bd = index(jx, jy, down);
+        f_[bd] -= contact_force_[slot];
+        m_[bd] += contact_moment_down_[slot];
+      }
+  }
+}
+
+LatticeEnergy CubicLattice::energy() const {
+  LatticeEnergy e;
+  for (int b = 0; b < size(); ++b)
+    e.kinetic += 0.5 * mass_ * v_[b].squaredNorm() + 0.5 * inertia_ * w_[b].squaredNorm();
+  for (const LatticeLink& l : links_) {
+    if (l.state.phase != LinkPhase::connective) continue;
+    const double w = l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
+    const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
+    const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
+    const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
+    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * l.shear.squaredNorm() + 0.5 * l.kb * l.bend.squaredNorm();
+  }
+  return e;
+}
+
+double CubicLattice::body_elastic_energy(int b) const {
+  double e = 0.0;
+  for (int k = incident_start_[b]; k < incident_start_[b + 1]; ++k) {
+    const LatticeLink& l = links_[incident_[k] / 2];
+    if (l.state.phase != LinkPhase::connective) continue;
+    const double w = l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
+    const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
+    const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
+    const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
+    e += 0.25 * kn * dn * dn + 0.25 * ks * l.shear.squaredNorm() + 0.25 * l.kb * l.bend.squaredNorm();
+  }
+  return e;
+}
+
+CubicLattice::PhaseCounts CubicLattice::phase_counts() const {
+  PhaseCounts c;
+  for (const LatticeLink& l : links_) {
+    if (!l.breakable) continue;
+    switch (l.state.phase) {
+      case LinkPhase::connective: ++c.connective; break;
+      case LinkPhase::cohesive: ++c.cohesive; break;
+      case LinkPhase::contact: ++c.contact; break;
+    }
+  }
+  return c;
+}
+
+double CubicLattice::crack_front_x(bool contact_only) const {
+  double front = 0.0;
+  for (const LatticeLink& l : links_) {
+    if (!l.breakable || l.state.phase == LinkPhase::connective) continue;
+    if (contact_only && l.state.phase != LinkPhase::contact) continue;
+    front = std::max(front, 0.5 * (x0_[l.i].x() + x0_[l.j].x()));
+  }
+  return front;
+}
+
+std::uint64_t CubicLattice::state_hash() const {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (int b = 0; b < size(); ++b) {
+    hash_bytes(h, x_[b].data(), sizeof(double) * 3);
+    hash_bytes(h, v_[b].data(), sizeof(double) * 3);
+    hash_bytes(h, w_[b].data(), sizeof(double) * 3);
+  }
+  for (const LatticeLink& l : links_) {
+    hash_bytes(h, l.shear.data(), sizeof(double) * 3);
+    hash_bytes(h, l.bend.data(), sizeof(double) * 3);
+    hash_bytes(h, &l.state.lambda_max, sizeof(double));
+    hash_bytes(h, &l.state.dc, sizeof(double));  // the traction rule's own dc (else 0)
+    const auto phase = static_cast<std::uint8_t>(l.state.phase);
+    hash_bytes(h, &phase, 1);
+  }
+  return h;
+}
+
+}  // namespace cleave::physics

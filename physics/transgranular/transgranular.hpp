@@ -1,0 +1,52 @@
+#pragma once
+/// \file
+/// The transgranular fracture algorithm of sec. 3.4 (seed 000), run between steps: for
+/// every grain or fragment, its average stress (eq. 2.17, contacts and bonds) against the
+/// hydrostatic gate (eq. 3.22); then, for each cleavage plane it may still break along,
+/// the consistent tractions of each face from the contact forces on it (eq. 3.15), the
+/// load the fragment behind the plane puts through the crack section (eqs 3.20-3.21), the
+/// beam stresses and stress intensities of eqs 3.23-3.24 and the mixed-mode test of eq.
+/// 3.25. A body whose test holds is cut along the plane with the largest left side of
+/// eq. 3.25 (FractureBook::split).
+///
+/// Readings fixed here:
+/// - A contact (or bond) acts on the face of the body its point lies nearest to (largest
+///   signed distance to the face planes): with dilated polyhedra the contact point sits
+///   just outside the face it presses on.
+/// - The fragment under study is the side the crack plane's normal points away from; the
+///   other side gives the same section load with the opposite sign in equilibrium.
+
+#include <vector>
+
+#include "physics/transgranular/fracture_book.hpp"
+#include "physics/transgranular/fracture_criterion.hpp"
+#include "physics/dem/world.hpp"
+
+namespace cleave::physics {
+
+/// What the check found for one body and one plane (for logs and tests).
+struct CrackAssessment {
+  BodyId id;
+  int plane = -1;
+  FractureResult result;
+  BeamStresses stresses;
+};
+
+/// Eqs 3.22-3.25 for body `id` and each of its candidate planes, from the contacts and
+/// bonds of the last force evaluation.
+std::vector<CrackAssessment> assess(const World& world, const FractureBook& book, BodyId id,
+                                    const FractureParams& params,
+                                    const std::vector<Eigen::Matrix3d>& stresses);
+
+/// One split with what triggered it.
+struct TransgranularEvent {
+  SplitEvent split;
+  CrackAssessment cause;
+};
+
+/// Checks every live body once and splits those that fail (at most one cut per body per
+/// call; pieces are checked on the next call). Returns the splits, in body order.
+std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& book,
+                                                   const FractureParams& params);
+
+}  // namespace cleave::physics

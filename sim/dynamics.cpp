@@ -1,0 +1,918 @@
+#include "sim/dynamics.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "io/mesh_io.hpp"
+#include "io/plot.hpp"
+#include "io/result_dir.hpp"
+#include "io/vtk_output.hpp"
+#include "io/world_setup.hpp"
+#include "physics/transgranular/fracture_book.hpp"
+#include "physics/bonds/grain_stress.hpp"
+#include "physics/dem/state_codec.hpp"
+#include "physics/dem/step_guard.hpp"
+#include "physics/transgranular/transgranular.hpp"
+#include "physics/dem/world.hpp"
+
+namespace cleave::sim {
+
+namespace {
+
+namespace fs = std::filesystem;
+using io::StageDef;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// A body's shape in its world pose.
+geometry::PolygonMesh world_mesh(const physics::World& world, physics::BodyId id) {
+  const physics::BodyState& s = world.state(id);
+  const auto& prim = world.shape(world.info(id).shape).primitives;
+  geometry::PolygonMesh mesh;
+  const Eigen::Matrix3d R = s.q.toRotationMatrix();
+  for (const auto& v : prim.vertices) mesh.vertices.push_back(s.x + R * v);
+  for (const auto& f : prim.faces) mesh.faces.push_back(f.vertices);
+  return mesh;
+}
+
+/// The largest contact overlap of the last force evaluation, m.
+double max_overlap(const physics::World& world) {
+  double overlap = 0.0;
+  for (const auto& c : world.contacts()) overlap = std::max(overlap, c.overlap);
+  return overlap;
+}
+
+/// The body frame: every body's world mesh and its fields.
+io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& specimen) {
+  io::BodyFrame frame;
+  const std::vector<Eigen::Matrix3d> stress = world.body_stresses();
+  auto& ids = frame.body_fields.ids;
+  auto& vec = frame.body_fields.vectors;
+  auto& sca = frame.body_fields.scalars;
+  for (const physics::BodyId id : world.body_ids()) {
+    const physics::BodyState& s = world.state(id);
+    const physics::BodyInfo& b = world.info(id);
+    frame.meshes.push_back(world_mesh(world, id));
+    ids["body_id"].push_back(id.index);
+    ids["grain_id"].push_back(b.grain_id);
+    const auto& o = specimen.grains.at(static_cast<std::size_t>(b.grain_id)).orientation;
+    ids["family_11_20"].push_back(o.family == geometry::CleavageFamily::a_11_20 ? 1 : 0);
+    ids["angle_deg"].push_back(o.angle_deg);
+    // The crystal's c axis (the prism axis, z of the shape frame) in the world.
+    const auto& shape = world.shape(b.shape);
+    vec["c_axis"].push_back(s.q * (shape.axes.transpose() * Eigen::Vector3d::UnitZ()));
+    vec["velocity"].push_back(s.v);
+    vec["angular_velocity"].push_back(s.w);
+    sca["speed"].push_back(s.v.norm());
+    // Grain stress (eq. 2.17) from the contacts: mean (hydrostatic), von Mises, principal.
+    const Eigen::Matrix3d& sigma = stress[id.index];
+    sca["mean_stress_Pa"].push_back(physics::mean_stress(sigma));
+    sca["von_mises_Pa"].push_back(physics::von_mises(sigma));
+    vec["principal_stress_Pa"].push_back(physics::principal_stresses(sigma));
+    // Eq. 2.18: the in-plane (xy) invariants the seed plots for its one-plane specimens.
+    const physics::PlaneInvariants pq = physics::plane_invariants(sigma);
+    sca["p_xy_Pa"].push_back(pq.p);
+    sca["q_xy_Pa"].push_back(pq.q);
+    sca["theta_xy_deg"].push_back(pq.theta * 180.0 / M_PI);
+  }
+  return frame;
+}
+
+/// Contacts as points (zero-length links) at their contact points.
+io::LinkFrame contact_frame(const physics::World& world) {
+  io::LinkFrame frame;
+  for (const auto& c : world.contacts()) {
+    frame.a.push_back(c.point);
+    frame.b.push_back(c.point);
+    frame.fields.vectors["force"].push_back(c.force);
+    frame.fields.vectors["normal"].push_back(c.normal);
+    frame.fields.scalars["overlap"].push_back(c.overlap);
+    frame.fields.ids["with_wall"].push_back(c.wall ? 1 : 0);
+  }
+  return frame;
+}
+
+/// The bond network as lines between the two grains' centroids (the beams of figs 2.18 and
+/// 2.22): intact (1) or broken (0), the failure mode, and the bond's loads.
+io::LinkFrame bond_frame(const physics::World& world) {
+  io::LinkFrame frame;
+  auto& f = frame.fields;
+  for (const physics::Bond& b : world.bonds()) {
+    frame.a.push_back(world.state(world.id_at(b.a)).x);
+    frame.b.push_back(world.state(world.id_at(b.b)).x);
+    f.ids["intact"].push_back(b.intact() ? 1 : 0);
+    f.ids["failure_mode"].push_back(static_cast<long long>(b.failure));
+    f.scalars["normal_force_N"].push_back(b.state.normal);
+    f.scalars["shear_force_N"].push_back(b.state.shear.norm());
+    f.scalars["bending_moment_Nm"].push_back(b.state.bending.norm());
+    f.scalars["torsion_moment_Nm"].push_back(std::abs(b.state.torsion));
+    f.vectors["force_N"].push_back(b.force);
+  }
+  return frame;
+}
+
+double lowest_vertex(const physics::World& world) {
+  double z = std::numeric_limits<double>::infinity();
+  for (const physics::BodyId id : world.body_ids()) {
+    const physics::BodyState& s = world.state(id);
+    const auto& prim = world.shape(world.info(id).shape).primitives;
+    for (const auto& v : prim.vertices) z = std::min(z, (s.x + s.q * v).z());
+  }
+  return z;
+}
+
+/// What a testing machine reads off one wall: the force the specimen presses it with and
+/// how far it has moved, both along its load axis (magnitudes when it has none).
+struct WallReading {
+  double force = 0.0, displacement = 0.0;
+};
+
+WallReading read_wall(const physics::Wall& w, const Eigen::Vector3d& origin0) {
+  const Eigen::Vector3d moved = w.origin - origin0;
+  if (w.load_axis.squaredNorm() == 0.0) return {w.reaction.norm(), moved.norm()};
+  return {-w.reaction.dot(w.load_axis), moved.dot(w.load_axis)};
+}
+
+/// Where the loop of one stage is: what a checkpoint saves of it besides the world.
+struct StageProgress {
+  StageSummary st;
+  std::size_t breaks0 = 0;                    ///< bond breaks before the stage
+  std::vector<Eigen::Vector3d> stage_origin;  ///< wall origins at the stage's start
+  std::vector<double> plot_x, plot_y;         ///< its load-displacement picture so far
+  bool event = false;                         ///< its ending event has come
+};
+
+/// The layout of the run state in a checkpoint (Runner::encode_run_state).
+constexpr std::uint32_t kRunStateLayout = 1;
+
+void put_summary(physics::StateWriter& w, const StageSummary& st) {
+  w.put(st.name);
+  w.put(st.kind);
+  w.put(st.steps);
+  w.put(st.start);
+  w.put(st.end);
+  w.put(st.ended_by);
+  w.put(st.event_missed);
+  w.put(st.peak_load);
+  w.put(st.peak_displacement);
+  w.put<std::uint64_t>(st.bonds_broken);
+  w.put<std::uint64_t>(st.splits);
+  w.put(st.plot);
+}
+
+StageSummary get_summary(physics::StateReader& r) {
+  StageSummary st;
+  st.name = r.string();
+  st.kind = r.get_enum(StageDef::Kind::bond);
+  st.steps = r.get<std::uint64_t>();
+  st.start = r.get<double>();
+  st.end = r.get<double>();
+  st.ended_by = r.string();
+  st.event_missed = r.get_bool();
+  st.peak_load = r.get<double>();
+  st.peak_displacement = r.get<double>();
+  st.bonds_broken = r.get<std::uint64_t>();
+  st.splits = r.get<std::uint64_t>();
+  st.plot = r.string();
+  return st;
+}
+
+}  // namespace
+
+/// One dynamic run, stage after stage, and everything it writes.
+class Dynamics::Runner {
+ public:
+  Runner(const io::Scenario& scenario, const geometry::Specimen& specimen, fs::path out,
+         bool quiet, std::uint64_t max_steps, const RunHooks& hooks, RunResume* resume)
+      : scenario_(scenario),
+        specimen_(specimen),
+        out_(std::move(out)),
+        quiet_(quiet),
+        max_steps_(max_steps),
+        hooks_(hooks),
+        guard_(hooks.max_move_fraction),
+        world_(resume ? std::move(resume->world) : io::make_world(scenario, specimen)),
+        bodies_pvd_(out_ / "bodies.pvd"),
+        contacts_pvd_(out_ / "contacts.pvd"),
+        bonds_pvd_(out_ / "bonds.pvd") {
+    fs::create_directories(out_ / "frames");
+    for (const auto& w : world_.walls()) origin0_.push_back(w.origin);
+    pe0_ = world_.potential_energy();
+    energy_ = "time_s,kinetic_J,potential_J,contacts,max_overlap_m,stage\n";
+    walls_ = "time_s";
+    loads_ = "time_s,step,stage";
+    for (const auto& w : world_.walls()) {
+      walls_ += fmt::format(",{0}_Fx_N,{0}_Fy_N,{0}_Fz_N", w.name);
+      loads_ += fmt::format(",{0}_displacement_m,{0}_force_N", w.name);
+    }
+    walls_ += "\n";
+    loads_ += ",load_N,load_point_displacement_m\n";
+    bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
+    if (resume) {
+      // Everything else comes from the checkpoint (run()).
+      if (scenario_.fracture.enabled != resume->book.has_value()) {
+        throw std::runtime_error("the checkpoint does not match the scenario: [fracture] is " +
+                                 std::string(scenario_.fracture.enabled ? "on" : "off") +
+                                 " in the scenario but the checkpoint has " +
+                                 (resume->book ? "a" : "no") + " fracture book");
+      }
+      book_ = std::move(resume->book);
+      resume_state_ = std::move(resume->run_state);
+      resuming_ = true;
+    } else if (scenario_.fracture.enabled) {
+      // Every grain may split along its cleavage planes (chapter 3): the book knows its
+      // exact shape (world shape k is specimen shape k, io::make_world) and orientation.
+      book_.emplace(scenario_.contact.dilation_radius, scenario_.split.min_fragment_fraction);
+      for (std::size_t k = 0; k < specimen_.shapes.size(); ++k) {
+        book_->add_shape(static_cast<std::uint32_t>(k),
+                         std::make_shared<const geometry::ExactPolyhedron>(specimen_.shapes[k]));
+      }
+      for (const physics::BodyId id : world_.body_ids()) {
+        const int grain = world_.info(id).grain_id;
+        book_->add_grain(world_, id, grain, specimen_.grains.at(static_cast<std::size_t>(grain)).orientation);
+      }
+      splits_ =
+          "time_s,step,stage,grain,parent,pieces,plane,nx,ny,nz,x_m,y_m,z_m,mean_stress_Pa,sigma_Pa,"
+          "tau_Pa,K_I_Pa_sqrt_m,K_II_Pa_sqrt_m,criterion\n";
+    }
+  }
+
+  /// Where the run starts: its first frame, or the loop's state of a checkpoint.
+  void start() {
+    const io::DynamicsDef& dyn = scenario_.dynamics;
+    stage_ = scenario_.stages.empty() ? "run" : scenario_.stages.front().name;
+    if (resuming_) {
+      resumed_.emplace(decode_run_state(resume_state_));
+      next_stage_ = stage_index_;
+    } else {
+      write_frame();
+    }
+    if (scenario_.stages.empty()) {
+      // A plain run: one stage as long as the duration, ended early once settled.
+      plain_.name = "run";
+      plain_.steps = static_cast<std::uint64_t>(std::ceil(dyn.duration / dyn.dt));
+      plain_.frames = dyn.frames;
+      for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+        plain_.wall_velocity.emplace_back(world_.walls()[i].name, world_.walls()[i].velocity);
+      }
+    }
+    started_ = true;
+  }
+
+  bool plain() const { return scenario_.stages.empty(); }
+
+  /// A stage is left to run.
+  bool has_next() const {
+    return plain() ? next_stage_ == 0 : next_stage_ < scenario_.stages.size() && !stopped_;
+  }
+
+  /// Begins the next stage (a bond stage is over at once). False when none is left.
+  bool open_next() {
+    if (!has_next()) return false;
+    if (!plain()) stage_index_ = next_stage_;
+    const StageDef& def = plain() ? plain_ : scenario_.stages[next_stage_];
+    ++next_stage_;
+    begin_stage(def, plain(), resumed_ ? &*resumed_ : nullptr);
+    resumed_.reset();
+    return true;
+  }
+
+  bool done() const { return finished_ || (started_ && !stage_run_ && !has_next()); }
+  bool finished() const { return finished_; }
+
+  std::uint64_t advance(std::uint64_t steps) {
+    if (finished_) return 0;
+    if (!started_) start();
+    std::uint64_t taken = 0;
+    while (taken < steps) {
+      if (!stage_run_) {
+        if (!open_next()) break;
+        continue;
+      }
+      if (!continues()) {
+        end_stage();
+        continue;
+      }
+      step_once();
+      ++taken;
+    }
+    if (stage_run_ && !continues()) end_stage();
+    return taken;
+  }
+
+  std::optional<StageSummary> advance_stage() {
+    if (finished_) return std::nullopt;
+    if (!started_) start();
+    if (!stage_run_) {
+      if (!open_next()) return std::nullopt;
+      if (!stage_run_) return sum_.stages.back();  // a bond stage
+    }
+    while (continues()) step_once();
+    end_stage();
+    return sum_.stages.back();
+  }
+
+  DynamicsSummary finish() {
+    if (finished_) return sum_;
+    while (!done()) advance(std::numeric_limits<std::uint64_t>::max());
+    // A blown-up state with non-finite values makes no frame; the last good one stays.
+    const bool garbage = sum_.ending == RunEnding::blew_up && !finite_state();
+    if (world_.steps() != last_frame_step_ && !garbage) write_frame();
+    write_tables();
+    sum_.steps = world_.steps();
+    sum_.time = world_.time();
+    sum_.kinetic_energy = world_.kinetic_energy();
+    sum_.released_energy = pe0_ - world_.potential_energy();
+    sum_.lowest_point = lowest_vertex(world_);
+    sum_.bond_counts = world_.bond_counts();
+    if (book_) {
+      for (const auto& e : book_->entries(world_)) {
+        const auto& grain = specimen_.grains.at(static_cast<std::size_t>(e.lineage.grain_id));
+        sum_.final_pieces.push_back({e.lineage, e.shape, grain.site.centre, grain.orientation});
+      }
+    }
+    for (const auto& st : sum_.stages) sum_.peak_load = std::max(sum_.peak_load, st.peak_load);
+    const geometry::Outline& outline = specimen_.def.outline;
+    if (outline.kind == geometry::Outline::Kind::disc && sum_.peak_load > 0.0) {
+      /// Brazilian tensile strength sigma = 2P / (pi D t), sec. 2.5.4 of the dissertation.
+      sum_.brazilian_strength = 2.0 * sum_.peak_load / (M_PI * outline.size.x() * outline.size.z());
+    }
+    sum_.state_hash = world_.state_hash();
+    sum_.wall_seconds = seconds_since(t0_);
+    finished_ = true;
+    return sum_;
+  }
+
+  const physics::World& world() const { return world_; }
+  physics::World& world() { return world_; }
+  const physics::FractureBook* book() const { return book_ ? &*book_ : nullptr; }
+  const std::string& stage() const { return stage_; }
+  const DynamicsSummary& summary() const { return sum_; }
+
+ private:
+  /// A motion stage under way: what its loop keeps from step to step.
+  struct StageRun {
+    const StageDef* stage = nullptr;
+    bool plain = false;
+    StageProgress progress;
+    std::vector<std::size_t> load_walls;
+    std::uint64_t limit = 0, frame_every = 0, log_every = 1;
+    std::uint64_t i = 1;  ///< the stage's next step, counted from 1
+    std::chrono::steady_clock::time_point t0, last_print;
+    bool halt = false;  ///< interrupted or blew up: the run ends after this step
+  };
+
+  bool continues() const {
+    const StageRun& r = *stage_run_;
+    return r.i <= r.limit && !r.progress.event && !r.halt;
+  }
+
+  /// Begins one stage from its start, or from `resume` (a checkpoint taken inside it). A
+  /// bond stage is over when this returns; a motion stage is left in stage_run_.
+  void begin_stage(const StageDef& stage, bool plain, const StageProgress* resume) {
+    StageProgress progress;
+    if (resume) progress = *resume;
+    StageSummary& st = progress.st;
+    std::size_t& breaks0 = progress.breaks0;
+    if (!resume) {
+      st.name = stage.name;
+      st.kind = stage.kind;
+      st.start = world_.time();
+      breaks0 = world_.bond_breaks().size();
+    }
+    stage_ = stage.name;
+    if (stage.kind == StageDef::Kind::bond) {
+      current_ = &progress;
+      sum_.bonds = world_.initialise_bonds(scenario_.bond.params, stage.bond_distance);
+      st.ended_by = "bonded";
+      st.end = world_.time();
+      if (!quiet_) {
+        std::fprintf(stderr, "%s  stage %-12s %zu bonds within %.3g mm (overlaps stored, at rest)\n",
+                     progress_shown_ ? "\n" : "", stage.name.c_str(), sum_.bonds,
+                     stage.bond_distance * 1e3);
+        progress_shown_ = false;
+      }
+      record(max_overlap(world_), std::nullopt);
+      write_frame();
+      sum_.stages.push_back(st);
+      current_ = nullptr;
+      return;
+    }
+    StageRun& r = stage_run_.emplace();
+    r.stage = &stage;
+    r.plain = plain;
+    r.progress = std::move(progress);
+    current_ = &r.progress;
+    // Walls move as the stage says; the others stand still (a resumed stage has them so).
+    if (!resume) {
+      for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
+      for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = v;
+    }
+    for (const auto& name : stage.load_walls) r.load_walls.push_back(wall_index(name));
+    if (!resume) {
+      for (const auto& w : world_.walls()) r.progress.stage_origin.push_back(w.origin);
+    }
+
+    std::uint64_t limit = stage.steps > 0 ? stage.steps
+                                          : static_cast<std::uint64_t>(std::ceil(stage.time / scenario_.dynamics.dt));
+    if (max_steps_ > 0) {
+      const std::uint64_t started_at = world_.steps() - r.progress.st.steps;  // the stage's first step
+      const std::uint64_t left = max_steps_ > started_at ? max_steps_ - started_at : 0;
+      if (left < limit) {
+        limit = left;
+        stopped_ = true;  // --max-steps: the run ends with this stage
+      }
+    }
+    r.limit = limit;
+    r.frame_every = stage.frames > 0 ? std::max<std::uint64_t>(1, limit / stage.frames) : 0;
+    r.log_every = std::max<std::uint64_t>(1, limit / 1000);
+    r.t0 = std::chrono::steady_clock::now();
+    r.i = r.progress.st.steps + 1;  // 1, or the step after the checkpoint
+  }
+
+  /// Step i of the stage under way: the step, its fracture check, the events, the
+  /// histories, frames and hooks.
+  void step_once() {
+    StageRun& r = *stage_run_;
+    const StageDef& stage = *r.stage;
+    const bool plain = r.plain;
+    const std::uint64_t i = r.i;
+    const std::uint64_t limit = r.limit;
+    StageSummary& st = r.progress.st;
+    const std::vector<std::size_t>& load_walls = r.load_walls;
+    const std::vector<Eigen::Vector3d>& stage_origin = r.progress.stage_origin;
+    bool& event = r.progress.event;
+    bool& halt = r.halt;
+    ++r.i;
+    guard_.before_step(world_);
+    bool completed = true;
+    try {
+      world_.step();
+    } catch (const std::exception&) {
+      // A non-finite state can stop the step part-way (the neighbour search refuses it):
+      // that is a blow-up to report as such; anything else is an error of its own.
+      if (!guard_.check(world_, false)) throw;
+      completed = false;
+    }
+    ++st.steps;
+    if (const auto blow_up = guard_.check(world_, completed)) {
+      sum_.ending = RunEnding::blew_up;
+      sum_.failure = physics::describe(*blow_up, stable_dt_);
+      record(max_overlap(world_), std::nullopt);
+      halt = stopped_ = true;
+      return;
+    }
+    if (book_ && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
+      st.splits += split_grains();
+    }
+    const double overlap = max_overlap(world_);
+    sum_.max_overlap = std::max(sum_.max_overlap, overlap);
+    const auto [load, closure] = machine_reading(load_walls, stage_origin);
+    if (!load_walls.empty() && load > st.peak_load) {
+      st.peak_load = load;
+      st.peak_displacement = closure;
+    }
+    const std::size_t broken = world_.bond_breaks().size() - r.progress.breaks0;
+    switch (stage.until) {
+      case StageDef::Until::limit:
+        if (plain) event = settled();
+        break;
+      case StageDef::Until::all_in_contact:
+        event = all_in_contact();
+        break;
+      case StageDef::Until::walls_touch:
+        event = std::all_of(load_walls.begin(), load_walls.end(), [&](std::size_t w) {
+          return world_.walls()[w].reaction.squaredNorm() > 0.0;
+        });
+        break;
+      case StageDef::Until::load_drop:
+        // After the peak, once bonds have broken (or there are none to break): load that
+        // eases off before anything has broken (a rig settling) does not end a test.
+        event = st.peak_load > 0.0 && load < stage.load_drop * st.peak_load &&
+                (broken > 0 || world_.bonds().empty());
+        break;
+    }
+    if (i % r.log_every == 0 || i == limit || event) {
+      record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
+      if (!load_walls.empty()) {
+        r.progress.plot_x.push_back(closure);
+        r.progress.plot_y.push_back(load);
+      }
+    }
+    if (r.frame_every && (i % r.frame_every == 0)) write_frame();
+    const RunPoint point{world_, stage.name, stage_index_, st.steps, book_ ? &*book_ : nullptr,
+                         [this] { return encode_run_state(); }};
+    if (hooks_.on_checkpoint && hooks_.checkpoint_every > 0 &&
+        world_.steps() % hooks_.checkpoint_every == 0) {
+      hooks_.on_checkpoint(point);
+    }
+    if (hooks_.stop_requested && hooks_.stop_requested()) {
+      sum_.ending = RunEnding::interrupted;
+      // The checkpoint first: a restart continues the histories as if never stopped.
+      if (hooks_.on_interrupt) hooks_.on_interrupt(point);
+      if (i % r.log_every != 0 && i != limit && !event) {
+        record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
+      }
+      halt = stopped_ = true;
+    }
+    if (!quiet_ && (seconds_since(r.last_print) > 1.0 || i == limit || event || halt)) {
+      r.last_print = std::chrono::steady_clock::now();
+      const double elapsed = seconds_since(r.t0);
+      const double eta = elapsed / static_cast<double>(i) * static_cast<double>(limit - i);
+      std::string line = fmt::format(
+          "\r  stage {:<12} step {}/{}  t = {:.4g} s  bodies {}  contacts {}  KE {:.3g} J",
+          stage.name, i, limit, world_.time(), world_.body_count(), world_.contacts().size(),
+          world_.kinetic_energy());
+      if (!world_.bonds().empty()) {
+        line += fmt::format("  bonds {}/{} broken", world_.bond_counts().broken(), world_.bonds().size());
+      }
+      if (book_) line += fmt::format("  splits {}", sum_.splits);
+      if (!load_walls.empty()) line += fmt::format("  load {:.4g} N", load);
+      line += fmt::format("  ETA {:.0f} s   ", eta);
+      std::fputs(line.c_str(), stderr);
+      progress_shown_ = true;
+    }
+  }
+
+  /// What follows the last step of a motion stage: its summary, plot and log line.
+  void end_stage() {
+    StageRun& r = *stage_run_;
+    const StageDef& stage = *r.stage;
+    const bool plain = r.plain;
+    StageSummary& st = r.progress.st;
+    const bool event = r.progress.event;
+    const auto& load_walls = r.load_walls;
+    st.end = world_.time();
+    st.bonds_broken = world_.bond_breaks().size() - r.progress.breaks0;
+    st.ended_by = event ? (plain ? "settled" : io::to_string(stage.until)) : "limit";
+    if (sum_.ending == RunEnding::interrupted) st.ended_by = "interrupted";
+    if (sum_.ending == RunEnding::blew_up) st.ended_by = "blew_up";
+    st.event_missed = !event && !r.halt && stage.until != StageDef::Until::limit;
+    if (plain) sum_.settled = event;
+    if (!load_walls.empty() && r.progress.plot_x.size() >= 2) {
+      st.plot = fmt::format("load_displacement_{}.svg", stage.name);
+      write_plot(stage, st, r.progress.plot_x, r.progress.plot_y);
+    }
+    breaks_by_stage_.emplace_back(world_.bond_breaks().size(), stage.name);
+    if (!quiet_) {
+      std::string line = fmt::format("\n{:>8}ended by {} after {} steps", "", st.ended_by, st.steps);
+      if (st.event_missed) line += fmt::format(" (the {} event did not come)", io::to_string(stage.until));
+      if (!load_walls.empty()) {
+        line += fmt::format("; peak load {:.4g} N at {:.4g} um load-point displacement", st.peak_load,
+                            st.peak_displacement * 1e6);
+      }
+      if (!world_.bonds().empty()) line += fmt::format("; {} bonds broke", st.bonds_broken);
+      if (book_) line += fmt::format("; {} grains split", st.splits);
+      std::fprintf(stderr, "%s\n", line.c_str());
+      progress_shown_ = false;
+    }
+    sum_.stages.push_back(st);
+    current_ = nullptr;
+    stage_run_.reset();
+  }
+
+  /// The loop's own state for a checkpoint, taken inside a motion stage (run_stage).
+  std::string encode_run_state() const {
+    if (!current_) throw std::logic_error("encode_run_state: not inside a stage");
+    physics::StateWriter w;
+    w.put(kRunStateLayout);
+    w.put<std::uint64_t>(stage_index_);
+    w.put(stage_);
+    put_summary(w, current_->st);
+    w.put<std::uint64_t>(current_->breaks0);
+    w.put(current_->stage_origin);
+    w.put(current_->plot_x);
+    w.put(current_->plot_y);
+    w.put(current_->event);
+    w.put<std::int32_t>(sum_.frames);
+    w.put(sum_.max_overlap);
+    w.put<std::uint64_t>(sum_.bonds);
+    w.put<std::uint64_t>(sum_.splits);
+    w.count(sum_.stages.size());
+    for (const auto& st : sum_.stages) put_summary(w, st);
+    w.put(origin0_);
+    w.put(pe0_);
+    for (const std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_}) w.put(*s);
+    w.count(breaks_by_stage_.size());
+    for (const auto& [end, name] : breaks_by_stage_) {
+      w.put<std::uint64_t>(end);
+      w.put(name);
+    }
+    w.put(last_frame_step_);
+    for (const io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_}) {
+      w.count(pvd->entries().size());
+      for (const auto& e : pvd->entries()) {
+        w.put(e.time);
+        w.put(e.file);
+        w.put<std::int32_t>(e.part);
+      }
+    }
+    return w.take();
+  }
+
+  /// Takes back what encode_run_state saved; returns the progress of the stage it was in
+  /// (and sets stage_index_ to that stage).
+  StageProgress decode_run_state(const std::string& bytes) {
+    physics::StateReader r(bytes);
+    StageProgress p;
+    try {
+      if (const auto layout = r.get<std::uint32_t>(); layout != kRunStateLayout) {
+        r.fail(fmt::format("run state layout {} is not supported (this build reads {})", layout, kRunStateLayout));
+      }
+      stage_index_ = r.get<std::uint64_t>();
+      const std::size_t stages = std::max<std::size_t>(1, scenario_.stages.size());
+      if (stage_index_ >= stages) r.fail("the stage index is beyond the scenario's stages");
+      stage_ = r.string();
+      const std::string expected = scenario_.stages.empty() ? "run" : scenario_.stages[stage_index_].name;
+      if (stage_ != expected) {
+        r.fail(fmt::format("the checkpoint is in stage '{}' but the scenario's stage {} is '{}'", stage_,
+                           stage_index_ + 1, expected));
+      }
+      p.st = get_summary(r);
+      p.breaks0 = r.get<std::uint64_t>();
+      p.stage_origin = r.vec3s();
+      p.plot_x = r.numbers<double>();
+      p.plot_y = r.numbers<double>();
+      p.event = r.get_bool();
+      sum_.frames = r.get<std::int32_t>();
+      sum_.max_overlap = r.get<double>();
+      sum_.bonds = r.get<std::uint64_t>();
+      sum_.splits = r.get<std::uint64_t>();
+      sum_.stages.resize(r.count(8));
+      for (auto& st : sum_.stages) st = get_summary(r);
+      origin0_ = r.vec3s();
+      pe0_ = r.get<double>();
+      for (std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_}) *s = r.string();
+      breaks_by_stage_.resize(r.count(16));
+      for (auto& [end, name] : breaks_by_stage_) {
+        end = r.get<std::uint64_t>();
+        name = r.string();
+      }
+      last_frame_step_ = r.get<std::uint64_t>();
+      for (io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_}) {
+        std::vector<io::PvdSeries::Entry> entries(r.count(16));
+        for (auto& e : entries) {
+          e.time = r.get<double>();
+          e.file = r.string();
+          e.part = r.get<std::int32_t>();
+        }
+        pvd->restore(std::move(entries));
+      }
+      if (!r.done()) r.fail("unread bytes after the run state");
+      if (origin0_.size() != world_.walls().size() || p.stage_origin.size() != world_.walls().size()) {
+        r.fail("the walls of the run state do not match the world's");
+      }
+    } catch (const physics::StateError& e) {
+      throw std::runtime_error(fmt::format("checkpoint run state: {}", e.what()));
+    }
+    return p;
+  }
+
+  /// What the testing machine reads: load walls whose load axes agree are one crosshead
+  /// (four-point bending: both loading rollers); the load is the total force on a
+  /// crosshead, averaged over the crossheads (Brazilian, compression: the two platens carry
+  /// the same force P), and the load-point displacement is the sum over the crossheads of
+  /// their mean travel (two platens closing in: the closure). Returns (load, displacement).
+  std::pair<double, double> machine_reading(const std::vector<std::size_t>& load_walls,
+                                            const std::vector<Eigen::Vector3d>& stage_origin) const {
+    std::vector<Eigen::Vector3d> axes;
+    std::vector<double> force, travel;
+    std::vector<int> members;
+    for (std::size_t w : load_walls) {
+      const physics::Wall& wall = world_.walls()[w];
+      const WallReading r = read_wall(wall, stage_origin[w]);
+      std::size_t k = 0;
+      while (k < axes.size() && !(wall.load_axis.squaredNorm() > 0.0 && axes[k].dot(wall.load_axis) > 0.99)) ++k;
+      if (k == axes.size()) {
+        axes.push_back(wall.load_axis);
+        force.push_back(0.0);
+        travel.push_back(0.0);
+        members.push_back(0);
+      }
+      force[k] += r.force;
+      travel[k] += r.displacement;
+      ++members[k];
+    }
+    double load = 0.0, displacement = 0.0;
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      load += force[k] / static_cast<double>(axes.size());
+      displacement += travel[k] / members[k];
+    }
+    return {load, displacement};
+  }
+
+  /// The transgranular check of sec. 3.4 on every body; logs each split. Returns how many.
+  std::size_t split_grains() {
+    const auto events = physics::transgranular_step(world_, *book_, scenario_.fracture.params);
+    for (const auto& e : events) {
+      std::string pieces;
+      for (const auto& l : e.split.pieces) pieces += (pieces.empty() ? "" : " ") + l.path_string();
+      const auto& r = e.cause.result;
+      splits_ += fmt::format(
+          "{:.9g},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+          e.split.time, world_.steps(), stage_, e.split.parent.grain_id, e.split.parent.path_string(), pieces,
+          e.split.plane, e.split.normal.x(), e.split.normal.y(), e.split.normal.z(), e.split.point.x(),
+          e.split.point.y(), e.split.point.z(), r.mean_stress, e.cause.stresses.sigma, e.cause.stresses.tau,
+          r.k_i, r.k_ii, r.criterion);
+    }
+    sum_.splits += events.size();
+    return events.size();
+  }
+
+  /// Every live body's state is finite.
+  bool finite_state() const {
+    for (const physics::BodyId id : world_.body_ids()) {
+      const physics::BodyState& s = world_.state(id);
+      if (!s.x.allFinite() || !s.q.coeffs().allFinite() || !s.v.allFinite() || !s.L.allFinite()) return false;
+    }
+    return true;
+  }
+
+  bool settled() const {
+    const double released = pe0_ - world_.potential_energy();
+    const double ratio = scenario_.dynamics.settle_ratio;
+    return ratio > 0.0 && released > 0.0 && !world_.contacts().empty() &&
+           world_.kinetic_energy() < ratio * released;
+  }
+
+  /// Every body touches another body (its dilated surface overlaps another's).
+  bool all_in_contact() {
+    touched_.clear();
+    for (const auto& c : world_.contacts()) {
+      if (c.wall || c.overlap <= 0.0) continue;
+      const std::size_t top = std::max(c.a, c.b) + 1;
+      if (touched_.size() < top) touched_.resize(top, 0);
+      touched_[c.a] = touched_[c.b] = 1;
+    }
+    for (const physics::BodyId id : world_.body_ids()) {
+      if (id.index >= touched_.size() || !touched_[id.index]) return false;
+    }
+    return true;
+  }
+
+  std::size_t wall_index(const std::string& name) const {
+    for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+      if (world_.walls()[i].name == name) return i;
+    }
+    throw std::logic_error("no wall named " + name);  // the scenario reader checked names
+  }
+  physics::Wall& wall(const std::string& name) { return world_.wall(wall_index(name)); }
+
+  /// One row of every history; `reading` is the stage's (load, load-point displacement)
+  /// when it has load walls.
+  void record(double overlap, std::optional<std::pair<double, double>> reading) {
+    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), world_.kinetic_energy(),
+                           world_.potential_energy(), world_.contacts().size(), overlap, stage_);
+    walls_ += fmt::format("{:.9g}", world_.time());
+    loads_ += fmt::format("{:.9g},{},{}", world_.time(), world_.steps(), stage_);
+    for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+      const auto& w = world_.walls()[i];
+      walls_ += fmt::format(",{:.9g},{:.9g},{:.9g}", w.reaction.x(), w.reaction.y(), w.reaction.z());
+      const WallReading r = read_wall(w, origin0_[i]);
+      loads_ += fmt::format(",{:.9g},{:.9g}", r.displacement, r.force);
+    }
+    walls_ += "\n";
+    loads_ += reading ? fmt::format(",{:.9g},{:.9g}\n", reading->first, reading->second) : ",,\n";
+    if (!world_.bonds().empty()) {
+      const physics::BondCounts c = world_.bond_counts();
+      bond_counts_ += fmt::format("{:.9g},{},{},{},{},{},{}\n", world_.time(), stage_, c.intact,
+                                  c.tension, c.shear, c.bending, c.torsion);
+    }
+  }
+
+  void write_frame() {
+    const std::string stem = fmt::format("{:06d}", sum_.frames);
+    const fs::path dir = "frames";
+    io::write_vtp(out_ / dir / ("bodies_" + stem + ".vtp"), body_frame(world_, specimen_));
+    io::write_vtp(out_ / dir / ("contacts_" + stem + ".vtp"), contact_frame(world_));
+    bodies_pvd_.add(world_.time(), dir / ("bodies_" + stem + ".vtp"));
+    contacts_pvd_.add(world_.time(), dir / ("contacts_" + stem + ".vtp"));
+    if (scenario_.bond.enabled) {
+      io::write_vtp(out_ / dir / ("bonds_" + stem + ".vtp"), bond_frame(world_));
+      bonds_pvd_.add(world_.time(), dir / ("bonds_" + stem + ".vtp"));
+    }
+    if (scenario_.output.frame_meshes) write_frame_meshes(stem);
+    ++sum_.frames;
+    last_frame_step_ = world_.steps();
+  }
+
+  /// Every body as a mesh in its world pose, named by its lineage (grain_0017.1.0).
+  void write_frame_meshes(const std::string& stem) {
+    std::vector<geometry::PolygonMesh> meshes;
+    for (const physics::BodyId id : world_.body_ids()) {
+      geometry::PolygonMesh mesh = world_mesh(world_, id);
+      mesh.name = book_ && book_->knows(id) ? book_->lineage(id).name()
+                                            : geometry::Lineage{world_.info(id).grain_id, {}}.name();
+      meshes.push_back(std::move(mesh));
+    }
+    io::write_meshes(meshes, out_ / "frame_meshes", "frame_" + stem, scenario_.output.mesh_format,
+                     scenario_.output.mesh_layout);
+  }
+
+  void write_plot(const StageDef& stage, const StageSummary& st, const std::vector<double>& x,
+                  const std::vector<double>& y) {
+    io::Plot plot;
+    plot.title = fmt::format("{}: stage '{}'", scenario_.name, stage.name);
+    plot.x_label = "load-point displacement (mm)";
+    plot.y_label = "load P (N)";
+    io::PlotSeries series;
+    series.label = fmt::format("load on {}", fmt::join(stage.load_walls, ", "));
+    for (double v : x) series.x.push_back(v * 1e3);
+    series.y = y;
+    plot.series.push_back(std::move(series));
+    if (st.peak_load > 0.0) {
+      plot.markers.push_back({st.peak_displacement * 1e3, st.peak_load,
+                              fmt::format("peak {:.4g} N", st.peak_load)});
+    }
+    io::write_plot_svg(out_ / st.plot, plot);
+  }
+
+  void write_tables() {
+    io::write_file_atomically(out_ / "energy.csv", energy_);
+    io::write_file_atomically(out_ / "walls.csv", walls_);
+    io::write_file_atomically(out_ / "load_displacement.csv", loads_);
+    if (book_) io::write_file_atomically(out_ / "splits.csv", splits_);
+    if (!scenario_.bond.enabled) return;
+    io::write_file_atomically(out_ / "bonds.csv", bond_counts_);
+    std::string breaks =
+        "time_s,step,stage,bond,body_a,body_b,grain_a,grain_b,x_m,y_m,z_m,nx,ny,nz,mode,"
+        "normal_force_N,shear_force_N,bending_moment_Nm,torsion_moment_Nm\n";
+    const auto& all = world_.bond_breaks();
+    std::size_t stage = 0;
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      while (stage < breaks_by_stage_.size() && k >= breaks_by_stage_[stage].first) ++stage;
+      const std::string name = stage < breaks_by_stage_.size() ? breaks_by_stage_[stage].second : stage_;
+      const physics::BondBreak& b = all[k];
+      breaks += fmt::format(
+          "{:.9g},{},{},{},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g},{},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+          b.time, b.step, name, b.bond, b.a, b.b, b.grain_a, b.grain_b, b.point.x(), b.point.y(),
+          b.point.z(), b.normal.x(), b.normal.y(), b.normal.z(), physics::to_string(b.mode),
+          b.loads.normal, b.loads.shear.norm(), b.loads.bending.norm(), std::abs(b.loads.torsion));
+    }
+    io::write_file_atomically(out_ / "bond_breaks.csv", breaks);
+  }
+
+  const io::Scenario& scenario_;
+  const geometry::Specimen& specimen_;
+  fs::path out_;
+  bool quiet_;
+  std::uint64_t max_steps_;
+  RunHooks hooks_;
+  physics::StepGuard guard_;
+  std::size_t stage_index_ = 0;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  physics::World world_;
+  double stable_dt_ = io::stable_time_step(scenario_, specimen_);  // for blow-up messages
+  io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_;
+  std::vector<Eigen::Vector3d> origin0_;
+  double pe0_ = 0.0;
+  std::string energy_, walls_, loads_, bond_counts_, splits_;
+  std::optional<physics::FractureBook> book_;
+  std::string stage_;
+  std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)
+  std::vector<char> touched_;
+  std::uint64_t last_frame_step_ = ~0ull;
+  StageProgress* current_ = nullptr;  // the stage under way (for checkpoints)
+  bool resuming_ = false;
+  std::string resume_state_;
+  bool stopped_ = false;
+  bool progress_shown_ = false;
+  DynamicsSummary sum_;
+  StageDef plain_;                        // the one stage of a plain run
+  std::optional<StageProgress> resumed_;  // the checkpointed stage, until it begins
+  std::optional<StageRun> stage_run_;     // the motion stage under way
+  std::size_t next_stage_ = 0;
+  bool started_ = false, finished_ = false;
+};
+
+Dynamics::Dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
+                   const fs::path& out, bool quiet, std::uint64_t max_steps, const RunHooks& hooks,
+                   RunResume* resume)
+    : runner_(std::make_unique<Runner>(scenario, specimen, out, quiet, max_steps, hooks, resume)) {}
+Dynamics::~Dynamics() = default;
+std::uint64_t Dynamics::advance(std::uint64_t steps) { return runner_->advance(steps); }
+std::optional<StageSummary> Dynamics::advance_stage() { return runner_->advance_stage(); }
+bool Dynamics::done() const { return runner_->done(); }
+DynamicsSummary Dynamics::finish() { return runner_->finish(); }
+bool Dynamics::finished() const { return runner_->finished(); }
+const physics::World& Dynamics::world() const { return runner_->world(); }
+physics::World& Dynamics::world() { return runner_->world(); }
+const physics::FractureBook* Dynamics::book() const { return runner_->book(); }
+const std::string& Dynamics::stage() const { return runner_->stage(); }
+const DynamicsSummary& Dynamics::summary() const { return runner_->summary(); }
+
+DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
+                             const fs::path& out, bool quiet, std::uint64_t max_steps,
+                             const RunHooks& hooks, RunResume* resume) {
+  return Dynamics(scenario, specimen, out, quiet, max_steps, hooks, resume).finish();
+}
+
+}  // namespace cleave::sim
