@@ -23,6 +23,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev libomp-dev  # sanitizer/fuzz build: ASan, UBSan, libFuzzer, OpenMP
+  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib  # import cleave
 )
 
 install_missing() {
@@ -45,7 +46,9 @@ install_missing() {
 
 build() {
   if [ ! -f "$build_dir/build.ninja" ]; then
-    cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="${CLEAVE_BUILD_TYPE:-RelWithDebInfo}"
+    # Debian's python3 (numpy, pybind11), not whatever python3 comes first on PATH.
+    cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="${CLEAVE_BUILD_TYPE:-RelWithDebInfo}" \
+      -DPython3_EXECUTABLE=/usr/bin/python3
   fi
   cmake --build "$build_dir" -j "$jobs"
 }
@@ -54,7 +57,7 @@ build() {
 build_sanitized() {
   if [ ! -f "$asan_dir/build.ninja" ]; then
     CC=clang CXX=clang++ cmake -S . -B "$asan_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCLEAVE_SANITIZE=ON -DCLEAVE_FUZZ=ON -DCLEAVE_BUILD_BENCH=OFF
+      -DCLEAVE_SANITIZE=ON -DCLEAVE_FUZZ=ON -DCLEAVE_BUILD_BENCH=OFF -DCLEAVE_PYTHON=OFF
   fi
   cmake --build "$asan_dir" -j "$jobs"
 }

@@ -153,6 +153,11 @@ class World {
   [[nodiscard]] const BodyState& state(BodyId id) const;
   [[nodiscard]] BodyState& state(BodyId id);
   [[nodiscard]] const BodyInfo& info(BodyId id) const;
+  /// Every slot's state and record, free slots included (their BodyInfo::alive is false):
+  /// for readers that look at all bodies at once without copying (the Python module).
+  /// The vectors move when a split adds slots.
+  [[nodiscard]] const std::vector<BodyState>& slot_states() const { return states_; }
+  [[nodiscard]] const std::vector<BodyInfo>& slot_infos() const { return infos_; }
   /// The body in a slot (as contacts and bonds name them); throws std::out_of_range when no
   /// live body is there.
   [[nodiscard]] BodyId id_at(std::uint32_t slot) const;

@@ -1,0 +1,133 @@
+"""Plots of a result folder with matplotlib (PNG, PDF, SVG: the file name says which).
+
+Each function takes a Result (or a folder), draws on `ax` (a new figure if None) and saves
+to `path` when given; it returns the axes.
+"""
+
+import math
+import os
+
+
+def _setup(ax):
+    import matplotlib
+
+    if ax is None:
+        if os.environ.get("MPLBACKEND") is None:
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(6, 4.5))
+    return ax
+
+
+def _finish(ax, path):
+    if path is not None:
+        ax.figure.tight_layout()
+        ax.figure.savefig(path, dpi=150)
+    return ax
+
+
+def _result(res):
+    from .results import Result
+
+    return res if isinstance(res, Result) else Result(res)
+
+
+def load_displacement(res, ax=None, path=None):
+    """Load P against load-point displacement, one line per loading stage (load_displacement.csv)."""
+    res = _result(res)
+    t = res.table("load_displacement")
+    ax = _setup(ax)
+    import numpy as np
+
+    stages = t["stage"]
+    load = t["load_N"].astype(float)
+    disp = t["load_point_displacement_m"].astype(float)
+    for name in dict.fromkeys(stages.tolist()):
+        sel = (stages == name) & np.isfinite(load)
+        if sel.sum() >= 2:
+            ax.plot(disp[sel] * 1e3, load[sel], label=f"stage {name}")
+    ax.set_xlabel("load-point displacement (mm)")
+    ax.set_ylabel("load P (N)")
+    ax.set_title(f"{res.scenario.get('name', os.path.basename(res.path))}: load-displacement")
+    ax.legend()
+    return _finish(ax, path)
+
+
+def energy(res, ax=None, path=None):
+    """Kinetic energy over time (energy.csv), log scale."""
+    res = _result(res)
+    t = res.table("energy")
+    ax = _setup(ax)
+    ax.semilogy(t["time_s"], t["kinetic_J"].clip(min=1e-300), label="kinetic")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("energy (J)")
+    ax.legend()
+    return _finish(ax, path)
+
+
+def cracks(res, ax=None, path=None, plane="xy"):
+    """The crack pattern: the grains (specimen.csv centres, grey), every broken bond at its
+    point coloured by mode (bond_breaks.csv) and every transgranular split (splits.csv)."""
+    res = _result(res)
+    ax = _setup(ax)
+    i, j = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
+    axes = "xyz"
+    g = res.table("specimen")
+    ax.scatter(g[f"{axes[i]}_m"] * 1e3, g[f"{axes[j]}_m"] * 1e3, s=12, c="0.85", label="grains")
+    if "bond_breaks" in res.table_names:
+        b = res.table("bond_breaks")
+        if b.size and b.dtype.names and "mode" in b.dtype.names:
+            for mode, colour in (("tension", "tab:red"), ("shear", "tab:blue"), ("bending", "tab:green"),
+                                 ("torsion", "tab:purple")):
+                sel = b["mode"] == mode
+                if sel.any():
+                    ax.scatter(b[f"{axes[i]}_m"][sel] * 1e3, b[f"{axes[j]}_m"][sel] * 1e3, s=18, c=colour,
+                               marker="x", label=f"bond broken in {mode} ({int(sel.sum())})")
+    if "splits" in res.table_names:
+        s = res.table("splits")
+        if s.size and s.dtype.names and "x_m" in s.dtype.names:
+            ax.scatter(s[f"{axes[i]}_m"] * 1e3, s[f"{axes[j]}_m"] * 1e3, s=30, facecolors="none",
+                       edgecolors="k", label=f"grain split ({s.size})")
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"{axes[i]} (mm)")
+    ax.set_ylabel(f"{axes[j]} (mm)")
+    ax.set_title("crack pattern")
+    ax.legend(fontsize=7, loc="upper right")
+    return _finish(ax, path)
+
+
+def weibull_fit(strengths):
+    """Least-squares Weibull fit on ln(-ln(1-F)) against ln(s) with Bernard's median ranks
+    F_i = (i - 0.3)/(n + 0.4), as `cleave sweep` does; returns (modulus m, scale s0)."""
+    s = sorted(float(x) for x in strengths)
+    n = len(s)
+    if n < 2:
+        raise ValueError("a Weibull fit needs at least two strengths")
+    xs = [math.log(v) for v in s]
+    ys = [math.log(-math.log(1.0 - (k + 1 - 0.3) / (n + 0.4))) for k in range(n)]
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    if sxx == 0.0:
+        raise ValueError("a Weibull fit needs strengths that differ")
+    m = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    return m, math.exp(mx - my / m)
+
+
+def weibull(strengths, ax=None, path=None, unit="Pa"):
+    """The Weibull plot of a set of strengths with its fitted line; returns the axes."""
+    ax = _setup(ax)
+    s = sorted(float(x) for x in strengths)
+    n = len(s)
+    m, s0 = weibull_fit(s)
+    xs = [math.log(v) for v in s]
+    ys = [math.log(-math.log(1.0 - (k + 1 - 0.3) / (n + 0.4))) for k in range(n)]
+    ax.plot(xs, ys, "o", label="runs (median ranks)")
+    lo, hi = min(xs), max(xs)
+    ax.plot([lo, hi], [m * (lo - math.log(s0)), m * (hi - math.log(s0))], "-",
+            label=f"fit: m = {m:.3g}, s0 = {s0:.4g} {unit}")
+    ax.set_xlabel(f"ln(strength / {unit})")
+    ax.set_ylabel("ln(-ln(1 - F))")
+    ax.set_title("Weibull plot")
+    ax.legend()
+    return _finish(ax, path)

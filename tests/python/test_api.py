@@ -1,0 +1,171 @@
+"""The Python module against the CLI, closed forms and its own promises."""
+
+import fractions
+import math
+import random
+import subprocess
+import threading
+import time
+import tomllib
+
+import numpy as np
+import pytest
+
+import cleave
+
+MESH_GRAINS = "scenarios/mesh_grains.toml"  # 3 grains dropped 2 mm: 160,000 steps in ~1 s
+
+
+def cli_run(binary, root, scenario, out, *args):
+    subprocess.run([binary, "run", scenario, "--out", str(out), "--quiet", *args], cwd=root, check=True)
+    with open(out / "run.toml", "rb") as f:
+        return tomllib.load(f)
+
+
+def test_stepping_from_python_gives_the_cli_state_hash_and_files(root, cleave_binary, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    cli = cli_run(cleave_binary, root, MESH_GRAINS, tmp_path / "cli")
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "api"))
+    sim.start()
+    # Uneven chunks, a callback, a stage run to its end: the steps are the same.
+    assert sim.advance(7) == 7
+    seen = []
+    sim.advance(1000, callback=lambda s: seen.append(s.steps), every=333)
+    assert seen == [340, 673, 1006, 1007]
+    report = sim.finish()
+    assert report["status"] == "finished"
+    assert report["state_hash"] == cli["facts"]["final_state_hash"]
+    for name in ("energy.csv", "walls.csv", "load_displacement.csv", "fragments.csv", "bodies.pvd"):
+        assert (tmp_path / "api" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+
+
+def test_state_arrays_are_views_that_see_the_next_step(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
+    sim.advance(10)
+    x = sim.positions
+    v = sim.velocities
+    assert x.shape == (3, 3) and sim.orientations.shape == (3, 4)
+    assert not x.flags.writeable and not x.flags.owndata
+    before = x.copy()
+    sim.advance(100)
+    # The same array, not re-read, holds the new state: the grains fall under gravity.
+    assert np.all(x[:, 2] < before[:, 2])
+    assert np.shares_memory(x, sim.positions)
+    # Free fall from rest (no contact in the first 110 steps): the drop is g (t1^2 - t0^2) / 2,
+    # to within the integrator's O(dt) offset (1 % here), and v = -g t, the view again.
+    dt = 5e-7
+    t0, t1 = 10 * dt, 110 * dt
+    g = 9.80665
+    assert np.allclose(before[:, 2] - x[:, 2], 0.5 * g * (t1**2 - t0**2), rtol=2e-2)
+    assert np.allclose(v[:, 2], -g * t1, rtol=1e-3)
+    q = sim.orientations
+    assert np.allclose(np.linalg.norm(q, axis=1), 1.0)
+    assert sim.alive.all() and len(sim.grain_stresses) == 3
+
+
+def test_split_volumes_are_exact_fractions_that_sum_to_the_grain():
+    side, t = 0.6e-3, 5e-3
+    prism = cleave.hexagonal_prism(side, t)
+    volume = prism.volume
+    assert isinstance(volume, fractions.Fraction)
+    # Closed form of a regular hexagonal prism, 3 sqrt(3)/2 s^2 t (its corners come from doubles).
+    assert math.isclose(float(volume), 1.5 * math.sqrt(3) * side**2 * t, rel_tol=1e-12)
+    rng = random.Random(7)
+    for _ in range(20):
+        n = (rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
+        below, above = prism.split(n, rng.uniform(-1e-5, 1e-5))
+        assert below.volume + above.volume == volume  # exact, no tolerance
+        assert below.volume > 0 and above.volume > 0
+    slabs = prism.cleavage_slabs("11-20", 60)
+    assert len(slabs) == 3 and cleave.total_volume(slabs) == volume
+    with pytest.raises(ValueError):
+        prism.split((1, 0, 0), 1.0)  # misses it
+
+
+def test_meshes_export_to_files(tmp_path):
+    slabs = cleave.hexagonal_prism(1e-3, 1e-3).cleavage_slabs("10-10", 0)
+    files = [f for f in cleave.export_meshes(slabs, tmp_path, "slab", "obj", "per_fragment") if f.endswith(".obj")]
+    assert len(files) == 2
+    text = open(files[0]).read()
+    assert text.count("\nv ") >= 6 and "\nf " in text
+
+
+def test_a_bad_key_raises_with_its_file_and_line_as_the_cli_says(root, cleave_binary, tmp_path):
+    text = (root / "scenarios/demo_drop.toml").read_text().splitlines()
+    k = next(i for i, line in enumerate(text) if line.startswith("dt ="))
+    text[k] = "dt = -1.0"
+    bad = tmp_path / "bad.toml"
+    bad.write_text("\n".join(text) + "\n")
+    with pytest.raises(cleave.ScenarioError) as err:
+        cleave.Simulation(str(bad))
+    e = err.value
+    assert isinstance(e, ValueError)
+    assert (e.file, e.line, e.key) == (str(bad), k + 1, "dynamics.dt")
+    assert str(e).startswith(f"{bad}:{k + 1}:")
+    cli = subprocess.run([cleave_binary, "run", str(bad), "--out", str(tmp_path / "o")], capture_output=True,
+                         text=True)
+    assert cli.returncode == 2
+    assert cli.stderr.strip() == f"cleave: error: {e}"
+    with pytest.raises(cleave.ScenarioError) as err:
+        cleave.Simulation.from_toml((root / MESH_GRAINS).read_text(), source="inline.toml",
+                                    overrides={"dynamics.dt": -2.0}, base_dir=str(root / "scenarios"))
+    assert err.value.file == "inline.toml" and err.value.key == "dynamics.dt"
+
+
+def test_the_gil_is_released_while_stepping(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
+    sim.start()
+    count = [0]
+    stop = threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            count[0] += 1
+
+    worker = threading.Thread(target=spin)
+    worker.start()
+    time.sleep(0.05)
+    before = count[0]
+    t0 = time.perf_counter()
+    sim.advance(20000)
+    during = count[0] - before
+    elapsed = time.perf_counter() - t0
+    stop.set()
+    worker.join()
+    assert elapsed > 0.02
+    # Holding the GIL the whole call, the other thread could not count at all.
+    assert during > 1000, (during, elapsed)
+
+
+def test_walls_can_be_read_and_moved(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
+    sim.advance(1)
+    walls = sim.walls
+    assert walls and walls[0].name
+    w = walls[0]
+    o = np.array(w.origin)
+    w.velocity = (0.0, 0.0, -1e-3)
+    sim.advance(1000)
+    assert np.allclose(np.array(w.origin) - o, (0, 0, -1e-3 * 1000 * 5e-7), rtol=1e-9, atol=1e-15)
+    w.move((0, 0, 1e-6))
+    assert math.isclose(w.origin[2] - o[2], 1e-6 - 5e-7, rel_tol=1e-9)
+
+
+def test_load_result_reads_the_tables_and_plots(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    report = cleave.run(MESH_GRAINS, out=str(tmp_path / "r"))
+    res = cleave.load_result(report["out"])
+    assert res.status == "finished"
+    assert res.facts["final_state_hash"] == report["state_hash"]
+    energy = res["energy"]
+    assert energy["time_s"][0] > 0.0 and np.all(np.diff(energy["time_s"]) > 0)
+    assert energy["time_s"][-1] == pytest.approx(report["time"])
+    assert len(res["fragments"]) > 0 and "volume_m3" in res["fragments"].dtype.names
+    png = tmp_path / "energy.png"
+    cleave.plot.energy(res, path=png)
+    assert png.stat().st_size > 5000
+    with pytest.raises(KeyError):
+        res.table("nope")
