@@ -150,6 +150,18 @@ struct StageProgress {
   bool event = false;                         ///< its ending event has come
 };
 
+/// A motion stage under way: what its loop keeps from step to step.
+struct StageRun {
+  const StageDef* stage = nullptr;
+  bool plain = false;
+  StageProgress progress;
+  std::vector<std::size_t> load_walls;
+  std::uint64_t limit = 0, frame_every = 0, log_every = 1;
+  std::uint64_t i = 1;  ///< the stage's next step, counted from 1
+  std::chrono::steady_clock::time_point t0, last_print;
+  bool halt = false;  ///< interrupted or blew up: the run ends after this step
+};
+
 /// The layout of the run state in a checkpoint (Runner::encode_run_state).
 constexpr std::uint32_t kRunStateLayout = 1;
 
@@ -358,17 +370,6 @@ class Dynamics::Runner {
   const DynamicsSummary& summary() const { return sum_; }
 
  private:
-  /// A motion stage under way: what its loop keeps from step to step.
-  struct StageRun {
-    const StageDef* stage = nullptr;
-    bool plain = false;
-    StageProgress progress;
-    std::vector<std::size_t> load_walls;
-    std::uint64_t limit = 0, frame_every = 0, log_every = 1;
-    std::uint64_t i = 1;  ///< the stage's next step, counted from 1
-    std::chrono::steady_clock::time_point t0, last_print;
-    bool halt = false;  ///< interrupted or blew up: the run ends after this step
-  };
 
   bool continues() const {
     const StageRun& r = *stage_run_;
