@@ -275,8 +275,22 @@ PYBIND11_MODULE(_cleave, m) {
           [](py::object self, std::uint64_t steps, py::object callback, std::uint64_t every) {
             Simulation& s = self.cast<Simulation&>();
             if (callback.is_none()) {
-              py::gil_scoped_release release;
-              return s.advance(steps);
+              // In chunks, so that Ctrl-C (KeyboardInterrupt) is seen within a chunk's time;
+              // the run can go on afterwards. The steps are the same as in one call.
+              constexpr std::uint64_t kChunk = 1000;
+              std::uint64_t taken = 0;
+              while (taken < steps) {
+                const std::uint64_t n = std::min(kChunk, steps - taken);
+                std::uint64_t k = 0;
+                {
+                  py::gil_scoped_release release;
+                  k = s.advance(n);
+                }
+                taken += k;
+                if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                if (k < n) break;
+              }
+              return taken;
             }
             if (every == 0) throw py::value_error("every must be at least 1");
             std::uint64_t taken = 0;
@@ -288,6 +302,7 @@ PYBIND11_MODULE(_cleave, m) {
                 k = s.advance(n);
               }
               taken += k;
+              if (PyErr_CheckSignals() != 0) throw py::error_already_set();
               if (k == 0) break;
               const py::object r = callback(self);
               if (!r.is_none() && !r.cast<bool>()) break;
@@ -297,7 +312,8 @@ PYBIND11_MODULE(_cleave, m) {
           },
           "steps"_a = 1, "callback"_a = py::none(), "every"_a = 1,
           "Takes up to `steps` steps with the GIL released; calls callback(sim) every `every` steps "
-          "(returning False stops). Returns the steps taken.")
+          "(returning False stops). Ctrl-C raises KeyboardInterrupt between chunks of steps; the run "
+          "can go on. Returns the steps taken.")
       .def(
           "advance_stage",
           [](Simulation& s) -> py::object {

@@ -169,3 +169,19 @@ def test_load_result_reads_the_tables_and_plots(root, tmp_path, monkeypatch):
     assert png.stat().st_size > 5000
     with pytest.raises(KeyError):
         res.table("nope")
+
+
+def test_ctrl_c_interrupts_a_long_advance_and_the_run_goes_on(root, tmp_path, monkeypatch):
+    import _thread
+
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
+    sim.start()
+    timer = threading.Timer(0.05, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sim.advance(150000)  # about 1 s of stepping
+    timer.join()
+    assert 0 < sim.steps < 150000
+    sim.advance(10)  # still usable
+    assert sim.finish()["status"] == "finished"
