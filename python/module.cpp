@@ -4,6 +4,7 @@
 // World's own arrays, exact volumes come back as fractions.Fraction, and a scenario error
 // becomes cleave.ScenarioError with the CLI's file:line:col: key message.
 
+#include <fmt/format.h>
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -31,9 +32,10 @@ using namespace pybind11::literals;
 using cleave::geometry::ExactPolyhedron;
 using cleave::sim::Simulation;
 
-std::string fmt_hash(std::uint64_t h);
-
 namespace {
+
+/// The state hash as run.toml's final_state_hash writes it.
+std::string fmt_hash(std::uint64_t h) { return fmt::format("{:016x}", h); }
 
 PyObject* g_scenario_error = nullptr;    // cleave.ScenarioError (ValueError)
 PyObject* g_checkpoint_error = nullptr;  // cleave.CheckpointError (RuntimeError)
@@ -92,7 +94,17 @@ py::array state_view(py::object owner, std::size_t offset, py::ssize_t width) {
                          static_cast<py::ssize_t>(sizeof(double))},
                         reinterpret_cast<const double*>(base + offset), owner);
   py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return std::move(a);
+  return a;
+}
+
+/// One value per body slot, read off its BodyInfo (a copy: the records are not contiguous).
+template <class T, class F>
+py::array_t<T> per_slot(Simulation& s, F&& field) {
+  const auto& infos = world_of(s).slot_infos();
+  py::array_t<T> a(static_cast<py::ssize_t>(infos.size()));
+  auto r = a.template mutable_unchecked<1>();
+  for (std::size_t i = 0; i < infos.size(); ++i) r(static_cast<py::ssize_t>(i)) = field(infos[i]);
+  return a;
 }
 
 py::dict stage_dict(const cleave::sim::StageSummary& st) {
@@ -360,22 +372,10 @@ PYBIND11_MODULE(_cleave, m) {
       .def_property_readonly("forces", [](py::object self) { return state_view(self, offsetof(BodyState, f), 3); })
       .def_property_readonly("torques", [](py::object self) { return state_view(self, offsetof(BodyState, tau), 3); })
       .def_property_readonly("alive",
-                             [](Simulation& s) {
-                               const auto& infos = world_of(s).slot_infos();
-                               py::array_t<bool> a(static_cast<py::ssize_t>(infos.size()));
-                               auto r = a.mutable_unchecked<1>();
-                               for (std::size_t i = 0; i < infos.size(); ++i) r(i) = infos[i].alive;
-                               return a;
-                             },
+                             [](Simulation& s) { return per_slot<bool>(s, [](const auto& b) { return b.alive; }); },
                              "(slots,) which slots hold a live body.")
       .def_property_readonly("grain_ids",
-                             [](Simulation& s) {
-                               const auto& infos = world_of(s).slot_infos();
-                               py::array_t<int> a(static_cast<py::ssize_t>(infos.size()));
-                               auto r = a.mutable_unchecked<1>();
-                               for (std::size_t i = 0; i < infos.size(); ++i) r(i) = infos[i].grain_id;
-                               return a;
-                             })
+                             [](Simulation& s) { return per_slot<int>(s, [](const auto& b) { return b.grain_id; }); })
       .def_property_readonly("grain_stresses",
                              [](Simulation& s) {
                                const auto stress = world_of(s).body_stresses();
@@ -479,10 +479,4 @@ PYBIND11_MODULE(_cleave, m) {
                                return out;
                              },
                              "The exact cleavage slabs cut at the start (after start()).");
-}
-
-std::string fmt_hash(std::uint64_t h) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
 }

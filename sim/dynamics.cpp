@@ -334,7 +334,7 @@ class Dynamics::Runner {
 
   DynamicsSummary finish() {
     if (finished_) return sum_;
-    while (!done()) advance(std::numeric_limits<std::uint64_t>::max());
+    advance(std::numeric_limits<std::uint64_t>::max());  // to the end: it stops only when done
     // A blown-up state with non-finite values makes no frame; the last good one stays.
     const bool garbage = sum_.ending == RunEnding::blew_up && !finite_state();
     if (world_.steps() != last_frame_step_ && !garbage) write_frame();
