@@ -20,6 +20,6 @@ grep -v '^#' "$here/cases.txt" | while read -r name scenario args; do
   if [ ${#only[@]} -gt 0 ] && [[ ! " ${only[*]} " =~ " $name " ]]; then continue; fi
   # shellcheck disable=SC2086
   "$cleave" run "$scenario" --out "$work/$name" --quiet $args
-  "$root/tools/fingerprint.sh" "$work/$name" > "$out/$name.txt"
+  "$root/tools/fingerprint.sh" "$work/$name" "$root" > "$out/$name.txt"
   echo "$name: $(head -1 "$out/$name.txt") ($(($(wc -l < "$out/$name.txt") - 1)) files)"
 done
