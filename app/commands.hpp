@@ -45,6 +45,10 @@ struct ValidateOptions {
   std::filesystem::path scenario;
   std::filesystem::path out;  ///< empty: results/<scenario name>
   bool quiet = false;
+  /// Solve the beam theory with the cohesive zone only and judge it, as the measured curve,
+  /// against the closed forms with the scenario's bounds: where LEFM holds for a sigma_c,
+  /// in seconds, before a lattice run of hours. The lattice is not run.
+  bool cohesive_beam_only = false;
 };
 
 /// Runs a validation scenario (DCB, ENF or MMB on the cubic lattice, seed 002 sec. 7) and

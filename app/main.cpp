@@ -79,6 +79,9 @@ int main(int argc, char** argv) {
   validate_cmd->add_option("--out,-o", validate.out,
                            "Result folder (default: results/<scenario name>)");
   validate_cmd->add_flag("--quiet,-q", validate.quiet, "Print only errors");
+  validate_cmd->add_flag("--cohesive-beam-only", validate.cohesive_beam_only,
+                         "Do not run the lattice: judge beam theory with the scenario's cohesive "
+                         "zone against the closed forms (where LEFM holds for its sigma_c)");
 
   CLI11_PARSE(app, argc, argv);
 

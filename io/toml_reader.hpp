@@ -199,6 +199,7 @@ class TableReader {
 
   [[nodiscard]] const toml::table* table() const { return table_; }
   [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const std::string& source() const { return source_; }
 
   [[noreturn]] void fail(const toml::source_region& where, std::string_view key,
                          const std::string& message) const {

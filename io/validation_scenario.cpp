@@ -26,8 +26,10 @@ constexpr std::string_view kMaterialKeys[] = {
 constexpr std::string_view kLoadingKeys[] = {"velocity", "ramp_time", "deflection"};
 constexpr std::string_view kDynamicsKeys[] = {"dt_safety", "global_damping", "threads",
                                               "records"};
-constexpr std::string_view kValidationKeys[] = {"stages", "tolerance", "peak_tolerance",
-                                                "margin", "measure"};
+constexpr std::string_view kValidationKeys[] = {
+    "reference", "stage1", "stage2", "stage3", "stage4", "stages",
+    "tolerance", "measure", "peak_tolerance", "margin"};
+constexpr std::string_view kStageCheckKeys[] = {"mean", "max", "slope"};
 
 void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
   t.reject_unknown(kSpecimenKeys);
@@ -139,24 +141,70 @@ void read_dynamics(const TableReader& t, ValidationScenario& v) {
 
 void read_validation(const TableReader& t, ValidationScenario& v) {
   t.reject_unknown(kValidationKeys);
-  const toml::node* node = t.find("stages");
-  if (node == nullptr) t.fail_absent("stages", "missing required key");
-  const auto* array = node->as_array();
-  if (array == nullptr || array->empty())
-    t.fail(*node, "stages", "expected a non-empty array of stage numbers (1-4)");
+  v.reference = t.choose<Reference>(
+      "reference", {{"lefm", Reference::lefm}, {"cohesive_beam", Reference::cohesive_beam}},
+      Reference::lefm);
   const int last = v.rig.kind == physics::BeamTestKind::enf ? 4 : 3;
-  for (std::size_t i = 0; i < array->size(); ++i) {
-    const toml::node& e = *array->get(i);
-    const auto* n = e.as_integer();
-    if (n == nullptr || n->get() < 1 || n->get() > last)
-      t.fail(e, "stages", fmt::format("element {}: expected a stage number 1-{}", i + 1, last));
-    v.stages.push_back(static_cast<int>(n->get()));
+  const int split = physics::split_stage(v.rig.kind);
+  const toml::node* short_form = t.find("stages");
+  for (int stage = 1; stage <= 4; ++stage) {
+    const std::string key = fmt::format("stage{}", stage);
+    const toml::node* node = t.find(key);
+    if (node == nullptr) continue;
+    if (short_form != nullptr)
+      t.fail(*node, key, "give the stages either as stage1 ... stage4 tables or as stages = [...], not both");
+    if (stage > last) t.fail(*node, key, fmt::format("this test has stages 1-{}", last));
+    const auto* table = node->as_table();
+    if (table == nullptr)
+      t.fail(*node, key,
+             fmt::format("expected a table of bounds, e.g. {} = {{ mean = 0.05, max = 0.08 }}", key));
+    const TableReader c(t.source(), t.name() + "." + key, table);
+    c.reject_unknown(kStageCheckKeys);
+    StageCheck check;
+    check.stage = stage;
+    check.mean = c.number("mean", Range::positive(), 0.0).value;
+    check.max = c.number("max", Range::positive(), 0.0).value;
+    if (const toml::node* slope = c.find("slope")) {
+      if (stage != split)
+        c.fail(*slope, "slope",
+               split > 0 ? fmt::format("only the split beam's stage ({}) has a slope to check", split)
+                         : std::string("this test has no split beam's stage with a slope"));
+      check.slope = c.number("slope", Range::positive()).value;
+    }
+    if (check.mean == 0.0 && check.max == 0.0 && check.slope == 0.0)
+      t.fail(*node, key, "bounds nothing: give mean, max or slope");
+    v.checks.push_back(check);
   }
-  v.tolerance = t.number("tolerance", Range::positive()).value;
+  if (short_form != nullptr) {
+    const auto* array = short_form->as_array();
+    if (array == nullptr || array->empty())
+      t.fail(*short_form, "stages", "expected a non-empty array of stage numbers (1-4)");
+    const double tolerance = t.number("tolerance", Range::positive()).value;
+    bool mean = false;
+    if (t.find("measure") != nullptr) mean = t.choose<bool>("measure", {{"max", false}, {"mean", true}});
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& e = *array->get(i);
+      const auto* n = e.as_integer();
+      if (n == nullptr || n->get() < 1 || n->get() > last)
+        t.fail(e, "stages", fmt::format("element {}: expected a stage number 1-{}", i + 1, last));
+      StageCheck check;
+      check.stage = static_cast<int>(n->get());
+      // The split beam's stage is judged by its slope, the others by their loads.
+      if (check.stage == split) check.slope = tolerance;
+      else if (mean) check.mean = tolerance;
+      else check.max = tolerance;
+      v.checks.push_back(check);
+    }
+  } else {
+    for (std::string_view key : {"tolerance", "measure"})
+      if (const toml::node* node = t.find(key))
+        t.fail(*node, key, "belongs to the short form stages = [...]; with stage1 ... stage4 "
+                           "tables give each stage's bounds there");
+    if (v.checks.empty())
+      t.fail_absent("stage1", "missing: the stages to check (stage1 = { max = 0.05 }, ... or stages = [...])");
+  }
   v.peak_tolerance = t.number("peak_tolerance", Range::positive(), 0.0).value;
   v.margin = t.number("margin", Range{0.0, 0.5, false, true}, 0.1).value;
-  if (t.find("measure") != nullptr)
-    v.mean_measure = t.choose<bool>("measure", {{"max", false}, {"mean", true}});
 }
 
 }  // namespace
@@ -254,12 +302,15 @@ std::string validation_scenario_as_run(const ValidationScenario& v) {
   out += fmt::format(
       "\n[dynamics]\ndt_safety = {}\nglobal_damping = {}\nthreads = {}\nrecords = {}\n",
       toml_number(r.dt_safety), toml_number(r.global_damping), v.threads, v.records);
-  std::string stages;
-  for (std::size_t i = 0; i < v.stages.size(); ++i) stages += fmt::format("{}{}", i ? ", " : "", v.stages[i]);
-  out += fmt::format(
-      "\n[validation]\nstages = [{}]\nmeasure = \"{}\"\ntolerance = {}\nmargin = {}\n", stages,
-      v.mean_measure ? "mean" : "max", toml_number(v.tolerance), toml_number(v.margin));
+  out += fmt::format("\n[validation]\nreference = \"{}\"\nmargin = {}\n",
+                     v.reference == Reference::lefm ? "lefm" : "cohesive_beam", toml_number(v.margin));
   if (v.peak_tolerance > 0.0) out += fmt::format("peak_tolerance = {}\n", toml_number(v.peak_tolerance));
+  for (const StageCheck& c : v.checks) {
+    std::string bounds;
+    for (auto [key, value] : {std::pair{"mean", c.mean}, {"max", c.max}, {"slope", c.slope}})
+      if (value > 0.0) bounds += fmt::format("{}{} = {}", bounds.empty() ? "" : ", ", key, toml_number(value));
+    out += fmt::format("stage{} = {{ {} }}\n", c.stage, bounds);
+  }
   return out;
 }
 
