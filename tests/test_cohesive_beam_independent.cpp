@@ -20,10 +20,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include "validation/beam_theory.hpp"
@@ -58,8 +57,8 @@ double decay_length(const BeamTest& t) { return chi_I(t.E, t.nu) * t.h; }
 // --- The foundation: the arm's spring in series with the weak plane's law --------------------
 
 /// What one unit length of foundation does to the arm: the arm's spring k in series with the
-/// plane's mode-I cohesive law (eqs 15-16 and 21-25 of Chen et al. with delta_s = 0 and no
-/// connective stage compliance: rigid up to the strength, then linear softening to zero at
+/// plane's mode-I cohesive law (eqs 15-16 and 21-25 of Chen et al. with delta_s = 0 and
+/// lambda_cr = 0, i.e. no compliance before the strength: rigid up to the strength, then linear softening to zero at
 /// delta_c, unloading and reloading along the secant to the origin with the damage of the
 /// largest opening so far). The plane opens by delta and each arm sees half of it, so at
 /// traction q (N/m) the arm's deflection is w = q / k + delta / 2.
@@ -81,27 +80,28 @@ struct ArmFoundation {
 
   /// The traction at deflection w given the largest opening the point has had (eq. 21's history).
   [[nodiscard]] Reaction on_plane(double w, double largest) const {
-    // Faces pushed together (w <= 0 on this arm, the other arm mirrors it): no opening, they bear
-    // on each other and only the arm's spring deforms (the law acts on the opening's positive
-    // part, eq. 14's Macaulay bracket, with a stiff penalty in compression: here rigid).
+    /// Faces pushed together (w <= 0 on this arm, the other arm mirrors it): no opening, they bear
+    /// on each other and only the arm's spring deforms (the law acts on the opening's positive
+    /// part, eq. 14's Macaulay bracket, with a stiff penalty in compression: here rigid).
     if (w <= 0.0) return {k * w, k, 0.0, Piece::spring};
-    // Decohered (eq. 16, lambda = 1): no traction; the arm's end of the plane moves freely.
+    /// Decohered (eq. 16, lambda = 1): no traction; the arm's end of the plane moves freely.
     if (largest >= d_c) return {0.0, 0.0, 2.0 * w, Piece::decohered};
     if (largest > 0.0) {
-      // Damaged: below the largest opening the plane is a linear spring along the secant to the
-      // origin (eqs 23-25: T = sigma_c (1 - d) r with d = lambda / lambda_max's damage). Its
-      // stiffness per unit length is the softening traction at the largest opening over it.
+      /// Damaged: below the largest opening the plane is a linear spring along the secant to the
+      /// origin (eqs 22-25: T = sigma_c (1 - d) r, d the damage of the largest opening, eq. 22,
+      /// r = lambda / lambda_max the loading ratio, eq. 23; with lambda_cr = 0, d = lambda_max).
+      /// Its stiffness per unit length is the softening traction at the largest opening over it.
       const double secant = q_c * (1.0 - largest / d_c) / largest;
-      // Spring k and secant plane in series: w = q / k + (q / secant) / 2.
+      /// Spring k and secant plane in series: w = q / k + (q / secant) / 2.
       const double compliance = 1.0 / k + 0.5 / secant;
       const double q = w / compliance;
       if (q / secant <= largest) return {q, 1.0 / compliance, q / secant, Piece::secant};
     } else if (k * w <= q_c) {
-      // Undamaged and below the strength: the plane is rigid, only the spring deforms.
+      /// Undamaged and below the strength: the plane is rigid, only the spring deforms.
       return {k * w, k, 0.0, Piece::rigid};
     }
-    // On the softening line q = q_c (1 - delta / d_c) (eq. 15 with lambda_cr = 0): with
-    // w = q / k + delta / 2, delta = (w - q_c / k) / (1/2 - q_c / (k d_c)).
+    /// On the softening line q = q_c (1 - delta / d_c) (eq. 15 with lambda_cr = 0): with
+    /// w = q / k + delta / 2, delta = (w - q_c / k) / (1/2 - q_c / (k d_c)).
     const double denominator = 0.5 - q_c / (k * d_c);  // > 0: checked by the caller
     const double opening = (w - q_c / k) / denominator;
     if (opening >= d_c) return {0.0, 0.0, 2.0 * w, Piece::decohered};
@@ -195,9 +195,15 @@ class FiniteDifferenceArm {
   FiniteDifferenceArm(const BeamTest& t, double sigma_c, double intact_length, int cells_per_h)
       : dx_(t.h / cells_per_h), EI_(bending_stiffness(t)), a0_(t.a0) {
     const double lambda = decay_length(t);
-    law_.k = 4.0 * EI_ / (lambda * lambda * lambda * lambda);  // the model's spring (header)
-    law_.q_c = sigma_c * (t.B - 2.0 * t.r);  // strength over the front width B' (after eq. 49)
-    law_.d_c = 2.0 * t.g_Ic / sigma_c;  // eq. 18 for the triangle: G_Ic = sigma_c delta_c / 2
+    /// The model's spring k = 4 EI / (chi_I h)^4 (validation/cohesive_beam.hpp, after
+    /// Kanninen's augmented DCB, Int. J. Fract. 9, 1973, with eq. 57's decay length).
+    law_.k = 4.0 * EI_ / (lambda * lambda * lambda * lambda);
+    /// Strength over the crack front width B' = B - 2r (sec. 7, text after eq. 49).
+    law_.q_c = sigma_c * (t.B - 2.0 * t.r);
+    /// Eq. 18 for the linear softening triangle: G_Ic = sigma_c delta_c / 2.
+    law_.d_c = 2.0 * t.g_Ic / sigma_c;
+    /// The softening line must be less steep than the spring (1/2 - q_c / (k d_c) > 0, i.e.
+    /// sigma_c^2 < G_Ic k / B'), else a point would snap back on its own.
     if (!(0.5 - law_.q_c / (law_.k * law_.d_c) > 0.0))
       throw std::invalid_argument("softening steeper than the arm's spring");
     auto node = [&](double x) {
@@ -262,8 +268,8 @@ class FiniteDifferenceArm {
 
   [[nodiscard]] FdPoint point() const {
     FdPoint p{2.0 * w_[0], EI_ * m_[1] / (dx_ * dx_ * dx_), 0.0, a0_, a0_};
-    // In the notch w is the cubic w_0 + w'(0) x + P x^3 / (6 EI) (w''(0) = 0, EI w''' = P),
-    // and central differences are exact for cubics, so w'(0) follows from w_0 and w_1.
+    /// In the notch w is the cubic w_0 + w'(0) x + P x^3 / (6 EI) (w''(0) = 0, EI w''' = P),
+    /// and central differences are exact for cubics, so w'(0) follows from w_0 and w_1.
     p.rotation = -((w_[1] - w_[0]) / dx_ - p.load * dx_ * dx_ / (6.0 * EI_));
     for (int i = i_a0_; i <= i_L_ && largest_[i] >= law_.d_c; ++i) p.crack = i * dx_;
     for (int i = i_a0_; i <= i_L_; ++i)
@@ -286,14 +292,14 @@ class FiniteDifferenceArm {
     pieces.assign(n_ + 1, ArmFoundation::Piece::spring);
     const double s = dx_ * dx_ * dx_ / EI_;
     for (int i = 1; i < n_; ++i) {
-      // Curvature at i (w_N = 0 at the clamp).
+      /// Curvature at i, w_{i-1} - 2 w_i + w_{i+1} = m_i (w_N = 0 at the clamp).
       const int c = w_dof(i);
       rhs[c] = -(w[i - 1] - 2.0 * w[i] + w[i + 1] - m[i]);
       if (i > 1) system_.add(c, w_dof(i - 1), 1.0);
       system_.add(c, w_dof(i), -2.0);
       if (i + 1 < n_) system_.add(c, w_dof(i + 1), 1.0);
       system_.add(c, m_dof(i), -1.0);
-      // Equilibrium at i (m_0 = 0 at the load line).
+      /// Equilibrium at i, m_{i-1} - 2 m_i + m_{i+1} = -dx^3 F_i / EI (m_0 = 0 at the load line).
       double force = spring_[i] * law_.k * w[i], slope = spring_[i] * law_.k;
       if (plane_[i] > 0.0) {
         const ArmFoundation::Reaction r = law_.on_plane(w[i], largest_[i]);
@@ -308,7 +314,7 @@ class FiniteDifferenceArm {
       system_.add(e, m_dof(i + 1), 1.0);
       system_.add(e, w_dof(i), s * slope);
     }
-    // Curvature at the clamp with the ghost node: 2 w_{N-1} - m_N = 0.
+    /// Curvature at the clamp with the ghost node: 2 w_{N-1} - m_N = 0.
     const int c = m_dof(n_);
     rhs[c] = -(2.0 * w[n_ - 1] - m[n_]);
     system_.add(c, w_dof(n_ - 1), 2.0);
@@ -357,4 +363,190 @@ std::vector<double> openings_of(const std::vector<CohesiveBeamPoint>& curve) {
   return d;
 }
 
+/// Both solutions of one case at the same openings: the finite differences are pulled through
+/// exactly the openings of the finite-element curve's points, so loads compare without
+/// interpolation (cohesive_load at a curve's own point is that point's load).
+struct Comparison {
+  std::vector<CohesiveBeamPoint> fe;
+  std::vector<FdPoint> fd;
+};
+
+Comparison compare(const BeamTest& fe_test, const BeamTest& fd_test, double sigma_c, int steps,
+                   int cells_per_h) {
+  Comparison c;
+  c.fe = cohesive_dcb_curve(fe_test, sigma_c, kIntactLength, kDeltaMax, {0, steps});
+  c.fd = fd_dcb_curve(fd_test, sigma_c, openings_of(c.fe), cells_per_h);
+  return c;
+}
+
+/// The plane (sigma_c = 70 MPa, dcb.toml): Hillerborg's length E G_Ic / sigma_c^2 =
+/// 6.4 mm, a long cohesive zone. dx = h / 80: the largest difference from the finite elements
+/// is 2.7e-4 at h / 40, 9e-5 at h / 80, 5e-5 at h / 160, 4e-5 at h / 320, and halving the
+/// increments leaves it unchanged.
+const Comparison& weak_plane() {
+  static const Comparison c = compare(dcb(), dcb(), 70e6, kSteps, kCellsPerH);
+  return c;
+}
+
+/// A strong plane, sigma_c = 180 MPa (E G_Ic / sigma_c^2 = 0.96 mm, about h: near LEFM). Not
+/// 200 MPa: cohesive_dcb_curve throws there (its Newton iteration stops converging during crack
+/// growth, near Delta = 1.56 mm; from 190 MPa on). 350 MPa is past the law's limit
+/// sigma_c^2 < G_Ic k / B' (262 MPa). The zone is 0.2 mm long, so the lumped foundation needs
+/// a fine grid: at h / 80 and h / 160 the crack's advance from node to node nearly snaps (the
+/// Newton iteration needs many halved increments), at h / 320 it runs smoothly. 400 steps of
+/// 10 um keep the run short (halving them leaves the largest difference unchanged; at h / 80
+/// and h / 160 it is 3e-4 and 2e-4).
+const Comparison& strong_plane() {
+  static const Comparison c = compare(dcb(), dcb(), 180e6, 400, 320);
+  return c;
+}
+
+/// The largest |P_fd / P_fe - 1| over every point but the origin (0 / 0 there: both loads
+/// are exactly zero), with an EXPECT for each point against `bound`.
+double largest_difference(const Comparison& c, double bound, const char* label, double* where) {
+  EXPECT_EQ(c.fe.size(), c.fd.size());
+  double worst = 0.0;
+  for (size_t i = 1; i < std::min(c.fe.size(), c.fd.size()); ++i) {
+    EXPECT_EQ(c.fd[i].delta, c.fe[i].delta);
+    const double fe_load = cohesive_load(c.fe, c.fd[i].delta);
+    const double d = std::abs(c.fd[i].load / fe_load - 1.0);
+    EXPECT_LT(d, bound) << label << ": Delta = " << c.fd[i].delta << " m, P_fd = " << c.fd[i].load
+                        << " N, P_fe = " << fe_load << " N";
+    if (!(d <= worst)) {  // NaN counts as the worst
+      worst = d;
+      *where = c.fd[i].delta;
+    }
+  }
+  return worst;
+}
+
+/// The whole curve is in the comparison: stage I (the plane not yet open), the peak, crack
+/// growth along the plane, and the tail where the zone has reached the plane's end at L and
+/// the load is back on eq. 61's line (the last ligament keeps some traction: the arm past L is
+/// clamped on its spring, so the plane's last point opens only slowly).
+void expect_whole_curve(const Comparison& c, const BeamTest& t) {
+  const auto& fe = c.fe;
+  size_t peak = 0;
+  int stage_one = 0, growing = 0, tail = 0;
+  for (size_t i = 1; i < fe.size(); ++i) {
+    if (fe[i].load > fe[peak].load) peak = i;
+    if (fe[i].process_zone == t.a0) ++stage_one;
+    if (c.fd[i].crack > t.a0 + 1e-3 && c.fd[i].zone_tip < t.L - 1e-3) ++growing;
+    if (c.fd[i].zone_tip > t.L - 1e-9) ++tail;  // the plane's last node has opened
+  }
+  EXPECT_GE(stage_one, 10);
+  EXPECT_GT(peak, 10u);
+  EXPECT_LT(fe.back().load, 0.5 * fe[peak].load);
+  EXPECT_GT(growing, 100);
+  EXPECT_GT(tail, 20);
+  EXPECT_GT(c.fd.back().crack, t.L - 1e-3);
+  /// Eq. 61, Delta = 2 P (L + chi_I h)^3 / (3 EI) (the split arms): the tail's load within 1 %
+  /// (measured: 0.65 % above at 70 MPa, where the last ligament still holds, 0.01 % at 180 MPa).
+  const double a = t.L + decay_length(t);
+  const double eq61 = fe.back().delta * 3.0 * bending_stiffness(t) / (2.0 * a * a * a);
+  EXPECT_NEAR(c.fd.back().load / eq61, 1.0, 0.01);
+}
+
+/// Decohered length from the two discretisations (nodes 12.5 or 3.1 um apart here, Gauss
+/// points of 25 um elements there): within 0.025 mm at every point (measured: 0.011 mm).
+void expect_same_crack(const Comparison& c) {
+  for (size_t i = 0; i < std::min(c.fe.size(), c.fd.size()); ++i)
+    EXPECT_NEAR(c.fd[i].crack, c.fe[i].crack, 2.5e-5) << "Delta = " << c.fe[i].delta;
+}
+
+/// Openings 0, Delta_max / steps, ..., Delta_max.
+std::vector<double> uniform_openings(int steps) {
+  std::vector<double> d;
+  for (int s = 0; s <= steps; ++s) d.push_back(kDeltaMax * s / steps);
+  return d;
+}
+
 }  // namespace
+
+TEST(IndependentFiniteDifferenceBeam, AgreesWithTheCohesiveDcbWithin1PercentOverTheWholeCurve) {
+  const Comparison& c = weak_plane();
+  double where = 0.0;
+  const double worst = largest_difference(c, 0.01, "sigma_c = 70 MPa", &where);
+  expect_whole_curve(c, dcb());
+  expect_same_crack(c);
+  std::printf("[ measured ] sigma_c = 70 MPa: largest |P_fd / P_fe - 1| = %.3g at Delta = %.4g mm\n",
+              worst, where * 1e3);
+}
+
+TEST(IndependentFiniteDifferenceBeam, AgreesWithTheCohesiveDcbWithin1PercentForAStrongPlane) {
+  const Comparison& c = strong_plane();
+  double where = 0.0;
+  const double worst = largest_difference(c, 0.01, "sigma_c = 180 MPa", &where);
+  expect_whole_curve(c, dcb());
+  expect_same_crack(c);
+  std::printf("[ measured ] sigma_c = 180 MPa: largest |P_fd / P_fe - 1| = %.3g at Delta = %.4g mm\n",
+              worst, where * 1e3);
+}
+
+TEST(IndependentFiniteDifferenceBeam, BeforeTheZoneOpensItIsHetenyisCantileverOnAnElasticFoundation) {
+  /// The finite differences on their own against a closed form. Until the plane's first point
+  /// reaches sigma_c the arm is a cantilever of length a0 whose root rests on an elastic
+  /// foundation k = 4 EI / lambda^4 (lambda = chi_I h). Hetenyi (Beams on Elastic Foundation,
+  /// 1946, sec. 2, the semi-infinite beam loaded at its end by a force P and a moment M):
+  ///   w(a0) = (2 / (k lambda)) (P + M / lambda),  w'(a0) = -(2 / (k lambda^2)) (P + 2 M / lambda)
+  /// with M = P a0, plus the free arm's own bending P a0^3 / (3 EI) and the root's turn times
+  /// a0, so that with k lambda^4 = 4 EI
+  ///   w(0) = P / (3 EI) (a0^3 + 3 a0^2 lambda + 3 a0 lambda^2 + 3 lambda^3 / 2),
+  ///   -w'(0) = P (a0 + lambda)^2 / (2 EI).
+  /// The foundation runs 24 mm = 37 lambda to the clamp: semi-infinite to e^-37.
+  const BeamTest t = dcb();
+  const double EI = bending_stiffness(t), a = t.a0, l = decay_length(t);
+  const double compliance = 2.0 / (3.0 * EI) * (a * a * a + 3 * a * a * l + 3 * a * l * l + 1.5 * l * l * l);
+  std::vector<double> deltas;
+  for (int s = 1; s <= 10; ++s) deltas.push_back(0.005e-3 * s);  // to 0.05 mm: the plane
+                                                                  // opens near 0.1 mm
+  const auto curve = fd_dcb_curve(t, 70e6, deltas);
+  for (const FdPoint& p : curve) {
+    EXPECT_EQ(p.zone_tip, t.a0);
+    EXPECT_NEAR(p.delta / p.load / compliance, 1.0, 1e-4) << "Delta = " << p.delta;
+    EXPECT_NEAR(p.rotation / (p.load * (a + l) * (a + l) / (2.0 * EI)), 1.0, 1e-4);
+  }
+  // A cantilever clamped at a0 (no foundation) would be far off.
+  EXPECT_GT(std::abs(2.0 * a * a * a / (3.0 * EI) / compliance - 1.0), 0.1);
+}
+
+TEST(IndependentFiniteDifferenceBeam, WhileTheCrackGrowsTheJIntegralIsTheFractureEnergyAndTheLoadIsEq60s) {
+  /// The finite differences on their own. Rice's J-integral (J. Appl. Mech. 35, 1968) on the arm:
+  /// for EI w'''' + q(w) = 0 with every point loaded monotonically, EI w' w''' - EI w''^2 / 2 +
+  /// Phi(w) is constant along the arm (Phi: the work done on the foundation per unit length),
+  /// except that Phi steps from 0 to G_Ic B' / 2 where the decohered plane begins (each arm
+  /// does half of the plane's G_Ic B' of work; the spring gives its energy back). At the load
+  /// line it is -P theta0, far ahead of the zone 0, so 2 P theta0 = G_Ic B' while the crack
+  /// runs with its zone well inside the plane. And with the crack there, LEFM's eq. 60 holds:
+  /// P a_I = sqrt(B' E I G_Ic) with a_I from the compliance of eq. 59, Delta = 2 P a_I^3 / (3 EI),
+  /// up to the zone's length against the arm (measured: 3e-4 at 70 MPa, 6e-5 at 180 MPa;
+  /// checked to 0.5 %; the J-integral, 1e-4 and 3e-5, to 0.1 %).
+  const BeamTest t = dcb();
+  const double EI = bending_stiffness(t), Bp = t.B - 2.0 * t.r;
+  // The two cases' grids and steps (their comments above), without the finite elements.
+  for (const auto& [sigma_c, steps, cells_per_h] : {std::tuple{70e6, kSteps, kCellsPerH},
+                                                     std::tuple{180e6, 400, 320}}) {
+    int growing = 0;
+    for (const FdPoint& p : fd_dcb_curve(t, sigma_c, uniform_openings(steps), cells_per_h)) {
+      if (p.crack < t.a0 + 2e-3 || p.zone_tip > t.L - 2e-3) continue;
+      ++growing;
+      EXPECT_NEAR(2.0 * p.load * p.rotation / (kGIc * Bp), 1.0, 1e-3)
+          << "sigma_c = " << sigma_c << ", Delta = " << p.delta;
+      const double a_I = std::cbrt(3.0 * EI * p.delta / (2.0 * p.load));
+      EXPECT_NEAR(p.load * a_I / std::sqrt(Bp * EI * kGIc), 1.0, 5e-3)
+          << "sigma_c = " << sigma_c << ", Delta = " << p.delta;
+    }
+    EXPECT_GT(growing, 100) << "sigma_c = " << sigma_c;
+  }
+}
+
+TEST(IndependentFiniteDifferenceBeam, WouldSeeAThreePercentErrorInTheFractureEnergy) {
+  /// The comparison can fail: the finite differences with G_Ic 3 % high (stage II's load goes
+  /// as sqrt(G_Ic), +1.5 %) against the code under test with the right G_Ic differ by more than
+  /// the 1 % bound somewhere (measured: 2.3 %, at Delta = 1.1 mm).
+  const std::vector<CohesiveBeamPoint>& fe = weak_plane().fe;
+  const auto fd = fd_dcb_curve(dcb(1.03 * kGIc), 70e6, openings_of(fe));
+  double worst = 0.0;
+  for (size_t i = 1; i < fe.size(); ++i) worst = std::max(worst, std::abs(fd[i].load / fe[i].load - 1.0));
+  EXPECT_GT(worst, 0.01);
+}
