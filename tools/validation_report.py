@@ -32,9 +32,8 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 KEPT = ["errors.csv", "errors_cohesive_beam.csv", "measured.csv", "analytic.csv",
         "cohesive_beam.csv", "run.toml", "scenario_as_run.toml"]
 
-# The order of the report: the paper's material, then the LEFM-regime variants, then the rest.
-ORDER = ["dcb", "enf", "mmb_20", "mmb_50", "mmb_80",
-         "dcb_lefm", "enf_lefm", "mmb_20_lefm", "mmb_50_lefm", "mmb_80_lefm"]
+# The order of the report: the full runs of the paper's material, then any other archived run.
+ORDER = ["dcb", "enf", "mmb_20", "mmb_50", "mmb_80"]
 STAGE_NAMES = {"1": "I", "2": "II", "3": "III", "4": "IV", "peak": "peak"}
 
 
@@ -148,7 +147,7 @@ def section(name, folder):
              f"- command: `cleave validate {prov.get('scenario', '?')}`",
              f"- commit: `{prov.get('cleave_version', '?')}`",
              f"- wall time: {wall / 60:.1f} min ({facts.get('steps', '?')} steps, "
-             f"{facts.get('steps_per_second', '?')} steps/s, {threads} threads; "
+             f"{facts.get('steps_per_second', '?')} steps/s, {threads} thread{'' if threads == '1' else 's'}; "
              f"{facts.get('bodies', '?')} cubes, {facts.get('links', '?')} links)",
              f"- peak load {number(facts.get('peak_load_N')):.4g} N "
              f"(LEFM {number(facts.get('closed_form_peak_N')):.4g} N); kinetic energy at most "
@@ -158,9 +157,9 @@ def section(name, folder):
     names = {"cohesive": "beam theory with the cohesive zone", "lefm": "LEFM (eqs 59-70)"}
     judged_name = names["cohesive"] if reference == "cohesive_beam" else names["lefm"]
     other_name = names["lefm"] if reference == "cohesive_beam" else names["cohesive"]
-    lines += [f"Against {judged_name} (judged):", "", table(first, True), ""]
+    lines += [f"Against {judged_name}, judged:", "", table(first, True), ""]
     if second:
-        lines += [f"Against {other_name} (for comparison):", "", table(second, False), ""]
+        lines += [f"Against {other_name}, for comparison:", "", table(second, False), ""]
     return "\n".join(lines)
 
 
@@ -203,6 +202,7 @@ def main():
         print(f"validation_report: {DOC} lacks the markers {BEGIN} / {END}", file=sys.stderr)
         return 2
     if not args.check:
+        ARCHIVE.mkdir(parents=True, exist_ok=True)
         if args.results.exists():
             for name in archive(args.results):
                 print(f"archived {args.results / name} -> {ARCHIVE / name}")
