@@ -365,8 +365,12 @@ int validate_command(const ValidateOptions& options) {
         if (p.delta <= 2.0 * apeak_delta && p.load > best.first) best = {p.load, p.delta};
       return best;
     };
-    const auto [peak, peak_delta] = peak_of(curve);
-    const auto [zpeak, zpeak_delta] = czm.empty() ? std::pair{0.0, 0.0} : peak_of(czm);
+    // Plain variables, not a structured binding: clang 14 cannot capture one in a lambda.
+    const std::pair<double, double> measured_peak = peak_of(curve);
+    const std::pair<double, double> cohesive_peak =
+        czm.empty() ? std::pair{0.0, 0.0} : peak_of(czm);
+    const double peak = measured_peak.first, peak_delta = measured_peak.second;
+    const double zpeak = cohesive_peak.first, zpeak_delta = cohesive_peak.second;
     const double peak_error = std::abs(peak - apeak) / apeak;
     const double zpeak_error = zpeak > 0.0 ? std::abs(peak - zpeak) / zpeak : NAN;
     const double judged_peak_error = by_czm ? zpeak_error : peak_error;
