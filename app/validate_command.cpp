@@ -38,11 +38,13 @@ const char* test_name(physics::BeamTestKind k) {
 
 /// The measured load-deflection curve as CSV.
 std::string measured_csv(const std::vector<physics::BeamReading>& curve) {
-  std::string csv = "step,time_s,delta_mm,load_N,crack_mm,process_zone_mm,kinetic_J,external_work_J\n";
+  std::string csv =
+      "step,time_s,delta_mm,load_N,crack_mm,process_zone_mm,kinetic_J,external_work_J,"
+      "load_instant_N,delta_instant_mm\n";
   for (const auto& r : curve)
-    csv += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.step, r.time,
-                       r.delta * 1e3, r.load, r.crack * 1e3, r.process_zone * 1e3, r.kinetic,
-                       r.external_work);
+    csv += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+                       r.step, r.time, r.delta * 1e3, r.load, r.crack * 1e3, r.process_zone * 1e3,
+                       r.kinetic, r.external_work, r.load_instant, r.delta_instant * 1e3);
   return csv;
 }
 
@@ -248,13 +250,15 @@ int validate_command(const ValidateOptions& options) {
         physics::BeamReading r;
         r.step = i;
         r.delta = czm[i].delta;
-        r.load = czm[i].load;
+        r.load = r.load_instant = czm[i].load;
+        r.delta_instant = czm[i].delta;
         r.crack = czm[i].crack;
         r.process_zone = czm[i].process_zone;
         curve.push_back(r);
       }
     } else {
       curve.push_back(rig.reading());
+      rig.restart_load_window();
       const auto start = std::chrono::steady_clock::now();
       auto last_report = start;
       const std::uint64_t limit = 3 * expected_steps + 1000;
@@ -270,6 +274,7 @@ int validate_command(const ValidateOptions& options) {
         rig.step();
         if (rig.steps() % every != 0) continue;
         physics::BeamReading r = rig.reading();
+        rig.restart_load_window();
         if (!std::isfinite(r.load) || !std::isfinite(r.delta))
           throw std::runtime_error(fmt::format(
               "the lattice blew up at step {} (non-finite load); lower dynamics.dt_safety", r.step));

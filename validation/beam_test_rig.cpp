@@ -159,26 +159,38 @@ void BeamTestRig::step() {
   lattice_.step(dt_);
   ++step_;
   time_ += dt_;
+  load_impulse_ += instant_load() * dt_;
+  delta_integral_ += instant_delta() * dt_;
+  load_window_ += dt_;
+}
+
+double BeamTestRig::instant_delta() const {
+  switch (def_.kind) {
+    case BeamTestKind::dcb: return (mean_z(top_) - mean_z(bottom_)) - (top_z0_ - bottom_z0_);
+    case BeamTestKind::enf: return top_z0_ - mean_z(top_);
+    case BeamTestKind::mmb: return mean_z(end_) - end_z0_;
+  }
+  return 0.0;
+}
+
+double BeamTestRig::instant_load() const {
+  switch (def_.kind) {
+    case BeamTestKind::dcb: return 0.5 * (sum_fz(bottom_) - sum_fz(top_));
+    case BeamTestKind::enf: return sum_fz(top_);
+    case BeamTestKind::mmb: return sum_fz(end_) + sum_fz(mid_);
+  }
+  return 0.0;
 }
 
 BeamReading BeamTestRig::reading() const {
   BeamReading r;
   r.step = step_;
   r.time = time_;
-  switch (def_.kind) {
-    case BeamTestKind::dcb:
-      r.delta = (mean_z(top_) - mean_z(bottom_)) - (top_z0_ - bottom_z0_);
-      r.load = 0.5 * (sum_fz(bottom_) - sum_fz(top_));
-      break;
-    case BeamTestKind::enf:
-      r.delta = top_z0_ - mean_z(top_);
-      r.load = sum_fz(top_);
-      break;
-    case BeamTestKind::mmb:
-      r.delta = mean_z(end_) - end_z0_;
-      r.load = sum_fz(end_) + sum_fz(mid_);
-      break;
-  }
+  r.load_instant = instant_load();
+  r.delta_instant = instant_delta();
+  const bool window = load_window_ > 0.0;
+  r.load = window ? load_impulse_ / load_window_ : r.load_instant;
+  r.delta = window ? delta_integral_ / load_window_ : r.delta_instant;
   r.crack = lattice_.crack_front_x(true) - x_origin_;
   r.process_zone = lattice_.crack_front_x(false) - x_origin_;
   r.kinetic = lattice_.energy().kinetic;

@@ -59,8 +59,10 @@ struct BeamRigDef {
 struct BeamReading {
   std::uint64_t step = 0;
   double time = 0.0;
-  double delta = 0.0;        ///< Delta (m)
-  double load = 0.0;         ///< P (N)
+  double delta = 0.0;        ///< Delta (m): its mean over the load window, as the load's
+  double load = 0.0;         ///< P (N): its mean over the steps since the last load window began
+  double load_instant = 0.0;  ///< P (N) at this step alone
+  double delta_instant = 0.0;  ///< Delta (m) at this step alone
   double crack = 0.0;        ///< a: decohered crack length from the load line / support (m)
   double process_zone = 0.0;  ///< a plus the cohesive zone ahead of it (m)
   double kinetic = 0.0;      ///< J
@@ -81,13 +83,24 @@ class BeamTestRig {
   void step();
   [[nodiscard]] std::uint64_t steps() const { return step_; }
   /// The load, deflection, crack and energies now (loops over all links: not every step).
+  /// Its load is the mean over the steps since restart_load_window() (the impulse the grips
+  /// passed on, over the time): a load cell's average over its sampling interval. The
+  /// instantaneous force holds the arms' ringing at ~10^5-10^6 Hz; read once per thousands of
+  /// steps it aliases into point-to-point jumps of several per cent that a quasi-static curve
+  /// does not have. Delta is averaged over the same steps, so that a load proportional to
+  /// Delta stays so (the window's mean load belongs to its mean Delta, half a window back).
+  /// With no step in the window both are the instantaneous ones.
   [[nodiscard]] BeamReading reading() const;
+  /// Begins a new load window (call after each reading that is kept).
+  void restart_load_window() { load_impulse_ = delta_integral_ = load_window_ = 0.0; }
 
  private:
   std::vector<int> line(int ix, int iz) const;  ///< the bodies across the breadth at (ix, iz)
   double ramp(double t) const;
   double sum_fz(const std::vector<int>& bodies) const;
   double mean_z(const std::vector<int>& bodies) const;
+  double instant_load() const;   ///< P now, from the forces on the driven bodies
+  double instant_delta() const;  ///< Delta now, from the driven bodies' positions
 
   BeamRigDef def_;
   CubicLattice lattice_;
@@ -95,6 +108,8 @@ class BeamTestRig {
   double dt_ = 0.0;
   std::uint64_t step_ = 0;
   double time_ = 0.0;
+  /// The load window: integrals of P dt and Delta dt, and its time (s).
+  double load_impulse_ = 0.0, delta_integral_ = 0.0, load_window_ = 0.0;
   double x_origin_ = 0.0;  ///< x of the load line (DCB, MMB) or left support (ENF)
   std::vector<int> top_, bottom_;        // DCB: load lines; ENF: load line (top)
   std::vector<int> end_, mid_;           // MMB: tied lines
