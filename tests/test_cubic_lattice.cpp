@@ -172,8 +172,38 @@ TEST(BeamLattice, TheWeakPlaneEndsWhereTheIntactBeamBegins) {
   EXPECT_GT(bulk, 0);
   BeamTestRig dcb(rig);
   EXPECT_DOUBLE_EQ(dcb.analytic().L, 29.75e-3);  // load line to the last weak column
+  EXPECT_DOUBLE_EQ(beam_analytic(rig).L, 29.75e-3);  // the same without building the lattice
   rig.kind = BeamTestKind::enf;
   EXPECT_THROW(beam_lattice(rig), std::invalid_argument);
+}
+
+TEST(BeamLattice, TheLoadReadIsTheMeanOfEveryStepsLoadSinceItsWindowBegan) {
+  // The rig's reading averages the load and Delta over the steps of its window: check it
+  // against the mean of the instantaneous values read after each of those steps.
+  BeamRigDef rig = paper_dcb(0.5e-3);
+  rig.velocity = 0.075;  // eq. 56's v0, at once
+  rig.ramp_time = 0.0;
+  BeamTestRig dcb(rig);
+  for (int i = 0; i < 100; ++i) dcb.step();
+  dcb.restart_load_window();
+  const BeamReading empty = dcb.reading();  // no step in the window: the instantaneous values
+  EXPECT_EQ(empty.load, empty.load_instant);
+  EXPECT_EQ(empty.delta, empty.delta_instant);
+  double load = 0.0, delta = 0.0;
+  const int n = 300;
+  for (int i = 0; i < n; ++i) {
+    dcb.step();
+    const BeamReading r = dcb.reading();
+    load += r.load_instant;
+    delta += r.delta_instant;
+  }
+  const BeamReading r = dcb.reading();
+  EXPECT_NEAR(r.load, load / n, 1e-12 * std::abs(r.load_instant));
+  EXPECT_NEAR(r.delta, delta / n, 1e-12 * std::abs(r.delta_instant));
+  // The grips move apart: the window's mean Delta lies below its last value.
+  EXPECT_GT(r.load_instant, 0.0);
+  EXPECT_NE(r.load, r.load_instant);
+  EXPECT_LT(r.delta, r.delta_instant);
 }
 
 class CauchyBorn : public ::testing::TestWithParam<int> {};

@@ -79,9 +79,17 @@ def plot(name, folder, svg):
 
     fig, ax = plt.subplots(figsize=(7.0, 4.2))
     measured = read_csv(folder / "measured.csv")
+    windowed = bool(measured) and "load_instant_N" in measured[0]
+    if windowed:
+        # The instantaneous values under the window means: what the load cell's average hides.
+        ax.plot([number(r["delta_instant_mm"]) for r in measured],
+                [number(r["load_instant_N"]) for r in measured],
+                color="0.6", lw=0.7, label="cleave, instantaneous (one step a row)")
     if measured:
         ax.plot([number(r["delta_mm"]) for r in measured], [number(r["load_N"]) for r in measured],
-                color="black", lw=1.6, label="cleave (lattice)")
+                color="black", lw=1.6,
+                label="cleave (lattice), mean over each row's steps" if windowed
+                else "cleave (lattice)")
     analytic = read_csv(folder / "analytic.csv")
     for stage in sorted({r["stage"] for r in analytic}):
         rows = [r for r in analytic if r["stage"] == stage]

@@ -52,20 +52,34 @@ CubicLatticeDef beam_lattice(const BeamRigDef& def) {
   return ld;
 }
 
-BeamTestRig::BeamTestRig(const BeamRigDef& def) : def_(def), lattice_(beam_lattice(def)) {
-  const CubicLatticeDef& ld = lattice_.def();
+BeamTest beam_analytic(const BeamRigDef& def) {
+  const CubicLatticeDef ld = beam_lattice(def);
   const double r = def.radius;
+  BeamTest t;
+  t.kind = def.kind;
+  t.E = def.material.young;
+  t.nu = def.material.poisson;
+  t.B = def.breadth;
+  t.h = 0.5 * def.height;
+  t.a0 = def.initial_crack;
+  t.r = r;
+  t.g_Ic = def.g_Ic;
+  t.g_IIc = def.g_IIc;
+  if (def.kind == BeamTestKind::dcb) {
+    // Load line to the weak plane's last column (the clamp when there is no intact part).
+    t.L = 2.0 * r * (cells(def.length, r, "length") - 1);
+  } else {
+    t.L = 2.0 * r * ((ld.nx - 1) / 2);  // support to mid-span
+    if (def.kind == BeamTestKind::mmb) t.C = mmb_lever_arm(def.mode_mix, t.L);
+  }
+  return t;
+}
+
+BeamTestRig::BeamTestRig(const BeamRigDef& def)
+    : def_(def), lattice_(beam_lattice(def)), analytic_(beam_analytic(def)) {
+  const CubicLatticeDef& ld = lattice_.def();
   dt_ = def.dt_safety * lattice_.critical_time_step();
-  x_origin_ = r;
-  analytic_.kind = def.kind;
-  analytic_.E = def.material.young;
-  analytic_.nu = def.material.poisson;
-  analytic_.B = def.breadth;
-  analytic_.h = 0.5 * def.height;
-  analytic_.a0 = def.initial_crack;
-  analytic_.r = r;
-  analytic_.g_Ic = def.g_Ic;
-  analytic_.g_IIc = def.g_IIc;
+  x_origin_ = def.radius;
   const int top = ld.nz - 1, mid = (ld.nx - 1) / 2, last = ld.nx - 1;
   switch (def.kind) {
     case BeamTestKind::dcb: {
@@ -75,8 +89,6 @@ BeamTestRig::BeamTestRig(const BeamRigDef& def) : def_(def), lattice_(beam_latti
       for (int b : bottom_) lattice_.prescribe(b, kZ);
       for (int iz = 0; iz < ld.nz; ++iz)
         for (int b : line(last, iz)) lattice_.prescribe(b, kAll);
-      // Load line to the weak plane's last column (the clamp when there is no intact part).
-      analytic_.L = 2.0 * r * (cells(def.length, r, "length") - 1);
       break;
     }
     case BeamTestKind::enf:
@@ -86,7 +98,6 @@ BeamTestRig::BeamTestRig(const BeamRigDef& def) : def_(def), lattice_(beam_latti
       // keeps the upper beam from walking off the lower one sideways.
       for (int b : line(0, 0)) lattice_.prescribe(b, kX | kY | kZ);
       for (int b : line(last, 0)) lattice_.prescribe(b, kY | kZ);
-      analytic_.L = 2.0 * r * mid;  // support to mid-span
       if (def.kind == BeamTestKind::enf) {
         top_ = line(mid, top);
         for (int b : top_) lattice_.prescribe(b, kY | kZ);
@@ -95,7 +106,6 @@ BeamTestRig::BeamTestRig(const BeamRigDef& def) : def_(def), lattice_(beam_latti
         mid_ = line(mid, top);
         for (int b : end_) lattice_.prescribe(b, kY | kZ);
         for (int b : mid_) lattice_.prescribe(b, kY | kZ);
-        analytic_.C = mmb_lever_arm(def.mode_mix, analytic_.L);
         lever_span_ = analytic_.L;
         const double arm_end = analytic_.C + analytic_.L, arm_mid = analytic_.C;
         lever_inertia_ = lattice_.mass() * (static_cast<double>(end_.size()) * arm_end * arm_end +

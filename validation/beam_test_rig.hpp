@@ -148,4 +148,8 @@ StageErrors compare_with_closed_form(const BeamTest& test, const std::vector<Bea
 /// the weak mid-plane and the notch.
 CubicLatticeDef beam_lattice(const BeamRigDef& def);
 
+/// The closed-form test that the rig for `def` realises (BeamTestRig::analytic), without
+/// building its lattice: L and a0 between lines of body centres, B' = B - 2r.
+BeamTest beam_analytic(const BeamRigDef& def);
+
 }  // namespace cleave::physics
