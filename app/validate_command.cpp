@@ -194,6 +194,7 @@ int validate_command(const ValidateOptions& options) {
     std::optional<physics::BeamTestRig> built;
     if (!beam_only) built.emplace(v.rig);
     const physics::CubicLatticeDef grid = physics::beam_lattice(v.rig);
+    const int bodies = grid.nx * grid.ny * grid.nz;
     const double rate = v.rig.kind == physics::BeamTestKind::dcb ? 2.0 * v.rig.velocity
                                                                   : v.rig.velocity;
     // The steps it takes at full speed, plus the ramp's lost half.
@@ -206,7 +207,7 @@ int validate_command(const ValidateOptions& options) {
                     beam_only ? " (the cohesive beam only: no lattice run)" : ""));
     say(fmt::format("  lattice    {} x {} x {} cubes of {:g} mm ({} bodies){}; weak "
                     "mid-plane, notch a0 = {:g} mm",
-                    grid.nx, grid.ny, grid.nz, 2e3 * v.rig.radius, grid.nx * grid.ny * grid.nz,
+                    grid.nx, grid.ny, grid.nz, 2e3 * v.rig.radius, bodies,
                     beam_only ? std::string(", not built")
                               : fmt::format(", {} links", built->lattice().links().size()),
                     v.rig.initial_crack * 1e3));
@@ -459,7 +460,7 @@ int validate_command(const ValidateOptions& options) {
     io::write_plot_svg(out / "load_deflection.svg", plot);
 
     manifest.facts["test"] = test_name(v.rig.kind);
-    manifest.facts["bodies"] = std::to_string(grid.nx * grid.ny * grid.nz);
+    manifest.facts["bodies"] = std::to_string(bodies);
     if (!beam_only) manifest.facts["links"] = std::to_string(built->lattice().links().size());
     manifest.facts["threads"] = std::to_string(omp_get_max_threads());
     manifest.facts["reference"] = by_czm ? "cohesive_beam" : "lefm";
