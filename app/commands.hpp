@@ -73,4 +73,12 @@ struct SweepOptions {
 /// not, 2 on bad input (nothing is run), 130/143 when interrupted.
 int sweep_command(const SweepOptions& options);
 
+struct MaterialsOptions {
+  std::string name;  ///< empty: list the library; else show this preset
+};
+
+/// Lists the material library (materials/*.toml) or shows one preset with its units and
+/// sources. Exit 0, or 2 when the library or the preset cannot be read.
+int materials_command(const MaterialsOptions& options);
+
 }  // namespace cleave::app

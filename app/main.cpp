@@ -83,6 +83,11 @@ int main(int argc, char** argv) {
                          "Do not run the lattice: judge beam theory with the scenario's cohesive "
                          "zone against the closed forms (where LEFM holds for its sigma_c)");
 
+  MaterialsOptions materials;
+  CLI::App* materials_cmd = app.add_subcommand(
+      "materials", "List the material library (materials/*.toml), or show one preset's sources");
+  materials_cmd->add_option("name", materials.name, "A preset to show (e.g. sic_alpha)");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run_cmd->parsed()) {
@@ -96,5 +101,6 @@ int main(int argc, char** argv) {
   if (volume_cmd->parsed()) return check_volume_command(check);
   if (sweep_cmd->parsed()) return sweep_command(sweep);
   if (validate_cmd->parsed()) return validate_command(validate);
+  if (materials_cmd->parsed()) return materials_command(materials);
   return 2;
 }

@@ -102,6 +102,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "io/material_library.hpp"
 #include "io/mesh_grains.hpp"
 #include "io/toml_reader.hpp"
 
@@ -448,11 +449,31 @@ void read_output_table(const TableReader& t, OutputDef& output) {
 
 // ---- [material], [contact], [dynamics], [[wall]] ------------------------------------------
 
-constexpr std::string_view kMaterialKeys[] = {"density"};
+constexpr std::string_view kMaterialKeys[] = {"density", "preset"};
 
+/// [material]: the density, or a preset of the material library whose density it takes
+/// (an explicit `density` beside the preset wins: a sweep can vary it).
 void read_material_table(const TableReader& t, MaterialDef& m) {
   t.reject_unknown(kMaterialKeys);
-  m.density = t.number("density", Range::positive(), MaterialDef{}.density).value;
+  std::optional<double> density;
+  if (t.find("preset") != nullptr) {
+    m.preset = t.string("preset");
+    const auto file =
+        resolve_material(m.preset, std::filesystem::path(t.source()).parent_path());
+    if (!file) {
+      std::vector<std::string> names;
+      for (const auto& f : library_files()) names.push_back(f.stem().string());
+      t.fail(*t.find("preset"), "preset",
+             fmt::format("no material '{}' (a name looks in {}, which holds {}; a path with "
+                         "'/' is taken from the scenario's folder)",
+                         m.preset, materials_dir().string(),
+                         names.empty() ? std::string("nothing") : quoted_list(names)));
+    }
+    const MaterialPreset preset = load_material(*file);
+    m.preset_file = file->string();
+    density = preset.si("density");
+  }
+  m.density = t.number("density", Range::positive(), density.value_or(MaterialDef{}.density)).value;
 }
 
 constexpr std::string_view kContactKeys[] = {"dilation_radius", "particle_particle",

@@ -58,7 +58,11 @@ struct OutputDef {
 
 /// [material]
 struct MaterialDef {
-  double density = 3100.0;  ///< kg/m^3
+  double density = 3100.0;  ///< kg/m^3 (a preset's unless the file gives `density` too)
+  /// `preset`: a material of the library (io/material_library.hpp) as written, and the file
+  /// it was found in (empty without a preset).
+  std::string preset;
+  std::string preset_file;
 };
 
 /// [contact] with its two parameter sets (table 2.3).

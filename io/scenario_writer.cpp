@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <cmath>
+#include <filesystem>
 
 namespace cleave::io {
 
@@ -117,6 +118,15 @@ std::string scenario_to_toml(const Scenario& s) {
                      boolean(s.output.frame_meshes));
   out += fmt::format("checkpoint_every = {}\n", s.output.checkpoint_every);
   out += fmt::format("\n[material]\ndensity = {}\n", num(s.material.density));
+  if (!s.material.preset.empty()) {
+    // A bare name reads the same library anywhere; a path is made absolute, since this file
+    // is read from another folder than the scenario's.
+    const bool is_path = s.material.preset.find('/') != std::string::npos ||
+                         s.material.preset.ends_with(".toml");
+    out += fmt::format("preset = \"{}\"\n",
+                       is_path ? std::filesystem::absolute(s.material.preset_file).string()
+                               : s.material.preset);
+  }
 
   // [contact] is optional without [dynamics]; when given, its dilation radius is > 0.
   if (s.contact.dilation_radius > 0.0) {
@@ -278,6 +288,9 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("output.frame_meshes", a.output.frame_meshes, b.output.frame_meshes);
   d.same("output.checkpoint_every", a.output.checkpoint_every, b.output.checkpoint_every);
   d.same("material.density", a.material.density, b.material.density);
+  d.same("material.preset_file",
+         a.material.preset_file.empty() ? std::string() : std::filesystem::weakly_canonical(a.material.preset_file).string(),
+         b.material.preset_file.empty() ? std::string() : std::filesystem::weakly_canonical(b.material.preset_file).string());
   d.same("contact.dilation_radius", a.contact.dilation_radius, b.contact.dilation_radius);
   d.contact("contact.particle_particle", a.contact.particle_particle, b.contact.particle_particle);
   d.contact("contact.particle_wall", a.contact.particle_wall, b.contact.particle_wall);
