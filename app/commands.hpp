@@ -81,4 +81,17 @@ struct MaterialsOptions {
 /// sources. Exit 0, or 2 when the library or the preset cannot be read.
 int materials_command(const MaterialsOptions& options);
 
+struct MeasureOptions {
+  std::string test;                ///< elastic | brazilian | flexural | senb
+  std::filesystem::path scenario;
+  std::vector<std::string> sets;   ///< KEY=VALUE overrides
+  std::filesystem::path out;       ///< empty: results/<scenario name>
+  bool quiet = false;
+};
+
+/// Runs a test scenario and measures a macroscopic property (sim/measure.hpp): prints it
+/// with its formula and writes DIR/measure.toml. Exit 0 when measured, 1 when the run or
+/// the test failed (no load drop, not such a rig), 2 on bad input.
+int measure_command(const MeasureOptions& options);
+
 }  // namespace cleave::app

@@ -88,6 +88,15 @@ int main(int argc, char** argv) {
       "materials", "List the material library (materials/*.toml), or show one preset's sources");
   materials_cmd->add_option("name", materials.name, "A preset to show (e.g. sic_alpha)");
 
+  MeasureOptions measure;
+  CLI::App* measure_cmd = app.add_subcommand(
+      "measure", "Measure E and nu, sigma_t, sigma_f or K_Ic of a bonded specimen's test scenario");
+  measure_cmd->add_option("test", measure.test, "elastic | brazilian | flexural | senb")->required();
+  measure_cmd->add_option("scenario", measure.scenario, "Scenario file of the test (TOML)")->required();
+  measure_cmd->add_option("--set", measure.sets, "KEY=VALUE override (table.key), repeatable");
+  measure_cmd->add_option("--out,-o", measure.out, "Result folder (default: results/<scenario name>)");
+  measure_cmd->add_flag("--quiet,-q", measure.quiet, "Print only the result");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run_cmd->parsed()) {
@@ -102,5 +111,6 @@ int main(int argc, char** argv) {
   if (sweep_cmd->parsed()) return sweep_command(sweep);
   if (validate_cmd->parsed()) return validate_command(validate);
   if (materials_cmd->parsed()) return materials_command(materials);
+  if (measure_cmd->parsed()) return measure_command(measure);
   return 2;
 }

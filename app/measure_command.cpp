@@ -1,0 +1,150 @@
+// `cleave measure TEST SCENARIO`: a macroscopic property of a bonded specimen measured as a
+// laboratory would (sim/measure.hpp), printed with its formula and, when the scenario names a
+// material preset, against the handbook value; written to DIR/measure.toml (and, for the
+// elastic test, DIR/measure.csv and DIR/stress_strain.svg).
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "commands.hpp"
+#include "io/material_library.hpp"
+#include "io/plot.hpp"
+#include "io/result_dir.hpp"
+#include "io/scenario.hpp"
+#include "run_control.hpp"
+#include "sim/measure.hpp"
+
+namespace cleave::app {
+
+namespace {
+
+/// The preset's property the test measures, and its SI unit shown as the test prints it.
+struct Reading {
+  const char* key;
+  const char* label;
+  double scale;
+  const char* unit;
+};
+
+Reading reading_of(sim::Test t) {
+  switch (t) {
+    case sim::Test::elastic: return {"young", "E", 1e9, "GPa"};
+    case sim::Test::brazilian: return {"tensile_strength", "sigma_t", 1e6, "MPa"};
+    case sim::Test::flexural: return {"flexural_strength", "sigma_f", 1e6, "MPa"};
+    case sim::Test::senb: return {"k_ic", "K_Ic", 1e6, "MPa m^0.5"};
+  }
+  return {"", "", 1.0, ""};
+}
+
+void write_elastic_outputs(const sim::Measurement& m, const std::filesystem::path& out) {
+  std::string csv = "time_s,stress_Pa,strain_platens,strain_axial,strain_lateral\n";
+  io::PlotSeries grains{"grains (affine fit, middle half)", {}, {}, "", true};
+  io::PlotSeries platens{"platens' approach", {}, {}, "", true};
+  for (const auto& e : m.samples) {
+    csv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", e.time, e.stress, e.strain_platens,
+                       e.strain_axial, e.strain_lateral);
+    grains.x.push_back(e.strain_axial * 1e6);
+    grains.y.push_back(e.stress / 1e6);
+    platens.x.push_back(e.strain_platens * 1e6);
+    platens.y.push_back(e.stress / 1e6);
+  }
+  io::write_file_atomically(out / "measure.csv", csv);
+  io::Plot plot;
+  plot.title = fmt::format("uniaxial small-strain test: E = {:.4g} GPa (grains), {:.4g} GPa (platens), nu = {:.3f}",
+                           m.value / 1e9, m.young_platens / 1e9, m.poisson);
+  plot.x_label = "axial strain (1e-6)";
+  plot.y_label = "stress (MPa)";
+  plot.series = {grains, platens};
+  if (m.closed_form && !m.samples.empty()) {
+    io::PlotSeries law{"honeycomb closed form", {}, {}, "", false, true};
+    const double top = m.samples.back().strain_axial;
+    law.x = {0.0, top * 1e6};
+    law.y = {0.0, m.closed_form->young * top / 1e6};
+    plot.series.push_back(law);
+  }
+  io::write_plot_svg(out / "stress_strain.svg", plot);
+}
+
+}  // namespace
+
+int measure_command(const MeasureOptions& options) {
+  const auto test = sim::parse_test(options.test);
+  if (!test) {
+    fmt::print(stderr, "cleave measure: unknown test '{}'; the tests are elastic, brazilian, "
+                       "flexural, senb\n", options.test);
+    return 2;
+  }
+  install_stop_handlers();
+  sim::SimulationOptions so;
+  so.out = options.out;
+  so.quiet = true;
+  so.stop_requested = [] { return stop_signal() != 0; };
+  so.stop_reason = [] { return fmt::format("stopped by {}", signal_name(stop_signal())); };
+  sim::Measurement m;
+  try {
+    if (!options.quiet) {
+      fmt::print("cleave measure {}: {} ...\n", options.test, options.scenario.string());
+      std::fflush(stdout);
+    }
+    m = sim::measure(*test, options.scenario, so, options.sets);
+  } catch (const io::ScenarioError& e) {
+    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
+    return 1;
+  }
+  if (m.report.status == sim::RunReport::Status::interrupted) {
+    fmt::print(stderr, "cleave measure: {}; nothing measured\n", m.report.message);
+    return exit_code_for_signal(stop_signal());
+  }
+  if (m.report.status == sim::RunReport::Status::failed) {
+    fmt::print(stderr, "cleave measure: error: the run failed: {}\n", m.report.message);
+    return 1;
+  }
+  const std::filesystem::path out = m.report.out;
+  const Reading r = reading_of(*test);
+  std::string text = sim::measurement_toml(m);
+  std::string compare;
+  try {
+    const io::Scenario s = io::load_scenario(options.scenario);
+    if (!s.material.preset_file.empty()) {
+      const io::MaterialPreset preset = io::load_material(s.material.preset_file);
+      const double want = preset.si(r.key);
+      compare = fmt::format("  {} of {}: {:.4g} {} ({:+.1f} %)", r.key, preset.name, want / r.scale,
+                            r.unit, 100.0 * (m.value / want - 1.0));
+      text += fmt::format("preset = \"{}\"\npreset_value = {:.9g}\n", preset.name, want);
+      if (*test == sim::Test::elastic) {
+        const double nu = preset.si("poisson");
+        compare += fmt::format("; nu {:.3f} ({:+.3f})", nu, m.poisson - nu);
+        text += fmt::format("preset_poisson = {:.9g}\n", nu);
+      }
+    }
+  } catch (const std::exception&) {  // the measurement stands without the comparison
+  }
+  io::write_file_atomically(out / "measure.toml", text);
+  if (*test == sim::Test::elastic) write_elastic_outputs(m, out);
+  fmt::print("  {} = {:.4g} {}", r.label, m.value / r.scale, r.unit);
+  if (*test == sim::Test::elastic) {
+    fmt::print(", nu = {:.4f}; from the platens E = {:.4g} GPa", m.poisson, m.young_platens / 1e9);
+  }
+  fmt::print("\n  {}\n", m.formula);
+  if (m.closed_form) {
+    fmt::print("  honeycomb closed form for these bond springs: E = {:.4g} GPa ({:+.2f} %), nu = {:.4f}\n",
+               m.closed_form->young / 1e9, 100.0 * (m.value / m.closed_form->young - 1.0),
+               m.closed_form->poisson);
+  }
+  if (!compare.empty()) fmt::print("{}\n", compare);
+  if (std::isfinite(m.kinetic_ratio)) {
+    fmt::print("  quasi-static: kinetic energy at most {:.2g} of the work done in the loading's second half\n",
+               m.kinetic_ratio);
+  }
+  fmt::print("  -> {}/measure.toml\n", out.string());
+  return 0;
+}
+
+}  // namespace cleave::app

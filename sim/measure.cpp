@@ -1,0 +1,341 @@
+/// \file
+/// Macroscopic measurements on a bonded specimen (see measure.hpp).
+
+#include "sim/measure.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "physics/dem/world.hpp"
+
+namespace cleave::sim {
+
+namespace {
+
+/// Least-squares slope of y against x.
+double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = static_cast<double>(x.size());
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
+  mx /= n;
+  my /= n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+  }
+  return sxy / sxx;
+}
+
+/// The walls the last stage moves (its load walls, when it names them).
+std::vector<std::size_t> moving_walls(const io::Scenario& s, const physics::World& world) {
+  const io::StageDef& last = s.stages.back();
+  std::vector<std::string> names = last.load_walls;
+  if (names.empty()) {
+    for (const auto& [name, v] : last.wall_velocity) {
+      if (v.squaredNorm() > 0.0) names.push_back(name);
+    }
+  }
+  std::vector<std::size_t> out;
+  for (std::size_t w = 0; w < world.walls().size(); ++w) {
+    if (std::find(names.begin(), names.end(), world.walls()[w].name) != names.end()) out.push_back(w);
+  }
+  return out;
+}
+
+std::vector<std::size_t> walls_of_kind(const physics::World& world, physics::Wall::Kind kind) {
+  std::vector<std::size_t> out;
+  for (std::size_t w = 0; w < world.walls().size(); ++w) {
+    if (world.walls()[w].kind == kind) out.push_back(w);
+  }
+  return out;
+}
+
+[[noreturn]] void refuse(const io::Scenario& s, Test t, const std::string& why) {
+  throw std::runtime_error(
+      fmt::format("{}: not a {} test: {}", s.source, to_string(t), why));
+}
+
+/// Runs every stage before the last (bonding, approach) to its end.
+void run_to_last_stage(Simulation& sim) {
+  const auto stages = sim.scenario().stages.size();
+  while (sim.dynamics()->summary().stages.size() + 1 < stages && !sim.done()) sim.advance_stage();
+}
+
+Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
+  const io::Scenario& s = sim.scenario();
+  Dynamics& dyn = *sim.dynamics();
+  run_to_last_stage(sim);
+  const physics::World& world = dyn.world();
+  const auto platens = moving_walls(s, world);
+  if (platens.size() != 2 || world.walls()[platens[0]].kind != physics::Wall::Kind::platen ||
+      world.walls()[platens[1]].kind != physics::Wall::Kind::platen) {
+    refuse(s, m.test, "the last stage must move two platens against each other");
+  }
+  const io::StageDef& loading = s.stages.back();
+  const double dt = s.dynamics.dt;
+  const auto stage_steps = loading.steps > 0
+                               ? loading.steps
+                               : static_cast<std::uint64_t>(std::llround(loading.time / dt));
+  const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps / static_cast<std::uint64_t>(samples));
+
+  // The grains in the middle half of the height, and where they are at the loading's start.
+  double ylo = INFINITY, yhi = -INFINITY;
+  const auto ids = world.body_ids();
+  for (const auto id : ids) {
+    ylo = std::min(ylo, world.state(id).x.y());
+    yhi = std::max(yhi, world.state(id).x.y());
+  }
+  std::vector<physics::BodyId> middle;
+  std::vector<Eigen::Vector2d> x0;
+  for (const auto id : ids) {
+    const Eigen::Vector3d& x = world.state(id).x;
+    if (std::abs(x.y() - 0.5 * (ylo + yhi)) <= 0.25 * (yhi - ylo)) {
+      middle.push_back(id);
+      x0.emplace_back(x.x(), x.y());
+    }
+  }
+  if (middle.size() < 3) refuse(s, m.test, "fewer than three grains in the middle half");
+  std::vector<Eigen::Vector3d> origin0;
+  for (std::size_t w : platens) origin0.push_back(world.walls()[w].origin);
+  const double area = m.section.width * m.section.thickness;
+  const double t0 = world.time();
+  double work = 0.0, last_load = 0.0, last_closure = 0.0;
+
+  while (!sim.done()) {
+    if (sim.advance(chunk) == 0) break;
+    if (sim.dynamics()->stage() != loading.name) break;
+    double load = 0.0, closure = 0.0;
+    for (std::size_t k = 0; k < platens.size(); ++k) {
+      const physics::Wall& w = world.walls()[platens[k]];
+      load += -w.reaction.dot(w.load_axis) / static_cast<double>(platens.size());
+      closure += (w.origin - origin0[k]).dot(w.load_axis);
+    }
+    std::vector<Eigen::Vector2d> u;
+    for (std::size_t i = 0; i < middle.size(); ++i) {
+      const Eigen::Vector3d& x = world.state(middle[i]).x;
+      u.push_back(Eigen::Vector2d(x.x(), x.y()) - x0[i]);
+    }
+    const physics::AffineFit fit = physics::fit_affine(x0, u);
+    ElasticSample e;
+    e.time = world.time() - t0;
+    e.stress = load / area;
+    e.strain_platens = closure / m.section.depth;
+    e.strain_axial = -fit.strain()(1, 1);
+    e.strain_lateral = fit.strain()(0, 0);
+    m.samples.push_back(e);
+    work += 0.5 * (load + last_load) * (closure - last_closure);
+    last_load = load;
+    last_closure = closure;
+    if (m.samples.size() * 2 > static_cast<std::size_t>(samples) && work > 0.0) {
+      m.kinetic_ratio = std::isnan(m.kinetic_ratio)
+                            ? world.kinetic_energy() / work
+                            : std::max(m.kinetic_ratio, world.kinetic_energy() / work);
+    }
+  }
+  if (m.samples.size() < 4) refuse(s, m.test, "its loading stage gave fewer than four readings");
+  std::vector<double> stress, axial, lateral, platen;
+  for (std::size_t i = m.samples.size() * 3 / 10; i < m.samples.size(); ++i) {
+    stress.push_back(m.samples[i].stress);
+    axial.push_back(m.samples[i].strain_axial);
+    lateral.push_back(m.samples[i].strain_lateral);
+    platen.push_back(m.samples[i].strain_platens);
+  }
+  m.value = slope(axial, stress);
+  m.poisson = slope(axial, lateral);
+  m.young_platens = slope(platen, stress);
+  m.formula = fmt::format(
+      "E = d sigma / d eps_axial, sigma = P / (w t) with w = {:.4g} mm, t = {:.4g} mm; nu = "
+      "d eps_lateral / d eps_axial; strains from the affine fit of {} grains' displacements "
+      "(middle half); least squares over the last 70 % of the loading",
+      m.section.width * 1e3, m.section.thickness * 1e3, middle.size());
+  if (s.bond.enabled && s.bond.params.law == physics::BondLaw::bonded_particle &&
+      s.specimen.kind == geometry::SpecimenKind::lattice) {
+    const double ab = M_PI * s.contact.dilation_radius * s.contact.dilation_radius;
+    m.closed_form = physics::honeycomb_elasticity(s.bond.params.kbn * ab, s.bond.params.kbs * ab,
+                                                  m.section.thickness);
+  }
+  return m;
+}
+
+/// The loading stage to its end; its peak, refused unless the load dropped.
+void run_strength_test(Simulation& sim, Measurement& m) {
+  while (!sim.done()) sim.advance_stage();
+  const io::Scenario& s = sim.scenario();
+  const auto& stages = sim.dynamics()->summary().stages;
+  if (stages.size() != s.stages.size()) refuse(s, m.test, "the run stopped before its last stage ended");
+  const StageSummary& last = stages.back();
+  if (last.ended_by != "load_drop") {
+    refuse(s, m.test,
+           fmt::format("its last stage ended by '{}', not by the load dropping after its peak "
+                       "(until = \"load_drop\"): a peak at the stage's end is no strength; "
+                       "give it more time",
+                       last.ended_by));
+  }
+  m.peak_load = last.peak_load;
+  m.peak_displacement = last.peak_displacement;
+}
+
+/// The x of the cylinder walls in `which`, sorted.
+std::vector<double> roller_x(const physics::World& world, const std::vector<std::size_t>& which) {
+  std::vector<double> x;
+  for (std::size_t w : which) x.push_back(world.walls()[w].origin.x());
+  std::sort(x.begin(), x.end());
+  return x;
+}
+
+}  // namespace
+
+const char* to_string(Test t) {
+  switch (t) {
+    case Test::elastic: return "elastic";
+    case Test::brazilian: return "brazilian";
+    case Test::flexural: return "flexural";
+    case Test::senb: return "senb";
+  }
+  return "?";
+}
+
+std::optional<Test> parse_test(std::string_view name) {
+  for (Test t : {Test::elastic, Test::brazilian, Test::flexural, Test::senb}) {
+    if (name == to_string(t)) return t;
+  }
+  return std::nullopt;
+}
+
+Section specimen_section(const geometry::Specimen& specimen) {
+  const geometry::SpecimenDef& d = specimen.def;
+  Section s{d.outline.size.x(), d.outline.size.y(), d.outline.size.z()};
+  if (d.kind != geometry::SpecimenKind::lattice || specimen.grains.empty()) return s;
+  // Rows 1.5 r apart in y, layers t apart in z: count the distinct ones (to a tenth of r).
+  std::map<std::pair<long long, long long>, int> per_row;
+  std::set<long long> rows, layers;
+  for (const auto& g : specimen.grains) {
+    const long long row = std::llround(g.site.centre.y() / (0.1 * d.r));
+    const long long layer = std::llround(g.site.centre.z() / (0.1 * d.t));
+    rows.insert(row);
+    layers.insert(layer);
+    ++per_row[{layer, row}];
+  }
+  s.depth = static_cast<double>(rows.size()) * 1.5 * d.r;
+  s.thickness = static_cast<double>(layers.size()) * d.t;
+  // The width that carries a load along y: the rows of a honeycomb strip alternate n and
+  // n - 1 grains, and each layer of bonds between two rows holds two diagonal bonds per
+  // grain of the shorter row, as an unbounded honeycomb does over that many cells of
+  // sqrt(3) r; the longer row's end grains hang on by one diagonal bond and pass no axial
+  // load on. So the width is the shortest row's cells.
+  int shortest = std::numeric_limits<int>::max();
+  for (const auto& [key, count] : per_row) shortest = std::min(shortest, count);
+  s.width = static_cast<double>(shortest) * std::sqrt(3.0) * d.r;
+  return s;
+}
+
+Measurement measure(Test test, const std::filesystem::path& scenario, SimulationOptions options,
+                    const std::vector<std::string>& overrides, int samples) {
+  auto sim = Simulation::open(scenario, std::move(options), overrides);
+  const io::Scenario& s = sim->scenario();
+  if (!s.dynamics.enabled || s.stages.empty()) {
+    refuse(s, test, "it needs [dynamics] and [[stage]] tables, the last one loading the specimen");
+  }
+  if (!s.bond.enabled) refuse(s, test, "it has no [bond]: the measurements are of a bonded specimen");
+  sim->start();
+  Measurement m;
+  m.test = test;
+  m.section = specimen_section(sim->specimen());
+  const physics::World& world = sim->dynamics()->world();
+  const auto& outline = s.specimen.outline;
+  switch (test) {
+    case Test::elastic:
+      m = measure_elastic(*sim, std::move(m), samples);
+      break;
+    case Test::brazilian: {
+      if (outline.kind != geometry::Outline::Kind::disc) refuse(s, test, "its specimen is not a disc");
+      run_strength_test(*sim, m);
+      const double D = outline.size.x(), t = m.section.thickness;
+      m.value = physics::brazilian_tensile_strength(m.peak_load, D, t);
+      m.formula = fmt::format("sigma_t = 2P / (pi D t) = 2 x {:.5g} N / (pi x {:.4g} mm x {:.4g} mm)",
+                              m.peak_load, D * 1e3, t * 1e3);
+      break;
+    }
+    case Test::flexural:
+    case Test::senb: {
+      if (outline.kind != geometry::Outline::Kind::beam) refuse(s, test, "its specimen is not a beam");
+      const auto cylinders = walls_of_kind(world, physics::Wall::Kind::cylinder);
+      const auto loaders = moving_walls(s, world);
+      std::vector<std::size_t> supports;
+      for (std::size_t w : cylinders) {
+        if (std::find(loaders.begin(), loaders.end(), w) == loaders.end()) supports.push_back(w);
+      }
+      const std::size_t want = test == Test::flexural ? 2 : 1;
+      if (loaders.size() != want || supports.size() != 2) {
+        refuse(s, test, fmt::format("it needs two support rollers and {} loading roller{} (cylinder "
+                                    "walls; the last stage moves the loading ones), found {} and {}",
+                                    want, want == 1 ? "" : "s", supports.size(), loaders.size()));
+      }
+      const auto sx = roller_x(world, supports), lx = roller_x(world, loaders);
+      const double span = sx[1] - sx[0];
+      const double b = m.section.thickness, d = m.section.depth;
+      if (test == Test::flexural) {
+        const double inner = lx[1] - lx[0];
+        run_strength_test(*sim, m);
+        m.value = physics::four_point_flexural_strength(m.peak_load, span, inner, b, d);
+        m.formula = fmt::format(
+            "sigma_f = 3P (L - L_i) / (2 b d^2) = 3 x {:.5g} N x ({:.4g} - {:.4g}) mm / (2 x {:.4g} mm "
+            "x ({:.4g} mm)^2)",
+            m.peak_load, span * 1e3, inner * 1e3, b * 1e3, d * 1e3);
+      } else {
+        if (std::abs(span / d - 4.0) > 0.08) {
+          refuse(s, test, fmt::format("ASTM C1421's three-point formula holds for S/W = 4; this "
+                                      "rig has S = {:.4g} mm over W = {:.4g} mm = {:.3g}",
+                                      span * 1e3, d * 1e3, span / d));
+        }
+        const double a = outline.notch_depth;
+        if (!(a > 0.0)) refuse(s, test, "its beam has no notch (notch_depth)");
+        run_strength_test(*sim, m);
+        m.value = physics::senb_stress_intensity(m.peak_load, span, b, d, a);
+        m.formula = fmt::format(
+            "K_Ic = P S / (B W^1.5) Y(a/W) = {:.5g} N x {:.4g} mm / ({:.4g} mm x ({:.4g} mm)^1.5) x "
+            "Y({:.3f}) = ... x {:.4f} (ASTM C1421, S/W = 4)",
+            m.peak_load, span * 1e3, b * 1e3, d * 1e3, a / d, physics::senb_geometry_factor(a / d));
+      }
+      break;
+    }
+  }
+  m.report = sim->finish();
+  return m;
+}
+
+std::string measurement_toml(const Measurement& m) {
+  const auto num = [](double v) { return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string("nan"); };
+  std::string out = fmt::format("test = \"{}\"\n", to_string(m.test));
+  switch (m.test) {
+    case Test::elastic:
+      out += fmt::format("young_Pa = {}\npoisson = {}\nyoung_platens_Pa = {}\n", num(m.value),
+                         num(m.poisson), num(m.young_platens));
+      if (m.closed_form) {
+        out += fmt::format("closed_form_young_Pa = {}\nclosed_form_poisson = {}\n",
+                           num(m.closed_form->young), num(m.closed_form->poisson));
+      }
+      break;
+    case Test::brazilian: out += fmt::format("tensile_strength_Pa = {}\n", num(m.value)); break;
+    case Test::flexural: out += fmt::format("flexural_strength_Pa = {}\n", num(m.value)); break;
+    case Test::senb: out += fmt::format("k_ic_Pa_sqrt_m = {}\n", num(m.value)); break;
+  }
+  if (std::isfinite(m.peak_load)) {
+    out += fmt::format("peak_load_N = {}\npeak_displacement_m = {}\n", num(m.peak_load),
+                       num(m.peak_displacement));
+  }
+  out += fmt::format("section_width_m = {}\nsection_depth_m = {}\nsection_thickness_m = {}\n",
+                     num(m.section.width), num(m.section.depth), num(m.section.thickness));
+  if (std::isfinite(m.kinetic_ratio)) out += fmt::format("kinetic_ratio = {}\n", num(m.kinetic_ratio));
+  out += fmt::format("formula = \"{}\"\n", m.formula);
+  return out;
+}
+
+}  // namespace cleave::sim

@@ -1,0 +1,91 @@
+#pragma once
+/// \file
+/// Macroscopic measurements on a bonded specimen, as a laboratory takes them: a scenario
+/// of the test is run (sim::Simulation) and its readings turned into the property a
+/// handbook lists, by the standard formula (validation/standard_tests.hpp):
+/// - `elastic`: a small-strain uniaxial test between two platens (the walls the last stage
+///   moves). Stress = the platens' load over the specimen's section; strain from the
+///   platens' approach over the specimen's height, and from the affine fit of the grains'
+///   displacements in the middle half of the height (free of the platen contacts' give).
+///   E is the slope of stress against strain, nu the slope of lateral against axial
+///   strain, both by least squares over the last 70 % of the loading stage.
+/// - `brazilian`: sigma_t = 2P/(pi D t) of the peak load of a disc.
+/// - `flexural`: four-point bending, sigma_f = 3P (L - L_i) / (2 b d^2) of the peak load,
+///   the spans read off the cylinder walls (the rollers the last stage moves load; the
+///   others support).
+/// - `senb`: a notched beam in three-point bending (S = 4W), K_Ic = P S / (B W^1.5) Y(a/W)
+///   of ASTM C1421 at the peak load.
+/// A lattice specimen's section is its cells': depth = rows x 1.5 r, thickness = layers x t,
+/// width = the shortest row's cells, sqrt(3) r each (the width that carries a load along
+/// y; see specimen_section), not the outline's.
+/// The strength tests need the loading stage to end by its load drop: a peak at the end of
+/// the stage's time is no strength, and is refused.
+
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/simulation.hpp"
+#include "validation/standard_tests.hpp"
+
+namespace cleave::sim {
+
+enum class Test { elastic, brazilian, flexural, senb };
+const char* to_string(Test t);
+/// "elastic", "brazilian", "flexural", "senb"; nothing for another name.
+std::optional<Test> parse_test(std::string_view name);
+
+/// One reading of the elastic test (compression positive).
+struct ElasticSample {
+  double time = 0.0;            ///< s, since the loading stage began
+  double stress = 0.0;          ///< Pa, load over section
+  double strain_platens = 0.0;  ///< the platens' approach over the height
+  double strain_axial = 0.0;    ///< -eps_yy of the grains' affine fit
+  double strain_lateral = 0.0;  ///< eps_xx of the fit
+};
+
+/// The specimen's section as the formulas read it (m).
+struct Section {
+  double width = 0.0;      ///< x: across the load (compression, Brazilian: the diameter)
+  double depth = 0.0;      ///< y: along the load
+  double thickness = 0.0;  ///< z: the prisms' length
+};
+
+struct Measurement {
+  Test test = Test::elastic;
+  /// E (Pa), sigma_t (Pa), sigma_f (Pa) or K_Ic (Pa m^0.5).
+  double value = NAN;
+  double poisson = NAN;        ///< elastic
+  double young_platens = NAN;  ///< elastic: E from the platens' approach
+  double peak_load = NAN;      ///< strength tests: N
+  double peak_displacement = NAN;  ///< m
+  Section section;
+  /// The formula with its numbers, e.g. "sigma_t = 2P/(pi D t) = 2 x 812 N / (pi x ...)".
+  std::string formula;
+  std::vector<ElasticSample> samples;  ///< elastic
+  /// Elastic, bonded lattice specimens: the honeycomb's closed form for the scenario's
+  /// bond springs (validation/standard_tests.hpp), to compare with.
+  std::optional<physics::HoneycombElasticity> closed_form;
+  /// The largest ratio of kinetic energy to the work the walls did on the specimen over
+  /// the loading stage's second half: how quasi-static the test was (small is good).
+  double kinetic_ratio = NAN;
+  RunReport report;
+};
+
+/// The section of `specimen` (see the file comment).
+Section specimen_section(const geometry::Specimen& specimen);
+
+/// Runs the scenario (with `overrides`, "table.key=value") in `options.out` and measures.
+/// Throws io::ScenarioError for a bad scenario and std::runtime_error when the scenario
+/// is not such a test (no platens, wrong outline, no load drop, S/W far from 4), naming it.
+Measurement measure(Test test, const std::filesystem::path& scenario, SimulationOptions options,
+                    const std::vector<std::string>& overrides = {}, int samples = 25);
+
+/// measure.toml's text and the elastic test's table and plot (written by measure into the
+/// result folder): the value, the formula, the inputs.
+std::string measurement_toml(const Measurement& m);
+
+}  // namespace cleave::sim
