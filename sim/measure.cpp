@@ -165,10 +165,12 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
 }
 
 /// The loading stage to its end; its peak, refused unless the load dropped.
+/// The run is finished first, so that its folder holds the curve whatever is refused.
 void run_strength_test(Simulation& sim, Measurement& m) {
-  while (!sim.done()) sim.advance_stage();
   const io::Scenario& s = sim.scenario();
-  const auto& stages = sim.dynamics()->summary().stages;
+  m.report = sim.finish();
+  if (m.report.status != RunReport::Status::finished || !m.report.dynamics) return;
+  const auto& stages = m.report.dynamics->stages;
   if (stages.size() != s.stages.size()) refuse(s, m.test, "the run stopped before its last stage ended");
   const StageSummary& last = stages.back();
   if (last.ended_by != "load_drop") {
@@ -211,7 +213,7 @@ std::optional<Test> parse_test(std::string_view name) {
 
 Section specimen_section(const geometry::Specimen& specimen) {
   const geometry::SpecimenDef& d = specimen.def;
-  Section s{d.outline.size.x(), d.outline.size.y(), d.outline.size.z()};
+  Section s{d.outline.size.x(), d.outline.size.y(), d.outline.size.z(), d.outline.notch_depth};
   if (d.kind != geometry::SpecimenKind::lattice || specimen.grains.empty()) return s;
   // Rows 1.5 r apart in y, layers t apart in z: count the distinct ones (to a tenth of r).
   std::map<std::pair<long long, long long>, int> per_row;
@@ -233,6 +235,20 @@ Section specimen_section(const geometry::Specimen& specimen) {
   int shortest = std::numeric_limits<int>::max();
   for (const auto& [key, count] : per_row) shortest = std::min(shortest, count);
   s.width = static_cast<double>(shortest) * std::sqrt(3.0) * d.r;
+  // The notch: rows from the bottom with no grain within 3/4 of a cell of its centre line.
+  if (d.outline.notch_depth > 0.0) {
+    const double centre = 0.5 * d.outline.size.x();
+    int cut = 0;
+    for (long long row : rows) {
+      const bool whole = std::any_of(specimen.grains.begin(), specimen.grains.end(), [&](const auto& g) {
+        return std::llround(g.site.centre.y() / (0.1 * d.r)) == row &&
+               std::abs(g.site.centre.x() - centre) < 0.75 * std::sqrt(3.0) * d.r;
+      });
+      if (whole) break;
+      ++cut;
+    }
+    s.notch = cut * 1.5 * d.r;
+  }
   return s;
 }
 
@@ -295,7 +311,7 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
                                       "rig has S = {:.4g} mm over W = {:.4g} mm = {:.3g}",
                                       span * 1e3, d * 1e3, span / d));
         }
-        const double a = outline.notch_depth;
+        const double a = m.section.notch;
         if (!(a > 0.0)) refuse(s, test, "its beam has no notch (notch_depth)");
         run_strength_test(*sim, m);
         m.value = physics::senb_stress_intensity(m.peak_load, span, b, d, a);
@@ -307,7 +323,7 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
       break;
     }
   }
-  m.report = sim->finish();
+  if (!sim->finished()) m.report = sim->finish();
   return m;
 }
 

@@ -52,6 +52,9 @@ struct Section {
   double width = 0.0;      ///< x: across the load (compression, Brazilian: the diameter)
   double depth = 0.0;      ///< y: along the load
   double thickness = 0.0;  ///< z: the prisms' length
+  /// A notched beam's notch depth: the outline's, or on the lattice the rows it cut away
+  /// from the bottom (the cells it touches go), x 1.5 r.
+  double notch = 0.0;
 };
 
 struct Measurement {

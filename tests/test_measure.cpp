@@ -70,3 +70,14 @@ TEST(MaterialTest, AScenarioThatIsNotTheTestAskedForIsRefusedByName) {
         << what;
   }
 }
+
+TEST(MaterialTest, BrazilianStrengthScalesLinearlyWithTheBondStrengths) {
+  const fs::path disc = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_brazilian.toml";
+  const sim::Measurement full = run(sim::Test::brazilian, disc, "brazilian_full");
+  const sim::Measurement half = run(sim::Test::brazilian, disc, "brazilian_half",
+                                    {"bond.tbn=0.6115e12", "bond.tbs=0.6115e12"});
+  // The disc of the scenario is calibrated to alpha-SiC's 250 MPa (its header).
+  EXPECT_NEAR(full.value / 250e6, 1.0, 0.03) << full.value;
+  EXPECT_NEAR(half.value / full.value, 0.5, 0.03);
+  EXPECT_NEAR(full.value, 2.0 * full.peak_load / (M_PI * 8e-3 * 1e-3), 1e-9 * full.value);
+}
