@@ -94,4 +94,16 @@ struct MeasureOptions {
 /// the test failed (no load drop, not such a rig), 2 on bad input.
 int measure_command(const MeasureOptions& options);
 
+struct CalibrateOptions {
+  std::filesystem::path file;        ///< the calibration file (io/calibration_file.hpp)
+  std::vector<std::string> targets;  ///< KEY=VALUE: E, nu, sigma_t (SI)
+  std::optional<double> tolerance;   ///< overrides the file's
+  std::filesystem::path out;         ///< empty: results/<file stem>
+  bool quiet = false;
+};
+
+/// Calibrates bond parameters to E, nu and sigma_t (sim/calibrate.hpp). Exit 0 when every
+/// target is met within the tolerance, 1 when not (or a trial failed), 2 on bad input.
+int calibrate_command(const CalibrateOptions& options);
+
 }  // namespace cleave::app

@@ -97,6 +97,17 @@ int main(int argc, char** argv) {
   measure_cmd->add_option("--out,-o", measure.out, "Result folder (default: results/<scenario name>)");
   measure_cmd->add_flag("--quiet,-q", measure.quiet, "Print only the result");
 
+  CalibrateOptions calibrate;
+  CLI::App* calibrate_cmd = app.add_subcommand(
+      "calibrate", "Find the bond parameters that give a bonded specimen E, nu and sigma_t targets");
+  calibrate_cmd->add_option("file", calibrate.file, "Calibration file (TOML: the test scenarios, a preset)")
+      ->required();
+  calibrate_cmd->add_option("--target", calibrate.targets,
+                            "KEY=VALUE: E=415e9, nu=0.16, sigma_t=250e6 (default: the file's preset)");
+  calibrate_cmd->add_option("--tolerance", calibrate.tolerance, "Relative, on every target (default 0.02)");
+  calibrate_cmd->add_option("--out,-o", calibrate.out, "Folder (default: results/<file name>)");
+  calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only the result");
+
   CLI11_PARSE(app, argc, argv);
 
   if (run_cmd->parsed()) {
@@ -112,5 +123,6 @@ int main(int argc, char** argv) {
   if (validate_cmd->parsed()) return validate_command(validate);
   if (materials_cmd->parsed()) return materials_command(materials);
   if (measure_cmd->parsed()) return measure_command(measure);
+  if (calibrate_cmd->parsed()) return calibrate_command(calibrate);
   return 2;
 }

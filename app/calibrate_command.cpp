@@ -1,0 +1,131 @@
+// `cleave calibrate FILE [--target KEY=VALUE ...]`: the bond parameters that make a bonded
+// specimen's measured E, nu and sigma_t hit their targets (sim/calibrate.hpp). Writes every
+// trial to DIR/calibration.csv, the fit to DIR/calibration.toml and the errors per trial to
+// DIR/calibration.svg.
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+
+#include "commands.hpp"
+#include "io/calibration_file.hpp"
+#include "io/material_library.hpp"
+#include "io/plot.hpp"
+#include "io/result_dir.hpp"
+#include "io/scenario.hpp"
+#include "sim/calibrate.hpp"
+
+namespace cleave::app {
+
+int calibrate_command(const CalibrateOptions& options) {
+  sim::CalibrationSetup setup;
+  try {
+    const io::CalibrationFile file = io::load_calibration(options.file);
+    setup.elastic = file.elastic;
+    setup.brazilian = file.brazilian;
+    setup.tolerance = options.tolerance.value_or(file.tolerance);
+    setup.max_trials = file.max_trials;
+    if (!file.preset_file.empty()) {
+      const io::MaterialPreset m = io::load_material(file.preset_file);
+      if (!file.elastic.empty()) {
+        setup.targets.young = m.si("young");
+        setup.targets.poisson = m.si("poisson");
+      }
+      if (!file.brazilian.empty()) setup.targets.tensile_strength = m.si("tensile_strength");
+    }
+  } catch (const io::ScenarioError& e) {
+    fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    return 2;
+  }
+  for (const std::string& t : options.targets) {
+    const auto eq = t.find('=');
+    char* end = nullptr;
+    const double v = eq == std::string::npos ? NAN : std::strtod(t.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || end == t.c_str() + eq + 1 || *end != '\0' || !std::isfinite(v) || !(v > 0.0)) {
+      fmt::print(stderr, "cleave calibrate: error: --target '{}': expected KEY=VALUE with a positive number "
+                         "(E=415e9, nu=0.16, sigma_t=250e6)\n", t);
+      return 2;
+    }
+    const std::string key = t.substr(0, eq);
+    const bool needs_elastic = key == "E" || key == "nu";
+    if (key == "E") setup.targets.young = v;
+    else if (key == "nu") setup.targets.poisson = v;
+    else if (key == "sigma_t") setup.targets.tensile_strength = v;
+    else {
+      fmt::print(stderr, "cleave calibrate: error: --target '{}': unknown target '{}'; the targets are E "
+                         "(Pa), nu and sigma_t (Pa)\n", t, key);
+      return 2;
+    }
+    if ((needs_elastic && setup.elastic.empty()) || (key == "sigma_t" && setup.brazilian.empty())) {
+      fmt::print(stderr, "cleave calibrate: error: --target {}: {} names no {} test scenario\n", key,
+                 options.file.string(), needs_elastic ? "elastic" : "brazilian");
+      return 2;
+    }
+  }
+  setup.out = options.out.empty() ? std::filesystem::path("results") / (options.file.stem().string()) : options.out;
+  setup.quiet = options.quiet;
+  std::filesystem::create_directories(setup.out);
+  if (!options.quiet) {
+    fmt::print("cleave calibrate: {} -> {}\n  targets:", options.file.string(), setup.out.string());
+    if (setup.targets.young) fmt::print(" E = {:.4g} GPa", *setup.targets.young / 1e9);
+    if (setup.targets.poisson) fmt::print(", nu = {:.4g}", *setup.targets.poisson);
+    if (setup.targets.tensile_strength) fmt::print(", sigma_t = {:.4g} MPa", *setup.targets.tensile_strength / 1e6);
+    fmt::print(" (each within {:g} %)\n", 100 * setup.tolerance);
+    std::fflush(stdout);
+  }
+  sim::CalibrationResult r;
+  try {
+    r = sim::calibrate(setup);
+  } catch (const io::ScenarioError& e) {
+    fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    return 1;
+  }
+  io::write_file_atomically(setup.out / "calibration.csv", sim::calibration_csv(r));
+  std::string toml = fmt::format("converged = {}\ntrials = {}\nwall_seconds = {:.1f}\ntolerance = {}\n",
+                                 r.converged ? "true" : "false", r.trials.size(), r.wall_seconds,
+                                 setup.tolerance);
+  toml += "\n[fit]   # set these in the test scenarios' [bond]\n";
+  for (const auto& [key, value] : r.parameters) toml += fmt::format("\"{}\" = {:.9g}\n", key, value);
+  io::write_file_atomically(setup.out / "calibration.toml", toml);
+  io::Plot plot;
+  plot.title = "calibration: error of each trial against its target";
+  plot.x_label = "trial";
+  plot.y_label = "measured / target - 1 (%)";
+  io::PlotSeries e{"E", {}, {}, "", true}, nu{"nu", {}, {}, "", true}, st{"sigma_t", {}, {}, "", true};
+  for (const auto& t : r.trials) {
+    if (t.loop == "elastic") {
+      e.x.push_back(t.number);
+      e.y.push_back(100 * t.error);
+      if (setup.targets.poisson) {
+        nu.x.push_back(t.number);
+        nu.y.push_back(100 * t.error_poisson);
+      }
+    } else {
+      st.x.push_back(t.number);
+      st.y.push_back(100 * t.error);
+    }
+  }
+  for (auto* s : {&e, &nu, &st}) {
+    if (!s->x.empty()) plot.series.push_back(*s);
+  }
+  plot.series.push_back({fmt::format("+{:g} %", 100 * setup.tolerance), {0.5, r.trials.size() + 0.5},
+                         {100 * setup.tolerance, 100 * setup.tolerance}, "#999999", false, true});
+  plot.series.push_back({fmt::format("-{:g} %", 100 * setup.tolerance), {0.5, r.trials.size() + 0.5},
+                         {-100 * setup.tolerance, -100 * setup.tolerance}, "#999999", false, true});
+  io::write_plot_svg(setup.out / "calibration.svg", plot);
+  fmt::print("  {} after {} trial runs in {:.0f} s:", r.converged ? "converged" : "NOT converged",
+             r.trials.size(), r.wall_seconds);
+  for (const auto& [key, value] : r.parameters) fmt::print(" {} = {:.5g}", key, value);
+  fmt::print("\n  -> {}/calibration.toml, calibration.csv, calibration.svg\n", setup.out.string());
+  return r.converged ? 0 : 1;
+}
+
+}  // namespace cleave::app

@@ -1,0 +1,31 @@
+#pragma once
+/// \file
+/// A calibration file (`cleave calibrate FILE`): which test scenarios measure which targets,
+/// and the targets' defaults from a material preset.
+///
+///   [calibration]
+///   preset = "sic_alpha"          # optional: targets default to its E, nu, tensile strength
+///   elastic = "sic_elastic.toml"  # optional: the elastic test (E, nu), from this file's folder
+///   brazilian = "sic_brazilian.toml"  # optional: the Brazilian test (sigma_t)
+///   tolerance = 0.02              # optional (0, 0.5): relative, on every target
+///   max_trials = 8                # optional (>= 1): per loop
+///
+/// Errors are io::ScenarioError naming file:line:column and key.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace cleave::io {
+
+struct CalibrationFile {
+  std::string source;
+  std::string preset_file;                  ///< resolved, empty without a preset
+  std::filesystem::path elastic, brazilian;  ///< empty: not given
+  double tolerance = 0.02;
+  int max_trials = 8;
+};
+
+CalibrationFile load_calibration(const std::filesystem::path& file);
+
+}  // namespace cleave::io

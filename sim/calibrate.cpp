@@ -1,0 +1,219 @@
+/// \file
+/// Calibration of bond parameters to macroscopic targets (see calibrate.hpp).
+
+#include "sim/calibrate.hpp"
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "io/scenario.hpp"
+
+namespace cleave::sim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// nu of the honeycomb at K_s / K_n = rho, and E t / K_n (validation/standard_tests.hpp).
+double honeycomb_nu(double rho) { return (1.0 - rho) / (3.0 + rho); }
+double honeycomb_e_per_kn(double rho) { return 2.0 * std::sqrt(3.0) * (1.0 + rho) / (3.0 + rho); }
+
+struct Shared {
+  const CalibrationSetup& setup;
+  /// The elastic scenario's time step and normal bond spring: a stiffer trial takes a
+  /// step shorter by sqrt(k_bn / k_bn0), so that it stays as stable as the scenario.
+  double dt0 = 0.0, kbn0 = 0.0;
+  std::mutex mutex;
+  std::atomic<int> next{1};
+  CalibrationResult result;
+};
+
+std::vector<std::string> overrides_of(const std::map<std::string, double>& p) {
+  std::vector<std::string> out = {"dynamics.threads=1"};
+  for (const auto& [key, value] : p) out.push_back(fmt::format("{}={:.9g}", key, value));
+  return out;
+}
+
+Measurement trial(Shared& sh, Test test, const std::filesystem::path& scenario,
+                  const std::map<std::string, double>& p, CalibrationTrial& t) {
+  t.number = sh.next++;
+  t.parameters = p;
+  std::vector<std::string> overrides = overrides_of(p);
+  if (const auto kbn = p.find("bond.kbn"); kbn != p.end() && kbn->second > sh.kbn0 && sh.dt0 > 0.0) {
+    overrides.push_back(fmt::format("dynamics.dt={:.6g}", sh.dt0 * std::sqrt(sh.kbn0 / kbn->second)));
+  }
+  SimulationOptions o;
+  o.out = sh.setup.out / fmt::format("trial_{:03d}", t.number);
+  o.quiet = true;
+  const auto start = Clock::now();
+  Measurement m = measure(test, scenario, o, overrides);
+  t.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (m.report.status != RunReport::Status::finished) {
+    throw std::runtime_error(fmt::format("calibration trial {} ({}) did not finish: {}", t.number,
+                                         scenario.string(), m.report.message));
+  }
+  return m;
+}
+
+void record(Shared& sh, const CalibrationTrial& t, const std::string& line) {
+  std::lock_guard lock(sh.mutex);
+  sh.result.trials.push_back(t);
+  if (!sh.setup.quiet) fmt::print("  trial {:>3} {:<8} {}  ({:.0f} s)\n", t.number, t.loop, line, t.wall_seconds);
+  std::fflush(stdout);
+}
+
+/// E and nu: springs from the closed form, then secant on k_bs / k_bn for nu and scaling
+/// for E. Returns whether both came within the tolerance.
+bool elastic_loop(Shared& sh, std::map<std::string, double> p, std::map<std::string, double>& fit) {
+  const CalibrationSetup& s = sh.setup;
+  const double E = *s.targets.young;
+  double rho = p.at("bond.kbs") / p.at("bond.kbn");
+  double prev_rho = NAN, prev_nu = NAN;
+  for (int k = 0; k < s.max_trials; ++k) {
+    CalibrationTrial t;
+    t.loop = "elastic";
+    const Measurement m = trial(sh, Test::elastic, s.elastic, p, t);
+    t.measured = m.value;
+    t.measured_poisson = m.poisson;
+    t.error = m.value / E - 1.0;
+    t.error_poisson = s.targets.poisson ? m.poisson / *s.targets.poisson - 1.0 : 0.0;
+    record(sh, t,
+           fmt::format("k_bn {:.5g} k_bs {:.5g}: E {:.4g} GPa ({:+.2f} %), nu {:.4f}{}", p["bond.kbn"],
+                       p["bond.kbs"], m.value / 1e9, 100 * t.error, m.poisson,
+                       s.targets.poisson ? fmt::format(" ({:+.2f} %)", 100 * t.error_poisson) : ""));
+    const bool done = std::abs(t.error) <= s.tolerance && std::abs(t.error_poisson) <= s.tolerance;
+    fit["bond.kbn"] = p["bond.kbn"];
+    fit["bond.kbs"] = p["bond.kbs"];
+    if (done) return true;
+    double new_rho = rho;
+    if (s.targets.poisson) {
+      // The measured nu(rho) has the closed form's shape, shifted by the specimen's edges:
+      // the secant of the last two trials, or the closed form's slope at the first.
+      const double slope = std::isnan(prev_nu) || std::abs(rho - prev_rho) < 1e-12
+                               ? -4.0 / ((3.0 + rho) * (3.0 + rho))
+                               : (m.poisson - prev_nu) / (rho - prev_rho);
+      new_rho = std::clamp(rho + (*s.targets.poisson - m.poisson) / slope, 0.0, 1.0);
+      prev_rho = rho;
+      prev_nu = m.poisson;
+    }
+    const double kbn = p["bond.kbn"] * (E / m.value) * honeycomb_e_per_kn(rho) / honeycomb_e_per_kn(new_rho);
+    rho = new_rho;
+    p["bond.kbn"] = kbn;
+    p["bond.kbs"] = rho * kbn;
+  }
+  return false;
+}
+
+/// sigma_t: the bond strengths scaled by target over measured, their ratio kept.
+bool strength_loop(Shared& sh, std::map<std::string, double> p, std::map<std::string, double>& fit) {
+  const CalibrationSetup& s = sh.setup;
+  const double target = *s.targets.tensile_strength;
+  for (int k = 0; k < s.max_trials; ++k) {
+    CalibrationTrial t;
+    t.loop = "strength";
+    const Measurement m = trial(sh, Test::brazilian, s.brazilian, p, t);
+    t.measured = m.value;
+    t.error = m.value / target - 1.0;
+    record(sh, t, fmt::format("t_bn {:.5g} t_bs {:.5g}: sigma_t {:.4g} MPa ({:+.2f} %)", p["bond.tbn"],
+                              p["bond.tbs"], m.value / 1e6, 100 * t.error));
+    fit["bond.tbn"] = p["bond.tbn"];
+    fit["bond.tbs"] = p["bond.tbs"];
+    if (std::abs(t.error) <= s.tolerance) return true;
+    p["bond.tbn"] *= target / m.value;
+    p["bond.tbs"] *= target / m.value;
+  }
+  return false;
+}
+
+}  // namespace
+
+CalibrationResult calibrate(const CalibrationSetup& setup) {
+  const auto start = Clock::now();
+  Shared sh{setup};
+  if (!setup.targets.young && !setup.targets.poisson && !setup.targets.tensile_strength) {
+    throw std::invalid_argument("calibrate: no targets");
+  }
+  if (setup.targets.poisson && !setup.targets.young) {
+    throw std::invalid_argument("calibrate: a Poisson's ratio target needs an E target too");
+  }
+  // The first springs: the closed form for the targets on the elastic specimen.
+  std::map<std::string, double> elastic_start, strength_start;
+  if (setup.targets.young) {
+    const io::Scenario sc = io::load_scenario(setup.elastic);
+    if (!sc.bond.enabled) throw std::runtime_error(setup.elastic.string() + ": no [bond] to calibrate");
+    const double ab = M_PI * sc.contact.dilation_radius * sc.contact.dilation_radius;
+    sh.dt0 = sc.dynamics.dt;
+    sh.kbn0 = sc.bond.params.kbn;
+    const double rho0 = sc.bond.params.kbs / sc.bond.params.kbn;
+    const double nu = setup.targets.poisson.value_or(honeycomb_nu(rho0));
+    if (!(nu >= 0.0 && nu <= 1.0 / 3.0)) {
+      throw std::invalid_argument(fmt::format(
+          "calibrate: a honeycomb of normal and shear bond springs has 0 <= nu <= 1/3; the target is {}", nu));
+    }
+    const physics::BondSprings k =
+        physics::honeycomb_springs(*setup.targets.young, nu, sc.specimen.outline.size.z());
+    elastic_start = {{"bond.kbn", k.kn / ab}, {"bond.kbs", k.ks / ab}};
+  }
+  if (setup.targets.tensile_strength) {
+    const io::Scenario sc = io::load_scenario(setup.brazilian);
+    if (!sc.bond.enabled) throw std::runtime_error(setup.brazilian.string() + ": no [bond] to calibrate");
+    strength_start = {{"bond.tbn", sc.bond.params.tbn}, {"bond.tbs", sc.bond.params.tbs}};
+  }
+  for (const auto& [key, value] : setup.start) {
+    if (elastic_start.count(key)) elastic_start[key] = value;
+    if (strength_start.count(key)) strength_start[key] = value;
+  }
+  std::map<std::string, double> elastic_fit, strength_fit;
+  bool elastic_ok = true, strength_ok = true;
+  std::exception_ptr failure;
+  std::thread strength;
+  if (setup.targets.tensile_strength) {
+    strength = std::thread([&] {
+      try {
+        strength_ok = strength_loop(sh, strength_start, strength_fit);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    });
+  }
+  std::exception_ptr elastic_failure;
+  if (setup.targets.young) {
+    try {
+      elastic_ok = elastic_loop(sh, elastic_start, elastic_fit);
+    } catch (...) {
+      elastic_failure = std::current_exception();
+    }
+  }
+  if (strength.joinable()) strength.join();
+  if (elastic_failure) std::rethrow_exception(elastic_failure);
+  if (failure) std::rethrow_exception(failure);
+  sh.result.converged = elastic_ok && strength_ok;
+  sh.result.parameters = elastic_fit;
+  sh.result.parameters.insert(strength_fit.begin(), strength_fit.end());
+  sh.result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return sh.result;
+}
+
+std::string calibration_csv(const CalibrationResult& r) {
+  std::string out = "trial,loop,kbn,kbs,tbn,tbs,measured,measured_poisson,error,error_poisson,wall_s\n";
+  const auto get = [](const CalibrationTrial& t, const char* k) {
+    const auto it = t.parameters.find(k);
+    return it == t.parameters.end() ? std::string() : fmt::format("{:.9g}", it->second);
+  };
+  for (const auto& t : r.trials) {
+    out += fmt::format("{},{},{},{},{},{},{:.9g},{},{:.6g},{},{:.2f}\n", t.number, t.loop,
+                       get(t, "bond.kbn"), get(t, "bond.kbs"), get(t, "bond.tbn"), get(t, "bond.tbs"),
+                       t.measured, t.loop == "elastic" ? fmt::format("{:.6g}", t.measured_poisson) : "",
+                       t.error, t.loop == "elastic" ? fmt::format("{:.6g}", t.error_poisson) : "",
+                       t.wall_seconds);
+  }
+  return out;
+}
+
+}  // namespace cleave::sim

@@ -1,0 +1,54 @@
+// `cleave calibrate` (sim/calibrate.hpp) recovers known bond parameters: targets are made by
+// measuring a specimen with known springs and strengths, the calibration starts far from
+// them, and it must find them again within its tolerance's reach.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "sim/calibrate.hpp"
+
+namespace fs = std::filesystem;
+using namespace cleave;
+
+namespace {
+const fs::path kDir = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials";
+
+sim::Measurement measured(sim::Test test, const char* file, const std::string& tag,
+                          const std::vector<std::string>& overrides) {
+  sim::SimulationOptions o;
+  o.out = fs::temp_directory_path() / ("cleave_test_calibrate_" + tag);
+  o.quiet = true;
+  std::vector<std::string> all = overrides;
+  all.push_back("dynamics.threads=1");
+  return sim::measure(test, kDir / file, o, all);
+}
+}  // namespace
+
+TEST(MaterialTest, CalibrationRecoversKnownBondParametersFromTheirMeasuredValues) {
+  // The truth: softer springs than SiC's, a lower shear ratio (nu near 0.25), weaker bonds.
+  const double kbn = 2.5e18, kbs = 0.5e18, tbn = 0.9e12;
+  const sim::Measurement e = measured(sim::Test::elastic, "sic_elastic.toml", "truth_e",
+                                      {"bond.kbn=2.5e18", "bond.kbs=0.5e18"});
+  const sim::Measurement b = measured(sim::Test::brazilian, "sic_brazilian.toml", "truth_b",
+                                      {"bond.tbn=0.9e12", "bond.tbs=0.9e12"});
+  sim::CalibrationSetup setup;
+  setup.elastic = kDir / "sic_elastic.toml";
+  setup.brazilian = kDir / "sic_brazilian.toml";
+  setup.targets.young = e.value;
+  setup.targets.poisson = e.poisson;
+  setup.targets.tensile_strength = b.value;
+  setup.tolerance = 0.005;
+  setup.quiet = true;
+  setup.out = fs::temp_directory_path() / "cleave_test_calibrate_run";
+  // Far from the truth: twice as stiff, the shear ratio 0.6 instead of 0.2, bonds 40 % strong.
+  setup.start = {{"bond.kbn", 5e18}, {"bond.kbs", 3e18}, {"bond.tbn", 1.26e12}, {"bond.tbs", 1.26e12}};
+  const sim::CalibrationResult r = sim::calibrate(setup);
+  ASSERT_TRUE(r.converged) << r.trials.size() << " trials";
+  EXPECT_NEAR(r.parameters.at("bond.kbn") / kbn, 1.0, 0.01);
+  EXPECT_NEAR(r.parameters.at("bond.kbs") / kbs, 1.0, 0.04);
+  EXPECT_NEAR(r.parameters.at("bond.tbn") / tbn, 1.0, 0.01);
+  EXPECT_NEAR(r.parameters.at("bond.tbs") / tbn, 1.0, 0.01);
+  EXPECT_LE(r.trials.size(), 10u) << "the linear structure should need few trials";
+  for (const auto& t : r.trials) EXPECT_GT(t.wall_seconds, 0.0);
+}
