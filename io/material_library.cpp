@@ -189,8 +189,9 @@ MaterialPreset parse_material(std::string_view text, const std::string& source) 
       cites.fail(node.source(), key.str(),
                  fmt::format("expected the citation as a string, found {}", type_name(node)));
     }
+    const std::string name(key.str());  // (clang 14: a lambda may not capture a binding)
     const bool used = std::any_of(m.properties.begin(), m.properties.end(),
-                                  [&](const MaterialProperty& p) { return p.source == key.str(); });
+                                  [&](const MaterialProperty& p) { return p.source == name; });
     if (!used) cites.fail(key_source(key, node), key.str(), "no property names this source");
   }
   return m;
