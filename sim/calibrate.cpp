@@ -25,6 +25,7 @@ double honeycomb_nu(double rho) { return (1.0 - rho) / (3.0 + rho); }
 double honeycomb_e_per_kn(double rho) { return 2.0 * std::sqrt(3.0) * (1.0 + rho) / (3.0 + rho); }
 
 struct Shared {
+  explicit Shared(const CalibrationSetup& s) : setup(s) {}
   const CalibrationSetup& setup;
   /// The elastic scenario's time step and normal bond spring: a stiffer trial takes a
   /// step shorter by sqrt(k_bn / k_bn0), so that it stays as stable as the scenario.

@@ -317,7 +317,7 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
         m.value = physics::senb_stress_intensity(m.peak_load, span, b, d, a);
         m.formula = fmt::format(
             "K_Ic = P S / (B W^1.5) Y(a/W) = {:.5g} N x {:.4g} mm / ({:.4g} mm x ({:.4g} mm)^1.5) x "
-            "Y({:.3f}) = ... x {:.4f} (ASTM C1421, S/W = 4)",
+            "Y({:.3f}), Y = {:.4f} (ASTM C1421, S/W = 4)",
             m.peak_load, span * 1e3, b * 1e3, d * 1e3, a / d, physics::senb_geometry_factor(a / d));
       }
       break;
