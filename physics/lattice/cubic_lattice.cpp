@@ -143,7 +143,63 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
                 l.state.phase = LinkPhase::contact;
               links_.push_back(l);
             }
-  // Incident lists, in link order (the order the gather sums in).
+  // Colours (see the header): direction of j from i, then the parity of i's cell along the
+  // first axis the direction moves on. Stable, so each colour keeps the grid's order.
+  {
+    const auto colour = [&](const LatticeLink& l) {
+      const int ix = l.i % nx_, iy = (l.i / nx_) % ny_, iz = l.i / (nx_ * ny_);
+      const int d[3] = {l.j % nx_ - ix, (l.j / nx_) % ny_ - iy, l.j / (nx_ * ny_) - iz};
+      static constexpr int kDirections[9][3] = {{1, 0, 0},  {0, 1, 0},  {0, 0, 1},
+                                                {1, 1, 0},  {-1, 1, 0}, {1, 0, 1},
+                                                {-1, 0, 1}, {0, 1, 1},  {0, -1, 1}};
+      for (int c = 0; c < 9; ++c)
+        if (d[0] == kDirections[c][0] && d[1] == kDirections[c][1] && d[2] == kDirections[c][2]) {
+          const int axis = d[0] != 0 ? 0 : (d[1] != 0 ? 1 : 2);
+          const int cell[3] = {ix, iy, iz};
+          return 2 * c + (cell[axis] & 1);
+        }
+      throw std::logic_error("lattice: a link joins no first or second neighbour");
+    };
+    std::vector<int> colours(links_.size());
+    for (std::size_t k = 0; k < links_.size(); ++k) colours[k] = colour(links_[k]);
+    std::vector<int> order(links_.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return colours[a] < colours[b]; });
+    std::vector<LatticeLink> sorted(links_.size());
+    colour_start_.assign(19, 0);
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      sorted[k] = links_[order[k]];
+      ++colour_start_[colours[order[k]] + 1];
+    }
+    for (int c = 0; c < 18; ++c) colour_start_[c + 1] += colour_start_[c];
+    links_ = std::move(sorted);
+  }
+  // Hot data: the classes of link, and each link's ends and class.
+  ends_.resize(links_.size());
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    const LatticeLink& l = links_[k];
+    LinkClass c;
+    c.rest = l.rest;
+    c.kn = l.kn;
+    c.ks = l.ks;
+    c.face_kn = l.face_kn;
+    c.face_ks = l.face_ks;
+    c.kb = l.kb;
+    c.kind = l.kind;
+    c.breakable = l.breakable;
+    c.faced = l.face_kn != 0.0 || l.face_ks != 0.0;
+    const auto same = [&](const LinkClass& o) {
+      return o.rest == c.rest && o.kn == c.kn && o.ks == c.ks && o.face_kn == c.face_kn &&
+             o.face_ks == c.face_ks && o.kb == c.kb && o.kind == c.kind && o.breakable == c.breakable;
+    };
+    const auto found = std::find_if(classes_.begin(), classes_.end(), same);
+    const int cls = static_cast<int>(found - classes_.begin());
+    if (found == classes_.end()) classes_.push_back(c);
+    ends_[k] = {l.i, l.j, cls};
+  }
+  shear_.assign(links_.size(), Eigen::Vector3d::Zero());
+  bend_.assign(links_.size(), Eigen::Vector3d::Zero());
+  // Incident lists, in link order (critical time step, energies).
   incident_start_.assign(n + 1, 0);
   for (const LatticeLink& l : links_) {
     ++incident_start_[l.i + 1];
@@ -165,15 +221,21 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
         oriented_[index(ix, iy, def.weak_layer - 1)] = 1;
       }
   freedom_.assign(n, 0.0);
-  cross_links_.assign(n, {});
-  for (int k = 0; k < static_cast<int>(links_.size()); ++k)
-    if (links_[k].breakable) {
-      cross_links_[links_[k].i].push_back(k);
-      cross_links_[links_[k].j].push_back(k);
+  {
+    std::vector<std::vector<int>> cross(n);
+    for (int k = 0; k < static_cast<int>(links_.size()); ++k)
+      if (links_[k].breakable) {
+        cross[links_[k].i].push_back(k);
+        cross[links_[k].j].push_back(k);
+      }
+    cross_start_.assign(1, 0);
+    for (int b = 0; b < n; ++b) {
+      if (cross[b].empty()) continue;
+      plane_bodies_.push_back(b);
+      cross_links_.insert(cross_links_.end(), cross[b].begin(), cross[b].end());
+      cross_start_.push_back(static_cast<int>(cross_links_.size()));
     }
-  link_force_.assign(links_.size(), Eigen::Vector3d::Zero());
-  link_moment_.assign(links_.size(), Eigen::Vector3d::Zero());
-  link_couple_.assign(links_.size(), Eigen::Vector3d::Zero());
+  }
 
   if (weak) {
     const int upper = nx_ * ny_;
@@ -181,6 +243,7 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     contact_force_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
     contact_moment_up_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
     contact_moment_down_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
+    contact_active_.assign(upper * kStencil * kStencil, 0);
     contact_centre_.resize(upper);
     for (int u = 0; u < upper; ++u) contact_centre_[u] = {u % nx_, u / nx_};
     // The link (if any) between each upper body and the lower body of each stencil slot.
@@ -276,95 +339,93 @@ void CubicLattice::step(double dt) {
 
 void CubicLattice::compute_forces(double dt) {
   const int nl = static_cast<int>(links_.size());
+  const int n = size();
   // How free each crack-face body is, from the damage of its links across the plane as the
   // last evaluation left them.
-  for (int b = 0; b < static_cast<int>(cross_links_.size()); ++b) {
-    const auto& cross = cross_links_[b];
-    if (cross.empty()) continue;
+  for (std::size_t p = 0; p < plane_bodies_.size(); ++p) {
     double sum = 0.0;
-    for (int k : cross) {
-      const LatticeLink& l = links_[k];
+    for (int e = cross_start_[p]; e < cross_start_[p + 1]; ++e) {
+      const LatticeLink& l = links_[cross_links_[e]];
       sum += damage(l.kind == 1 ? limits1_ : limits2_, l.state);
     }
-    freedom_[b] = sum / static_cast<double>(cross.size());
+    freedom_[plane_bodies_[p]] = sum / static_cast<double>(cross_start_[p + 1] - cross_start_[p]);
   }
-#pragma omp parallel for schedule(static) if (nl >= kParallelMin)
-  for (int k = 0; k < nl; ++k) {
-    LatticeLink& l = links_[k];
-    if (l.state.phase == LinkPhase::contact) {
-      link_force_[k].setZero();
-      link_moment_[k].setZero();
-      link_couple_[k].setZero();
-      continue;
+  const bool plane_compression = def_.material.compression == Compression::plane;
+  const int layer = nx_ * ny_;
+#pragma omp parallel if (nl >= kParallelMin)
+  {
+#pragma omp for schedule(static)
+    for (int b = 0; b < n; ++b) {
+      f_[b].setZero();
+      m_[b].setZero();
     }
-    const Eigen::Vector3d d = x_[l.j] - x_[l.i];
-    const double dist = d.norm();
-    const Eigen::Vector3d n = d * (1.0 / dist);
-    const Eigen::Vector3d half = 0.5 * d;
-    // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
-    const Eigen::Vector3d vrel = (v_[l.j] - w_[l.j].cross(half)) - (v_[l.i] + w_[l.i].cross(half));
-    const Eigen::Vector3d vs = vrel - vrel.dot(n) * n;
-    l.shear = turn_into_plane(l.shear, n) + dt * vs;  // eqs 54-55
-    const double dn = dist - l.rest;                  // opening is positive
-    Eigen::Vector3d fj;
-    if (!l.breakable) {
-      // Eqs 1 and 5: connective springs.
-      double kn = l.kn, ks = l.ks;
-      if (l.face_kn != 0.0 || l.face_ks != 0.0) {
-        const double w = 0.5 * (freedom_[l.i] + freedom_[l.j]);
-        kn += w * l.face_kn;
-        ks += w * l.face_ks;
+    for (int colour = 0; colour + 1 < static_cast<int>(colour_start_.size()); ++colour) {
+      // No two links of a colour share a body: each adds onto its two bodies directly. The
+      // implicit barrier at the end of each loop orders the colours.
+#pragma omp for schedule(static)
+      for (int k = colour_start_[colour]; k < colour_start_[colour + 1]; ++k) {
+        const LinkEnds e = ends_[k];
+        const LinkClass& c = classes_[e.cls];
+        if (c.breakable && links_[k].state.phase == LinkPhase::contact) continue;
+        const Eigen::Vector3d d = x_[e.j] - x_[e.i];
+        const double dist = d.norm();
+        const Eigen::Vector3d nrm = d * (1.0 / dist);
+        const Eigen::Vector3d half = 0.5 * d;
+        // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
+        const Eigen::Vector3d vrel = (v_[e.j] - v_[e.i]) - (w_[e.j] + w_[e.i]).cross(half);
+        const Eigen::Vector3d vs = vrel - vrel.dot(nrm) * nrm;
+        Eigen::Vector3d& shear = shear_[k];
+        shear = turn_into_plane(shear, nrm) + dt * vs;  // eqs 54-55
+        const double dn = dist - c.rest;                // opening is positive
+        Eigen::Vector3d fj;
+        if (!c.breakable) {
+          // Eqs 1 and 5: connective springs.
+          double kn = c.kn, ks = c.ks;
+          if (c.faced) {
+            const double w = 0.5 * (freedom_[e.i] + freedom_[e.j]);
+            kn += w * c.face_kn;
+            ks += w * c.face_ks;
+          }
+          fj = -kn * dn * nrm - ks * shear;
+        } else {
+          LatticeLink& l = links_[k];
+          const bool first = c.kind == 1;
+          const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
+          const double ds = shear.norm();
+          double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
+          if (plane_compression) {
+            // The plane's own opening here: the mean opening of the two first-neighbour links
+            // across it at the ends of this one (i below the plane, j above).
+            const double ja =
+                (x_[e.i + layer] - x_[e.i]).norm() - (x0_[e.i + layer] - x0_[e.i]).norm();
+            const double jb =
+                (x_[e.j] - x_[e.j - layer]).norm() - (x0_[e.j] - x0_[e.j - layer]).norm();
+            const double jn = 0.5 * (ja + jb);
+            closing = std::min(jn, 0.0) * (x0_[e.j].z() - x0_[e.i].z()) / c.rest;
+          }
+          const CohesiveTraction t =
+              cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
+          // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
+          fj = -p.area * t.tn * nrm;
+          if (ds > 0.0) fj -= (p.area * t.ts / ds) * shear;
+        }
+        // Eq. 6: the same moment on i and j (r_i = -r_j, f_i = -f_j).
+        const Eigen::Vector3d moment = (-half).cross(fj);
+        f_[e.j] += fj;
+        f_[e.i] -= fj;
+        if (c.kb > 0.0) {  // connective first neighbours only (never across the weak plane)
+          const Eigen::Vector3d wrel = w_[e.j] - w_[e.i];
+          Eigen::Vector3d& bend = bend_[k];
+          bend = turn_into_plane(bend, nrm) + dt * (wrel - wrel.dot(nrm) * nrm);
+          const Eigen::Vector3d couple = -c.kb * bend;  // on j; its opposite on i
+          m_[e.j] += moment + couple;
+          m_[e.i] += moment - couple;
+        } else {
+          m_[e.j] += moment;
+          m_[e.i] += moment;
+        }
       }
-      fj = -kn * dn * n - ks * l.shear;
-    } else {
-      const bool first = l.kind == 1;
-      const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
-      const double ds = l.shear.norm();
-      double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
-      if (def_.material.compression == Compression::plane) {
-        // The plane's own opening here: the mean opening of the two first-neighbour links
-        // across it at the ends of this one (i below the plane, j above).
-        const int layer = nx_ * ny_;
-        const double ja = (x_[l.i + layer] - x_[l.i]).norm() - (x0_[l.i + layer] - x0_[l.i]).norm();
-        const double jb = (x_[l.j] - x_[l.j - layer]).norm() - (x0_[l.j] - x0_[l.j - layer]).norm();
-        const double jn = 0.5 * (ja + jb);
-        closing = std::min(jn, 0.0) * (x0_[l.j].z() - x0_[l.i].z()) / l.rest;
-      }
-      const CohesiveTraction t =
-          cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
-      // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
-      fj = -p.area * t.tn * n;
-      if (ds > 0.0) fj -= (p.area * t.ts / ds) * l.shear;
     }
-    link_force_[k] = fj;
-    if (l.kb > 0.0) {
-      const Eigen::Vector3d wrel = w_[l.j] - w_[l.i];
-      l.bend = turn_into_plane(l.bend, n) + dt * (wrel - wrel.dot(n) * n);
-      double scale = 1.0;
-      if (l.breakable && l.state.phase == LinkPhase::cohesive)
-        scale = 1.0 - damage(l.kind == 1 ? limits1_ : limits2_, l.state);
-      link_couple_[k] = -scale * l.kb * l.bend;
-    }
-    link_moment_[k] = (-half).cross(fj);  // eq. 6 on j; the same on i (r_i = -r_j, f_i = -f_j)
-  }
-  const int n = size();
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
-  for (int b = 0; b < n; ++b) {
-    Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
-    for (int e = incident_start_[b]; e < incident_start_[b + 1]; ++e) {
-      const int k = incident_[e] / 2;
-      if (incident_[e] & 1)
-        f += link_force_[k];
-      else
-        f -= link_force_[k];
-      m += link_moment_[k];
-      if (incident_[e] & 1)
-        m += link_couple_[k];
-      else
-        m -= link_couple_[k];
-    }
-    f_[b] = f;
-    m_[b] = m;
   }
   if (!contact_state_.empty()) face_contacts(dt);
   forces_current_ = true;
@@ -415,9 +476,7 @@ void CubicLattice::face_contacts(double dt) {
       for (int sx = 0; sx < kStencil; ++sx) {
         const int slot = u * kStencil * kStencil + sy * kStencil + sx;
         const int jx = cx + sx - half, jy = cy + sy - half;
-        contact_force_[slot].setZero();
-        contact_moment_up_[slot].setZero();
-        contact_moment_down_[slot].setZero();
+        contact_active_[slot] = 0;
         if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
         const int bd = index(jx, jy, down);
         // A pair with a live spring between them is held by it (links join neighbours in
@@ -477,6 +536,7 @@ void CubicLattice::face_contacts(double dt) {
         const Eigen::Vector3d vrel = (v_[bu] + w_[bu].cross(rb)) - (v_[bd] + w_[bd].cross(ra));
         const HertzMindlinForce hm = hertz_mindlin_force(hertz_, depth, axis, vrel, state, dt);
         const Eigen::Vector3d fb = fraction * hm.force;
+        contact_active_[slot] = 1;
         contact_force_[slot] = fb;
         contact_moment_up_[slot] = rb.cross(fb);
         contact_moment_down_[slot] = ra.cross(-fb);
@@ -490,10 +550,10 @@ void CubicLattice::face_contacts(double dt) {
     for (int sy = 0; sy < kStencil; ++sy)
       for (int sx = 0; sx < kStencil; ++sx) {
         const int slot = u * kStencil * kStencil + sy * kStencil + sx;
+        if (!contact_active_[slot]) continue;  // no force (or out of the grid)
         f_[bu] += contact_force_[slot];
         m_[bu] += contact_moment_up_[slot];
         const int jx = cx + sx - half, jy = cy + sy - half;
-        if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
         const int bd = index(jx, jy, down);
         f_[bd] -= contact_force_[slot];
         m_[bd] += contact_moment_down_[slot];
@@ -505,27 +565,29 @@ LatticeEnergy CubicLattice::energy() const {
   LatticeEnergy e;
   for (int b = 0; b < size(); ++b)
     e.kinetic += 0.5 * mass_ * v_[b].squaredNorm() + 0.5 * inertia_ * w_[b].squaredNorm();
-  for (const LatticeLink& l : links_) {
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    const LatticeLink& l = links_[k];
     if (l.state.phase != LinkPhase::connective) continue;
     const double w = l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
     const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
     const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
     const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * l.shear.squaredNorm() + 0.5 * l.kb * l.bend.squaredNorm();
+    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * shear_[k].squaredNorm() + 0.5 * l.kb * bend_[k].squaredNorm();
   }
   return e;
 }
 
 double CubicLattice::body_elastic_energy(int b) const {
   double e = 0.0;
-  for (int k = incident_start_[b]; k < incident_start_[b + 1]; ++k) {
-    const LatticeLink& l = links_[incident_[k] / 2];
+  for (int a = incident_start_[b]; a < incident_start_[b + 1]; ++a) {
+    const int k = incident_[a] / 2;
+    const LatticeLink& l = links_[k];
     if (l.state.phase != LinkPhase::connective) continue;
     const double w = l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
     const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
     const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
     const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e += 0.25 * kn * dn * dn + 0.25 * ks * l.shear.squaredNorm() + 0.25 * l.kb * l.bend.squaredNorm();
+    e += 0.25 * kn * dn * dn + 0.25 * ks * shear_[k].squaredNorm() + 0.25 * l.kb * bend_[k].squaredNorm();
   }
   return e;
 }
@@ -560,9 +622,10 @@ std::uint64_t CubicLattice::state_hash() const {
     hash_bytes(h, v_[b].data(), sizeof(double) * 3);
     hash_bytes(h, w_[b].data(), sizeof(double) * 3);
   }
-  for (const LatticeLink& l : links_) {
-    hash_bytes(h, l.shear.data(), sizeof(double) * 3);
-    hash_bytes(h, l.bend.data(), sizeof(double) * 3);
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    const LatticeLink& l = links_[k];
+    hash_bytes(h, shear_[k].data(), sizeof(double) * 3);
+    hash_bytes(h, bend_[k].data(), sizeof(double) * 3);
     hash_bytes(h, &l.state.lambda_max, sizeof(double));
     hash_bytes(h, &l.state.dc, sizeof(double));  // the traction rule's own dc (else 0)
     const auto phase = static_cast<std::uint8_t>(l.state.phase);

@@ -160,9 +160,7 @@ struct LatticeLink {
   /// Compensation that a crack face earns as the links across the weak plane decohere
   /// (links lying in a face of the weak plane only), and the two bodies whose damage sets it.
   double face_kn = 0.0, face_ks = 0.0;
-  Eigen::Vector3d shear = Eigen::Vector3d::Zero();  ///< delta_s (world axes), eq. 55
-  double kb = 0.0;                                   ///< bending stiffness (N m / rad)
-  Eigen::Vector3d bend = Eigen::Vector3d::Zero();   ///< relative rotation normal to the link
+  double kb = 0.0;  ///< bending stiffness (N m / rad)
   CohesiveState state;
 };
 
@@ -200,7 +198,12 @@ class CubicLattice {
   [[nodiscard]] const std::vector<Eigen::Vector3d>& velocities() const { return v_; }
   [[nodiscard]] const std::vector<Eigen::Vector3d>& forces() const { return f_; }
   [[nodiscard]] const std::vector<Eigen::Vector3d>& rest_positions() const { return x0_; }
+  /// The links, grouped by colour (see the private part): the order is not the grid's.
   [[nodiscard]] const std::vector<LatticeLink>& links() const { return links_; }
+  /// Shear separation delta_s of link k (world axes, eq. 55).
+  [[nodiscard]] const Eigen::Vector3d& link_shear(int k) const { return shear_[k]; }
+  /// Relative rotation of link k's bodies normal to it, integrated (bending springs only).
+  [[nodiscard]] const Eigen::Vector3d& link_bend(int k) const { return bend_[k]; }
 
   [[nodiscard]] LatticeEnergy energy() const;
   /// Half the elastic energy of body b's connective links (J): its share of the stored energy,
@@ -238,15 +241,36 @@ class CubicLattice {
   std::vector<Eigen::Quaterniond> q_;
   std::vector<std::uint8_t> prescribed_;
   std::vector<LatticeLink> links_;
+  // The step's hot data, link by link in links_'s order: the two bodies and the link's class
+  // (its springs and rest length: a lattice has a few dozen distinct ones), and the integrated
+  // shear separation and bending rotation: 12 + 48 bytes a link, where the step read and wrote
+  // the whole 150-byte record and three per-link force buffers before: the loop was bound by
+  // memory traffic (bench/bench_lattice.cpp).
+  struct LinkClass {
+    double rest = 0, kn = 0, ks = 0, face_kn = 0, face_ks = 0, kb = 0;
+    std::uint8_t kind = 1;
+    bool breakable = false, faced = false;
+  };
+  struct LinkEnds {
+    int i = 0, j = 0, cls = 0;
+  };
+  std::vector<LinkClass> classes_;
+  std::vector<LinkEnds> ends_;
+  std::vector<Eigen::Vector3d> shear_, bend_;
+  // Colours: links_[colour_start_[c], colour_start_[c + 1]) share no body, so one colour's
+  // links add their forces straight onto both bodies from any number of threads, and each
+  // body sums its links in colour order whatever the thread count (bit-identical runs). A
+  // colour is one of the 9 link directions with i < j (3 first, then 6 second neighbours)
+  // and the parity of i's cell along an axis on which the direction moves: 18 in all.
+  std::vector<int> colour_start_;
   // Incident links of each body, CSR: link index * 2 + (1 if the body is j).
   std::vector<int> incident_start_, incident_;
-  std::vector<Eigen::Vector3d> link_force_, link_moment_;  // on j; moment on both
-  std::vector<Eigen::Vector3d> link_couple_;               // bending couple on j (-: on i)
   // Face contacts across the weak plane: body above, stencil slot (5 x 5 lower bodies around
   // the one nearest under it, contact_centre_, which follows the faces' slip).
   static constexpr int kStencil = 5;
   std::vector<HertzMindlinState> contact_state_;           // per upper body x 25
   std::vector<Eigen::Vector3d> contact_force_, contact_moment_up_, contact_moment_down_;
+  std::vector<std::uint8_t> contact_active_;  // per slot: touching this step (else no force)
   std::vector<std::array<int, 2>> contact_centre_;         // per upper body: (jx, jy) below
   std::vector<int> stencil_link_;  // per upper body x 25 offsets from its own (ix, iy)
   // Bodies next to the weak plane: how free each is (mean damage of its links across the
@@ -254,7 +278,8 @@ class CubicLattice {
   std::vector<double> freedom_;
   std::vector<std::uint8_t> oriented_;     // bodies whose orientation is integrated
   std::vector<Eigen::Matrix3d> rotation_;  // face layers' rotations (lower, then upper)
-  std::vector<std::vector<int>> cross_links_;  // per body: its links across the plane  // per upper body x 25: the link of the pair, or -1
+  // The bodies next to the weak plane and, CSR, their links across it.
+  std::vector<int> plane_bodies_, cross_start_, cross_links_;
   double external_work_ = 0.0, damping_work_ = 0.0;
   bool forces_current_ = false;
 };
