@@ -70,7 +70,7 @@ export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$PWD/tools/sanitizers/lsan.sup
 # through the cleave binary, validations, sweeps, thread-identity runs of thousands of steps)
 # that take 30-110 s each in the normal build and several times that under ASan. Their code
 # paths are covered by the shorter tests that stay in.
-sanitize_exclude="${CLEAVE_SANITIZE_EXCLUDE-^(BondedTest\.|CoarseValidation\.[DEM]|SweepCommand\.FourSeeds|CubicLattice\.BitIdentical|CantileverBending\.ConvergesToTimoshenko|BondedSpecimen\.BitIdentical|CustomGrainRun\.Voronoi|RunReference\.|Python\.|MaterialTest\.)}"
+sanitize_exclude="${CLEAVE_SANITIZE_EXCLUDE-^(BondedTest\.|QuasiStaticLoading\.|WallGap\.|CoarseValidation\.[DEM]|SweepCommand\.FourSeeds|CubicLattice\.BitIdentical|CantileverBending\.ConvergesToTimoshenko|BondedSpecimen\.BitIdentical|CustomGrainRun\.Voronoi|RunReference\.|Python\.|MaterialTest\.)}"
 
 run_sanitized_tests() {
   local start=$SECONDS

@@ -87,6 +87,10 @@ struct MeasureOptions {
   std::vector<std::string> sets;   ///< KEY=VALUE overrides
   std::filesystem::path out;       ///< empty: results/<scenario name>
   bool quiet = false;
+  /// --converge: the loading-rate study (sim::converge_loading_rate) instead of one run.
+  bool converge = false;
+  double tolerance = 0.02;
+  int max_runs = 5;
 };
 
 /// Runs a test scenario and measures a macroscopic property (sim/measure.hpp): prints it

@@ -96,6 +96,13 @@ int main(int argc, char** argv) {
   measure_cmd->add_option("--set", measure.sets, "KEY=VALUE override (table.key), repeatable");
   measure_cmd->add_option("--out,-o", measure.out, "Result folder (default: results/<scenario name>)");
   measure_cmd->add_flag("--quiet,-q", measure.quiet, "Print only the result");
+  measure_cmd->add_flag("--converge", measure.converge,
+                        "Quasi-static check: rerun at half the loading rate until the value changes by "
+                        "less than --tolerance (DIR/rate_*/, DIR/convergence.csv and .svg)");
+  measure_cmd->add_option("--tolerance", measure.tolerance, "--converge: relative change (default 0.02)")
+      ->check(CLI::PositiveNumber);
+  measure_cmd->add_option("--max-runs", measure.max_runs, "--converge: most runs (default 5)")
+      ->check(CLI::Range(2, 12));
 
   CalibrateOptions calibrate;
   CLI::App* calibrate_cmd = app.add_subcommand(

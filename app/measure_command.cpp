@@ -6,6 +6,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdio>
+#include <functional>
+#include <optional>
 
 #include "commands.hpp"
 #include "io/material_library.hpp"
@@ -66,6 +69,89 @@ void write_elastic_outputs(const sim::Measurement& m, const std::filesystem::pat
   io::write_plot_svg(out / "stress_strain.svg", plot);
 }
 
+/// Runs `body`; a bad scenario or argument is exit 2, a stop by signal its exit code, any
+/// other failure 1, each with its message. Nothing when `body` went through.
+std::optional<int> failed(const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const io::ScenarioError& e) {
+    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    if (stop_signal() != 0) {
+      fmt::print(stderr, "cleave measure: stopped by {}; nothing more measured\n", signal_name(stop_signal()));
+      return exit_code_for_signal(stop_signal());
+    }
+    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
+    return 1;
+  }
+  return std::nullopt;
+}
+
+/// --converge: the loading-rate study, its table and its plot.
+int converge_command(sim::Test test, const MeasureOptions& options, const sim::SimulationOptions& so) {
+  const Reading r = reading_of(test);
+  if (!options.quiet) {
+    fmt::print("cleave measure {} --converge: {} at the scenario's loading rate, then half of it, "
+               "until {} changes by less than {:g} %\n",
+               options.test, options.scenario.string(), r.label, 100.0 * options.tolerance);
+    fmt::print("  {:>10} {:>14} {:>14} {:>9} {:>12} {:>8}\n", "rate", "wall (mm/s)",
+               fmt::format("{} ({})", r.label, r.unit), "change", "KE / work", "wall s");
+    std::fflush(stdout);
+  }
+  sim::RateStudy study;
+  if (const auto code = failed([&] {
+        study = sim::converge_loading_rate(
+            test, options.scenario, so, options.sets, options.tolerance, options.max_runs,
+            [&](const sim::RatePoint& p) {
+              if (options.quiet) return;
+              fmt::print("  {:>10g} {:>14.4g} {:>14.5g} {:>9} {:>12.2g} {:>8.1f}\n", p.rate_scale,
+                         p.wall_speed * 1e3, p.value / r.scale,
+                         std::isnan(p.change) ? std::string("-") : fmt::format("{:+.2f} %", 100.0 * p.change),
+                         p.kinetic_ratio, p.wall_seconds);
+              std::fflush(stdout);
+            });
+      }))
+    return *code;
+  const std::filesystem::path out = study.points.front().out.parent_path();
+  std::string csv = fmt::format("rate_scale,wall_speed_m_per_s,{}_{},change,kinetic_ratio,wall_seconds,folder\n",
+                                r.key, test == sim::Test::elastic || test == sim::Test::brazilian ||
+                                               test == sim::Test::flexural ? "Pa" : "Pa_sqrt_m");
+  io::PlotSeries values{fmt::format("{} at each loading rate", r.label), {}, {}, "", true};
+  for (const auto& p : study.points) {
+    csv += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{:.3f},{}\n", p.rate_scale, p.wall_speed, p.value,
+                       std::isnan(p.change) ? std::string("") : fmt::format("{:.6g}", p.change),
+                       p.kinetic_ratio, p.wall_seconds, p.out.filename().string());
+    values.x.push_back(p.wall_speed * 1e3);
+    values.y.push_back(p.value / r.scale);
+  }
+  io::write_file_atomically(out / "convergence.csv", csv);
+  io::Plot plot;
+  plot.title = fmt::format("{} against the loading rate ({}: {:g} % between the last two)", r.label,
+                           study.converged ? "converged" : "not converged",
+                           100.0 * std::abs(study.points.back().change));
+  plot.x_label = "loading wall speed (mm/s)";
+  plot.y_label = fmt::format("{} ({})", r.label, r.unit);
+  plot.series = {values};
+  io::write_plot_svg(out / "convergence.svg", plot);
+  const sim::RatePoint& last = study.points.back();
+  if (study.converged) {
+    fmt::print("  converged: {} = {:.5g} {} at {:.4g} mm/s ({:+.2f} % from twice that rate, within {:g} %)\n",
+               r.label, last.value / r.scale, r.unit, last.wall_speed * 1e3, 100.0 * last.change,
+               100.0 * options.tolerance);
+  } else {
+    fmt::print(stderr,
+               "cleave measure: not converged after {} runs: the last halving of the rate changed {} by "
+               "{:+.2f} % (tolerance {:g} %); start slower or allow more runs (--max-runs)\n",
+               study.points.size(), r.label, 100.0 * last.change, 100.0 * options.tolerance);
+  }
+  fmt::print("  -> {}/convergence.csv, convergence.svg\n", out.string());
+  return study.converged ? 0 : 1;
+}
+
 }  // namespace
 
 int measure_command(const MeasureOptions& options) {
@@ -81,23 +167,16 @@ int measure_command(const MeasureOptions& options) {
   so.quiet = true;
   so.stop_requested = [] { return stop_signal() != 0; };
   so.stop_reason = [] { return fmt::format("stopped by {}", signal_name(stop_signal())); };
+  if (options.converge) return converge_command(*test, options, so);
   sim::Measurement m;
-  try {
-    if (!options.quiet) {
-      fmt::print("cleave measure {}: {} ...\n", options.test, options.scenario.string());
-      std::fflush(stdout);
-    }
-    m = sim::measure(*test, options.scenario, so, options.sets);
-  } catch (const io::ScenarioError& e) {
-    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "cleave measure: error: {}\n", e.what());
-    return 1;
-  }
+  if (const auto code = failed([&] {
+        if (!options.quiet) {
+          fmt::print("cleave measure {}: {} ...\n", options.test, options.scenario.string());
+          std::fflush(stdout);
+        }
+        m = sim::measure(*test, options.scenario, so, options.sets);
+      }))
+    return *code;
   if (m.report.status == sim::RunReport::Status::interrupted) {
     fmt::print(stderr, "cleave measure: {}; nothing measured\n", m.report.message);
     return exit_code_for_signal(stop_signal());

@@ -68,7 +68,8 @@
 ///   dt, duration (s, > 0, required), gravity (m/s^2, 3 numbers), lift (length unit),
 ///   frames (integer >= 0, default 20), settle_ratio ([0, 1], default 0),
 ///   dt_safety ((0, 1], default 0.2), search ("bounding_box" | "basic"), threads (>= 0),
-///   local_damping ([0, 1), default 0). With [[stage]] tables, duration is left out.
+///   local_damping ([0, 1), default 0), density_scale (>= 1, default 1: masses and inertias
+///   times this). With [[stage]] tables, duration is left out.
 ///   [[wall]]                   # any number: name, kind ("plane" | "platen" | "cylinder"),
 ///                              # point, normal, velocity (length unit/s), load_axis;
 ///                              # platen: u, size; cylinder: length, radius (length unit)
@@ -86,7 +87,10 @@
 ///   #   stand still), steps (integer > 0) or time (s > 0): the stage's length, exactly one;
 ///   #   until = "limit" (default) | "all_in_contact" | "walls_touch" | "load_drop": an event
 ///   #   that ends it sooner; load_drop = 0.5 (fraction of the peak load, in (0, 1));
-///   #   load_walls = ["top"] (default: the walls that move); frames = 10 (>= 0)
+///   #   load_walls = ["top"] (default: the walls that move); frames = 10 (>= 0);
+///   #   ramp_time = 0 (s, >= 0: the velocities grow linearly from 0 over it);
+///   #   rate_scale = 1 (> 0: velocities times it; time, steps and ramp_time over it: the
+///   #   same test at another loading rate, e.g. --set stage[4].rate_scale=0.5)
 ///   # bond: distance = 0.02 (length unit, >= 0): bond initialisation
 ///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
@@ -517,7 +521,7 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
 
 constexpr std::string_view kDynamicsKeys[] = {
     "dt",        "duration", "gravity", "lift",         "frames",       "settle_ratio",
-    "dt_safety", "search",   "threads", "local_damping"};
+    "dt_safety", "search",   "threads", "local_damping", "density_scale"};
 
 void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool staged) {
   t.reject_unknown(kDynamicsKeys);
@@ -537,6 +541,7 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
   }
   d.local_damping =
       t.number("local_damping", {.lo = 0.0, .hi = 1.0, .hi_open = true}, 0.0).value;
+  d.density_scale = t.number("density_scale", {.lo = 1.0}, 1.0).value;
   if (t.find("gravity") != nullptr) {
     const auto g = t.numbers("gravity", 3, Range{});
     d.gravity = {g[0], g[1], g[2]};
@@ -554,7 +559,7 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
 
 constexpr std::string_view kWallKeys[] = {"name",   "kind",   "point",    "normal",
                                           "u",      "size",   "length",   "radius",
-                                          "velocity", "load_axis"};
+                                          "velocity", "load_axis", "gap"};
 
 physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
   t.reject_unknown(kWallKeys);
@@ -654,7 +659,8 @@ void read_fracture_table(const TableReader& t, double unit, bool dynamics, Fract
 
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
                                                  "steps", "time",      "until",
-                                                 "load_drop", "load_walls", "frames"};
+                                                 "load_drop", "load_walls", "frames",
+                                                 "ramp_time", "rate_scale"};
 constexpr std::string_view kBondStageKeys[] = {"name", "kind", "distance"};
 
 /// The names in an array of strings at `key`, each one a wall of the scenario.
@@ -746,6 +752,16 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
                        "wall_velocity", to_string(st.until)));
   }
   st.frames = t.int_integer("frames", 0, 10);
+  st.ramp_time = t.number("ramp_time", Range::non_negative(), 0.0).value;
+  // The same test at another loading rate: faster walls over a shorter stage, or slower over
+  // a longer one, folded in here (the as-run scenario holds the velocities and lengths run).
+  const double rate = t.number("rate_scale", Range::positive(), 1.0).value;
+  if (rate != 1.0) {
+    for (auto& wv : st.wall_velocity) wv.second *= rate;
+    if (st.steps > 0) st.steps = static_cast<std::uint64_t>(std::ceil(static_cast<double>(st.steps) / rate));
+    st.time /= rate;
+    st.ramp_time /= rate;
+  }
   return st;
 }
 
@@ -830,6 +846,11 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
     for (std::size_t i = 0; i < walls->size(); ++i) {
       const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table());
       s.walls.push_back(read_wall(t, unit, i));
+      const Number gap = t.number("gap", Range::non_negative(), std::numeric_limits<double>::quiet_NaN());
+      if (gap.node != nullptr && s.walls.back().kind == physics::Wall::Kind::cylinder) {
+        t.fail(*gap.node, "gap", "places a plane or a platen against the specimen; a cylinder is placed by its point");
+      }
+      s.wall_gaps.push_back(gap.value * unit);
       for (std::size_t j = 0; j < i; ++j) {
         if (s.walls[j].name == s.walls[i].name) {
           t.fail(*t.find("name"), "name", fmt::format("another [[wall]] is named '{}'", s.walls[i].name));

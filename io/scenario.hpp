@@ -92,6 +92,11 @@ struct DynamicsDef {
   physics::SearchMethod search = physics::SearchMethod::bounding_box;
   int threads = 0;             ///< 0: all cores; results do not depend on it
   double local_damping = 0.0;  ///< Cundall's local damping coefficient, [0, 1)
+  /// Density (mass) scaling: the grains' masses and moments of inertia are the material's
+  /// times this (>= 1), so that the stable time step grows by its square root. The loading
+  /// stays quasi-static only while the kinetic energy stays small against the work done,
+  /// which `cleave measure` reports; 1: none.
+  double density_scale = 1.0;
 };
 
 /// [bond]: the bonded-particle law of sec. 2.3.3 (eqs 2.9, 2.14), SI units.
@@ -125,6 +130,9 @@ struct StageDef {
   /// walls that move in the stage.
   std::vector<std::string> load_walls;
   int frames = 10;          ///< ParaView frames over the stage's limit
+  /// s: the walls' velocities grow linearly from 0 to wall_velocity over this time from the
+  /// stage's start (a smooth start sends no impact wave through the specimen); 0: at once.
+  double ramp_time = 0.0;
   double bond_distance = 0.0;  ///< bond: the bonding distance, m
 };
 
@@ -146,6 +154,10 @@ struct Scenario {
   FractureDef fracture;
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
+  /// Per wall: `gap` (m), a plane or platen placed this far from the specimen's nearest grain
+  /// surface (dilated by the contact radius) along its normal when the world is made (the point's other coordinates kept); NaN: at
+  /// its point. A specimen whose size is swept keeps its platens against it.
+  std::vector<double> wall_gaps;
   /// [[mesh_grain]] entries as read (absolute paths, SI); their grains are in
   /// specimen.custom_grains.
   std::vector<MeshGrainSpec> mesh_grains;

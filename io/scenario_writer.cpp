@@ -145,6 +145,7 @@ std::string scenario_to_toml(const Scenario& s) {
         vec(dyn.gravity), num(dyn.lift), dyn.frames, num(dyn.settle_ratio), num(dyn.dt_safety),
         dyn.search == physics::SearchMethod::basic ? "basic" : "bounding_box", dyn.threads,
         num(dyn.local_damping));
+    if (dyn.density_scale != 1.0) out += fmt::format("density_scale = {}\n", num(dyn.density_scale));
   }
 
   for (const physics::Wall& w : s.walls) {
@@ -163,6 +164,8 @@ std::string scenario_to_toml(const Scenario& s) {
     const bool default_axis = w.kind == physics::Wall::Kind::cylinder ? w.load_axis.isZero(0.0)
                                                                       : w.load_axis == w.normal;
     if (!default_axis) out += fmt::format("load_axis = {}\n", vec(w.load_axis));
+    const std::size_t i = static_cast<std::size_t>(&w - s.walls.data());
+    if (i < s.wall_gaps.size() && !std::isnan(s.wall_gaps[i])) out += fmt::format("gap = {}\n", num(s.wall_gaps[i]));
   }
 
   if (s.bond.enabled) {
@@ -204,6 +207,7 @@ std::string scenario_to_toml(const Scenario& s) {
     std::string walls;
     for (const auto& name : st.load_walls) walls += (walls.empty() ? "" : ", ") + str(name);
     out += fmt::format("load_walls = [{}]\nframes = {}\n", walls, st.frames);
+    if (st.ramp_time > 0.0) out += fmt::format("ramp_time = {}\n", num(st.ramp_time));
   }
   return out;
 }
@@ -307,6 +311,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("dynamics.search", da.search, db.search);
   d.same("dynamics.threads", da.threads, db.threads);
   d.same("dynamics.local_damping", da.local_damping, db.local_damping);
+  d.same("dynamics.density_scale", da.density_scale, db.density_scale);
 
   d.same("bond", a.bond.enabled, b.bond.enabled);
   d.same("bond.kbn", a.bond.params.kbn, b.bond.params.kbn);
@@ -337,6 +342,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     d.same(k + "length", wa.length, wb.length);
     d.same(k + "radius", wa.radius, wb.radius);
     d.same(k + "velocity", wa.velocity, wb.velocity);
+    const double ga = i < a.wall_gaps.size() ? a.wall_gaps[i] : NAN, gb = i < b.wall_gaps.size() ? b.wall_gaps[i] : NAN;
+    if (std::isnan(ga) != std::isnan(gb) || (!std::isnan(ga) && ga != gb)) d.keys.push_back(k + "gap");
     d.direction(k + "load_axis", wa.load_axis, wb.load_axis);
   }
 
@@ -359,6 +366,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     d.same(k + "load_drop", ta.load_drop, tb.load_drop);
     d.same(k + "load_walls", ta.load_walls, tb.load_walls);
     d.same(k + "frames", ta.frames, tb.frames);
+    d.same(k + "ramp_time", ta.ramp_time, tb.ramp_time);
     d.same(k + "distance", ta.bond_distance, tb.bond_distance);
   }
   return d.keys;

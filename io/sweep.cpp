@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 namespace cleave::io {
@@ -229,6 +230,50 @@ WeibullFit fit_weibull(std::vector<double> strengths) {
   fit.r_squared = syy > 0 ? sxy * sxy / (sxx * syy) : 1.0;
   fit.sorted = std::move(strengths);
   return fit;
+}
+
+SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_strength) {
+  std::map<double, std::vector<double>> by_size;
+  for (const auto& [size, strength] : size_strength) {
+    if (!(size > 0.0) || !std::isfinite(size))
+      throw SweepError(fmt::format("a size effect needs positive sizes, found {}", size));
+    if (!(strength > 0.0) || !std::isfinite(strength))
+      throw SweepError(fmt::format("a size effect needs positive strengths, found {}", strength));
+    by_size[size].push_back(strength);
+  }
+  if (by_size.size() < 2)
+    throw SweepError(fmt::format("a size effect needs at least 2 sizes, found {}", by_size.size()));
+  SizeEffect e;
+  std::vector<double> normalised;
+  double sx = 0, sy = 0;
+  for (auto& [size, strengths] : by_size) {
+    SizeGroup g;
+    g.size = size;
+    g.strengths = strengths;
+    for (double s : strengths) g.mean += s;
+    g.mean /= static_cast<double>(strengths.size());
+    for (double s : strengths) g.stddev += (s - g.mean) * (s - g.mean);
+    g.stddev = strengths.size() > 1 ? std::sqrt(g.stddev / static_cast<double>(strengths.size() - 1)) : 0.0;
+    const bool spread = std::any_of(strengths.begin(), strengths.end(), [&](double s) { return s != strengths.front(); });
+    if (strengths.size() >= 3 && spread) g.weibull = fit_weibull(strengths);
+    for (double s : strengths) normalised.push_back(s / g.mean);
+    sx += std::log(size);
+    sy += std::log(g.mean);
+    e.groups.push_back(std::move(g));
+  }
+  // ln mean = ln A - k ln size.
+  const double n = static_cast<double>(e.groups.size()), mx = sx / n, my = sy / n;
+  double sxx = 0, sxy = 0;
+  for (const auto& g : e.groups) {
+    sxx += (std::log(g.size) - mx) * (std::log(g.size) - mx);
+    sxy += (std::log(g.size) - mx) * (std::log(g.mean) - my);
+  }
+  e.exponent = -sxy / sxx;
+  e.prefactor = std::exp(my + e.exponent * mx);
+  if (normalised.size() >= 3 &&
+      std::any_of(normalised.begin(), normalised.end(), [&](double s) { return s != normalised.front(); }))
+    e.pooled = fit_weibull(normalised);
+  return e;
 }
 
 }  // namespace cleave::io

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,27 @@ struct WeibullFit {
 };
 /// Throws SweepError for fewer than 3 strengths, non-positive ones, or all equal.
 WeibullFit fit_weibull(std::vector<double> strengths);
+
+/// Strength against specimen size from a sweep over a size and a seed: per size the runs'
+/// mean, standard deviation and (with 3 or more) Weibull fit; the exponent k of the power law
+/// mean = A size^-k (least squares on the logarithms); and the Weibull modulus of all runs
+/// pooled, each strength divided by its size's mean (the sizes' scatter on one plot).
+/// Weibull's weakest link predicts k = d / m for an effective volume that grows as size^d
+/// (d = 2 for a disc or plate of fixed thickness whose diameter is swept).
+struct SizeGroup {
+  double size = 0.0;
+  std::vector<double> strengths;
+  double mean = 0.0, stddev = 0.0;
+  std::optional<WeibullFit> weibull;
+};
+struct SizeEffect {
+  std::vector<SizeGroup> groups;  ///< by increasing size
+  double exponent = 0.0;          ///< k of mean = A size^-k
+  double prefactor = 0.0;         ///< A
+  std::optional<WeibullFit> pooled;
+};
+/// Throws SweepError with fewer than two sizes or a non-positive size or strength.
+SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_strength);
 
 /// The plotting position (median rank) of the i-th of n sorted values, i from 1.
 double median_rank(std::size_t i, std::size_t n);

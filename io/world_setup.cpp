@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace cleave::io {
@@ -18,14 +19,20 @@ std::vector<physics::RigidShape> grain_shapes(const Scenario& scenario,
   return shapes;
 }
 
+/// The density the bodies carry: the material's, times [dynamics] density_scale.
+double grain_density(const Scenario& scenario) {
+  return scenario.material.density * scenario.dynamics.density_scale;
+}
+
 struct StableStep {
   double dt = 0.0, mass = 0.0, inertia = 0.0, stiffness = 0.0;
 };
 
 StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shape) {
   StableStep s;
-  s.mass = scenario.material.density * shape.volume;
-  s.inertia = scenario.material.density * shape.principal_moments.minCoeff();
+  const double rho = grain_density(scenario);
+  s.mass = rho * shape.volume;
+  s.inertia = rho * shape.principal_moments.minCoeff();
   // A bond (eq. 2.10: K = k A_b with the dilation radius) acts in parallel with the
   // particle-particle spring.
   const physics::BondSection section{scenario.contact.dilation_radius};
@@ -106,10 +113,25 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   const Eigen::Vector3d lift(0, 0, dyn.lift - lowest);
   for (const auto& g : specimen.grains) {
     const auto k = static_cast<std::size_t>(g.shape);
-    world.add_body(ids.at(k), scenario.material.density, g.site.centre + shapes[k].centroid + lift,
+    world.add_body(ids.at(k), grain_density(scenario), g.site.centre + shapes[k].centroid + lift,
                    shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
   }
-  for (const auto& w : scenario.walls) world.add_wall(w);
+  for (std::size_t i = 0; i < scenario.walls.size(); ++i) {
+    physics::Wall w = scenario.walls[i];
+    if (i < scenario.wall_gaps.size() && !std::isnan(scenario.wall_gaps[i])) {
+      // Against the specimen: the nearest grain's surface (its vertices dilated by the contact
+      // radius, where contact begins) lies `gap` in front of the wall.
+      const Eigen::Vector3d n = w.normal.normalized();
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& g : specimen.grains) {
+        for (const auto& v : specimen.shapes.at(static_cast<std::size_t>(g.shape)).vertices_approx())
+          nearest = std::min(nearest, (g.site.centre + v + lift - w.origin).dot(n));
+      }
+      if (std::isfinite(nearest))
+        w.origin += (nearest - scenario.contact.dilation_radius - scenario.wall_gaps[i]) * n;
+    }
+    world.add_wall(w);
+  }
   return world;
 }
 

@@ -453,6 +453,12 @@ class Dynamics::Runner {
     bool& event = r.progress.event;
     bool& halt = r.halt;
     ++r.i;
+    if (stage.ramp_time > 0.0) {
+      // The walls' velocities at the middle of this step, on the stage's linear ramp.
+      const double t = (static_cast<double>(st.steps) + 0.5) * scenario_.dynamics.dt;
+      const double f = std::min(1.0, t / stage.ramp_time);
+      for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = f * v;
+    }
     guard_.before_step(world_);
     bool completed = true;
     try {

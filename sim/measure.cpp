@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -164,10 +165,54 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
   return m;
 }
 
-/// The loading stage to its end; its peak, refused unless the load dropped.
-/// The run is finished first, so that its folder holds the curve whatever is refused.
+/// The loading stage to its end; its peak, refused unless the load dropped. The run is
+/// finished first, so that its folder holds the curve whatever is refused. On the way, the
+/// kinetic energy against the work the loading walls have done (each wall pushes with
+/// minus its reaction), sampled 400 times over the stage's length.
 void run_strength_test(Simulation& sim, Measurement& m) {
   const io::Scenario& s = sim.scenario();
+  run_to_last_stage(sim);
+  if (!sim.done()) {
+    const io::StageDef& loading = s.stages.back();
+    const physics::World& world = sim.dynamics()->world();
+    const auto loaders = moving_walls(s, world);
+    const auto stage_steps = loading.steps > 0
+                                 ? loading.steps
+                                 : static_cast<std::uint64_t>(std::llround(loading.time / s.dynamics.dt));
+    const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps / 400);
+    std::vector<Eigen::Vector3d> last_origin, last_reaction;
+    for (std::size_t w : loaders) {
+      last_origin.push_back(world.walls()[w].origin);
+      last_reaction.push_back(world.walls()[w].reaction);
+    }
+    struct Sample {
+      double time, load, ratio;
+    };
+    std::vector<Sample> samples;
+    const double t0 = world.time();
+    double work = 0.0;
+    while (!sim.done()) {
+      if (sim.advance(chunk) == 0) break;
+      if (sim.dynamics()->stage() != loading.name) break;
+      double load = 0.0;
+      for (std::size_t k = 0; k < loaders.size(); ++k) {
+        const physics::Wall& w = world.walls()[loaders[k]];
+        work -= 0.5 * (w.reaction + last_reaction[k]).dot(w.origin - last_origin[k]);
+        load += -w.reaction.dot(w.load_axis);
+        last_origin[k] = w.origin;
+        last_reaction[k] = w.reaction;
+      }
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN});
+    }
+    const auto peak = std::max_element(samples.begin(), samples.end(),
+                                       [](const Sample& a, const Sample& b) { return a.load < b.load; });
+    if (peak != samples.end()) {
+      for (auto it = samples.begin(); it <= peak; ++it) {
+        if (it->time < 0.5 * peak->time || !std::isfinite(it->ratio)) continue;
+        m.kinetic_ratio = std::isnan(m.kinetic_ratio) ? it->ratio : std::max(m.kinetic_ratio, it->ratio);
+      }
+    }
+  }
   m.report = sim.finish();
   if (m.report.status != RunReport::Status::finished || !m.report.dynamics) return;
   const auto& stages = m.report.dynamics->stages;
@@ -325,6 +370,52 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
   }
   if (!sim->finished()) m.report = sim->finish();
   return m;
+}
+
+RateStudy converge_loading_rate(Test test, const std::filesystem::path& scenario,
+                                const SimulationOptions& options,
+                                const std::vector<std::string>& overrides, double tolerance,
+                                int max_runs, const std::function<void(const RatePoint&)>& on_point) {
+  if (!(tolerance > 0.0)) throw std::invalid_argument("the convergence tolerance must be > 0");
+  if (max_runs < 2) throw std::invalid_argument("a loading-rate study needs at least 2 runs");
+  // The scenario as given (with the overrides): its stages and its loading walls' speed.
+  const auto probe = Simulation::open(scenario, options, overrides);
+  const io::Scenario& s = probe->scenario();
+  if (s.stages.empty()) refuse(s, test, "it has no [[stage]] tables: no loading stage to slow down");
+  double speed = 0.0;
+  for (const auto& [name, v] : s.stages.back().wall_velocity) speed = std::max(speed, v.norm());
+  const std::string key = fmt::format("stage[{}].rate_scale", s.stages.size());
+  const std::filesystem::path root = probe->out();
+  RateStudy study;
+  study.tolerance = tolerance;
+  double scale = 1.0;
+  for (int k = 0; k < max_runs; ++k, scale *= 0.5) {
+    SimulationOptions o = options;
+    RatePoint p;
+    p.rate_scale = scale;
+    p.wall_speed = speed * scale;
+    p.out = root / fmt::format("rate_{:g}", scale);
+    o.out = p.out;
+    std::vector<std::string> with = overrides;
+    with.push_back(fmt::format("{}={:.17g}", key, scale));
+    const auto start = std::chrono::steady_clock::now();
+    const Measurement m = measure(test, scenario, o, with);
+    p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (m.report.status != RunReport::Status::finished) {
+      throw std::runtime_error(fmt::format("the run at rate_scale {:g} did not finish: {}", scale,
+                                           m.report.message));
+    }
+    p.value = m.value;
+    p.kinetic_ratio = m.kinetic_ratio;
+    if (!study.points.empty()) p.change = p.value / study.points.back().value - 1.0;
+    study.points.push_back(p);
+    if (on_point) on_point(p);
+    if (std::abs(p.change) < tolerance) {
+      study.converged = true;
+      break;
+    }
+  }
+  return study;
 }
 
 std::string measurement_toml(const Measurement& m) {

@@ -23,6 +23,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -73,7 +74,8 @@ struct Measurement {
   /// bond springs (validation/standard_tests.hpp), to compare with.
   std::optional<physics::HoneycombElasticity> closed_form;
   /// The largest ratio of kinetic energy to the work the walls did on the specimen over
-  /// the loading stage's second half: how quasi-static the test was (small is good).
+  /// the loading stage's second half (strength tests: between half the time to the peak and
+  /// the peak): how quasi-static the test was (small is good).
   double kinetic_ratio = NAN;
   RunReport report;
 };
@@ -86,6 +88,33 @@ Section specimen_section(const geometry::Specimen& specimen);
 /// is not such a test (no platens, wrong outline, no load drop, S/W far from 4), naming it.
 Measurement measure(Test test, const std::filesystem::path& scenario, SimulationOptions options,
                     const std::vector<std::string>& overrides = {}, int samples = 25);
+
+/// One run of a loading-rate study: the test with its loading stage at rate_scale times the
+/// scenario's wall velocities (and its length over it).
+struct RatePoint {
+  double rate_scale = 1.0;
+  double wall_speed = 0.0;     ///< m/s: the fastest loading wall's speed
+  double value = NAN;          ///< the measured property
+  double kinetic_ratio = NAN;  ///< Measurement::kinetic_ratio
+  double change = NAN;         ///< value / previous run's value - 1 (NaN for the first)
+  double wall_seconds = 0.0;
+  std::filesystem::path out;   ///< its result folder
+};
+
+struct RateStudy {
+  std::vector<RatePoint> points;
+  double tolerance = 0.02;
+  bool converged = false;  ///< the last halving changed the value by less than the tolerance
+};
+
+/// The quasi-static check of a test: runs it at rate_scale 1, 1/2, 1/4, ... (each in
+/// options.out / "rate_<scale>") until one halving of the loading rate changes the measured
+/// value by less than `tolerance`, or `max_runs` runs have been made. `on_point` is called
+/// after each run. Throws as measure does.
+RateStudy converge_loading_rate(Test test, const std::filesystem::path& scenario,
+                                const SimulationOptions& options,
+                                const std::vector<std::string>& overrides, double tolerance,
+                                int max_runs, const std::function<void(const RatePoint&)>& on_point = {});
 
 /// measure.toml's text and the elastic test's table and plot (written by measure into the
 /// result folder): the value, the formula, the inputs.

@@ -11,6 +11,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "io/scenario.hpp"
+#include "io/world_setup.hpp"
+#include "physics/dem/world.hpp"
+#include "sim/dynamics.hpp"
 #include "sim/measure.hpp"
 
 namespace fs = std::filesystem;
@@ -80,4 +84,110 @@ TEST(MaterialTest, BrazilianStrengthScalesLinearlyWithTheBondStrengths) {
   EXPECT_NEAR(full.value / 250e6, 1.0, 0.03) << full.value;
   EXPECT_NEAR(half.value / full.value, 0.5, 0.03);
   EXPECT_NEAR(full.value, 2.0 * full.peak_load / (M_PI * 8e-3 * 1e-3), 1e-9 * full.value);
+}
+
+// ---- quasi-static loading: the rate study, the ramp, density scaling ----------------------
+
+TEST(MaterialTest, KineticEnergyOverWorkFallsAsTheSquareOfTheLoadingRate) {
+  // Loaded quasi-statically, the specimen's kinetic energy goes as the square of the loading
+  // speed while the work to a given strain does not: halving the rate quarters the ratio.
+  // The elastic test's E does not depend on the rate once it is quasi-static, so the study
+  // stops after one halving (2 % tolerance).
+  sim::SimulationOptions o;
+  o.out = fs::temp_directory_path() / "cleave_test_measure_rate_study";
+  o.quiet = true;
+  fs::remove_all(o.out);
+  const sim::RateStudy study = sim::converge_loading_rate(sim::Test::elastic, kElastic, o, {}, 0.02, 3);
+  ASSERT_EQ(study.points.size(), 2u);
+  EXPECT_TRUE(study.converged);
+  const sim::RatePoint &fast = study.points[0], &slow = study.points[1];
+  EXPECT_EQ(fast.rate_scale, 1.0);
+  EXPECT_EQ(slow.rate_scale, 0.5);
+  EXPECT_NEAR(fast.wall_speed, 8e-3, 1e-15);  // the scenario's 8 mm/s
+  EXPECT_NEAR(slow.wall_speed, 4e-3, 1e-15);
+  EXPECT_NEAR(slow.kinetic_ratio / fast.kinetic_ratio, 0.25, 0.08);
+  EXPECT_LT(std::abs(slow.change), 0.02);
+  EXPECT_NEAR(slow.change, slow.value / fast.value - 1.0, 1e-12);
+  // Each run has its folder, and the slower one ran its loading stage twice as long.
+  EXPECT_EQ(slow.out, o.out / "rate_0.5");
+  const io::Scenario ran = io::load_scenario(slow.out / "scenario_as_run.toml");
+  EXPECT_NEAR(ran.stages.back().time, 1e-4, 1e-18);
+  EXPECT_NEAR(ran.stages.back().wall_velocity[0].second.norm(), 4e-3, 1e-15);
+  EXPECT_THROW(sim::converge_loading_rate(sim::Test::elastic, kElastic, o, {}, 0.02, 1),
+               std::invalid_argument);
+}
+
+namespace {
+
+/// The travel of the first loading wall over the last stage of sic_elastic, with overrides.
+double loading_travel(const std::vector<std::string>& overrides, const std::string& tag,
+                      double* dt = nullptr) {
+  sim::SimulationOptions o;
+  o.out = fs::temp_directory_path() / ("cleave_test_measure_" + tag);
+  o.quiet = true;
+  auto sim = sim::Simulation::open(kElastic, o, overrides);
+  sim->start();
+  const std::size_t stages = sim->scenario().stages.size();
+  while (sim->dynamics()->summary().stages.size() + 1 < stages) sim->advance_stage();
+  const physics::World& world = sim->dynamics()->world();
+  const Eigen::Vector3d before = world.walls()[0].origin;
+  sim->advance_stage();
+  if (dt != nullptr) *dt = sim->scenario().dynamics.dt;
+  return (world.walls()[0].origin - before).norm();
+}
+
+}  // namespace
+
+TEST(QuasiStaticLoading, ARampedStageMovesItsWallsHalfTheRampShortOfTheFullSpeed) {
+  // The velocity grows linearly over the ramp: the travel is v (T - T_r / 2), exactly for
+  // the midpoint velocities the steps take (the midpoint rule integrates a line exactly).
+  const double v = 8e-3, T = 5e-5, Tr = 2e-5;  // sic_elastic's loading stage
+  double dt = 0.0;
+  const double plain = loading_travel({}, "ramp_plain", &dt);
+  const double ramped = loading_travel({"stage[3].ramp_time=2e-5"}, "ramp_on");
+  ASSERT_GT(dt, 0.0);
+  const double steps = std::ceil(T / dt);
+  EXPECT_NEAR(plain, v * steps * dt, 1e-12 * plain);
+  double sum = 0.0;  // brute force: the step-by-step speeds
+  for (int k = 0; k < static_cast<int>(steps); ++k) sum += std::min(1.0, (k + 0.5) * dt / Tr) * v * dt;
+  EXPECT_NEAR(ramped, sum, 1e-9 * sum);
+  EXPECT_NEAR(ramped, v * (steps * dt - 0.5 * Tr), 1e-6 * ramped);
+}
+
+TEST(QuasiStaticLoading, DensityScaleOfFourDoublesTheStableTimeStepAndQuadruplesTheMass) {
+  // The stable step goes as sqrt(m / k): masses four times over, the bound twice over.
+  const io::Scenario plain = io::load_scenario(kElastic);
+  sim::SimulationOptions o;
+  o.out = fs::temp_directory_path() / "cleave_test_measure_density_bound";
+  o.quiet = true;
+  auto scaled = sim::Simulation::open(kElastic, o, {"dynamics.density_scale=4"});
+  scaled->start();  // builds the specimen
+  const geometry::Specimen& specimen = scaled->specimen();
+  const double bound = io::stable_time_step(plain, specimen);
+  const double bound4 = io::stable_time_step(scaled->scenario(), specimen);
+  EXPECT_NEAR(bound4 / bound, 2.0, 1e-12);
+  const physics::World& world = scaled->dynamics()->world();
+  const physics::BodyId first = world.body_ids().front();
+  const double m1 = plain.material.density * world.shape(world.info(first).shape).volume;
+  const double m4 = world.info(first).mass;
+  EXPECT_NEAR(m4 / m1, 4.0, 1e-12);
+}
+
+TEST(WallGap, PlatensPlacedByGapMeetADiscOfAnySizeAfterTheSameApproach) {
+  // sic_brazilian's platens stand `gap` = 0.5 um from the disc's nearest grain surface and
+  // close at 50 mm/s each until both touch: 0.5 um / 50 mm/s = 10 us = 1333.3 steps of
+  // 7.5 ns, so the approach ends on step 1334 whatever the diameter.
+  const fs::path disc = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_brazilian.toml";
+  for (const char* d : {"4", "8", "11"}) {
+    sim::SimulationOptions o;
+    o.out = fs::temp_directory_path() / (std::string("cleave_test_measure_gap_") + d);
+    o.quiet = true;
+    auto sim = sim::Simulation::open(disc, o, {std::string("specimen.diameter=") + d});
+    sim->start();
+    sim->advance_stage();  // bonding
+    const auto approach = sim->advance_stage();
+    ASSERT_TRUE(approach.has_value()) << d;
+    EXPECT_EQ(approach->ended_by, "walls_touch") << d;
+    EXPECT_EQ(approach->steps, 1334u) << d;
+  }
 }

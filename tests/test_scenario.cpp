@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/scenario.hpp"
+#include "io/scenario_writer.hpp"
 
 namespace cleave::io {
 namespace {
@@ -689,4 +690,64 @@ TEST(ScenarioErrors, StagesAndBonds) {
   twin += "[[wall]]\nname = \"top\"\nkind = \"plane\"\npoint = [0, 0, 9]\nnormal = [0, 0, -1]\n";
   expect(twin, "name = \"top\"", "wall[4].name", "another [[wall]] is named 'top'");
 }
+}  // namespace cleave::io
+
+namespace cleave::io {
+
+TEST(Scenario, RateScaleRunsTheSameStageAtAnotherLoadingRate) {
+  // rate_scale folds into the stage: velocities times it, its length and ramp over it, so
+  // the walls travel as far at any rate. Steps round up (a stage never ends short).
+  std::string text = kDropTest;
+  text.replace(text.find("duration = 0.5\n"), 15, "density_scale = 4\n");
+  text += R"([bond]
+kbn = 6.366e8
+kbs = 2.546e8
+tbn = 1000
+tbs = 500
+[[stage]]
+name = "bonding"
+kind = "bond"
+[[stage]]
+name = "slow"
+wall_velocity = { top = [0, 0, -2] }
+time = 0.01
+ramp_time = 0.002
+rate_scale = 0.25
+[[stage]]
+name = "fast"
+wall_velocity = { top = [0, 0, -2] }
+steps = 1001
+rate_scale = 2
+)";
+  const Scenario s = parse_scenario(text, "rate.toml");
+  EXPECT_EQ(s.dynamics.density_scale, 4.0);
+  ASSERT_EQ(s.stages.size(), 3u);
+  const StageDef& slow = s.stages[1];
+  EXPECT_NEAR(slow.wall_velocity[0].second.z(), -0.5e-3, 1e-18);  // 2 mm/s x 0.25
+  EXPECT_NEAR(slow.time, 0.04, 1e-15);
+  EXPECT_NEAR(slow.ramp_time, 0.008, 1e-15);
+  EXPECT_NEAR(slow.time * slow.wall_velocity[0].second.z(), 0.01 * -2e-3, 1e-18);  // same travel
+  const StageDef& fast = s.stages[2];
+  EXPECT_NEAR(fast.wall_velocity[0].second.z(), -4e-3, 1e-18);
+  EXPECT_EQ(fast.steps, 501u);  // 1001 / 2, rounded up
+  EXPECT_EQ(fast.ramp_time, 0.0);
+  // The as-run copy holds what runs: it reads back the same, with no rate_scale left to apply twice.
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+}
+
+TEST(ScenarioErrors, RampRateAndDensityScale) {
+  std::string text = kDropTest;
+  text.replace(text.find("duration = 0.5\n"), 15, "# staged\n");
+  text += "[bond]\nkbn = 1\nkbs = 1\ntbn = 1\ntbs = 1\n[[stage]]\nname = \"b\"\nkind = \"bond\"\n"
+          "[[stage]]\nname = \"l\"\nwall_velocity = { top = [0, 0, -1] }\nsteps = 5\n";
+  EXPECT_SCENARIO_ERROR(text + "rate_scale = 0\n", line_of_last(text + "rate_scale = 0\n", "rate_scale"),
+                        "stage[2].rate_scale", "> 0");
+  EXPECT_SCENARIO_ERROR(text + "ramp_time = -1\n", line_of_last(text + "ramp_time = -1\n", "ramp_time"),
+                        "stage[2].ramp_time", ">= 0");
+  std::string dense = text;
+  dense.replace(dense.find("# staged\n"), 9, "density_scale = 0.5\n");
+  EXPECT_SCENARIO_ERROR(dense, line_of_last(dense, "density_scale"), "dynamics.density_scale", ">= 1");
+}
+
 }  // namespace cleave::io

@@ -129,6 +129,40 @@ TEST(WeibullFit, RefusesWhatCannotBeFitted) {
   EXPECT_THROW(fit_weibull({2.0, 2.0, 2.0}), SweepError);
 }
 
+TEST(SizeEffect, WeakestLinkSamplesGiveTheExponentTwoOverTheWeibullModulus) {
+  // Discs of fixed thickness: the volume grows as D^2, so weakest-link strengths of modulus m
+  // scale as D^(-2/m): s = s0 (D / D0)^(-2/m) (-ln(1 - U))^(1/m). Drawn at three diameters,
+  // the fit recovers the exponent, the pooled modulus and each size's own modulus.
+  std::mt19937_64 rng(20261204);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double m = 8.0, s0 = 250e6;
+  std::vector<std::pair<double, double>> runs;
+  for (const double d : {4.0, 8.0, 16.0})
+    for (int i = 0; i < 3000; ++i)
+      runs.emplace_back(d, s0 * std::pow(d / 4.0, -2.0 / m) * std::pow(-std::log(1.0 - u(rng)), 1.0 / m));
+  const SizeEffect e = fit_size_effect(runs);
+  ASSERT_EQ(e.groups.size(), 3u);
+  EXPECT_EQ(e.groups.front().size, 4.0);
+  EXPECT_EQ(e.groups.back().size, 16.0);
+  EXPECT_NEAR(e.exponent, 2.0 / m, 0.03 * 2.0 / m);
+  ASSERT_TRUE(e.pooled.has_value());
+  EXPECT_NEAR(e.pooled->modulus, m, 0.05 * m);
+  for (const SizeGroup& g : e.groups) {
+    ASSERT_TRUE(g.weibull.has_value());
+    EXPECT_NEAR(g.weibull->modulus, m, 0.07 * m) << g.size;
+    // The mean of a Weibull variable: s0' Gamma(1 + 1/m).
+    const double expected = s0 * std::pow(g.size / 4.0, -2.0 / m) * std::tgamma(1.0 + 1.0 / m);
+    EXPECT_NEAR(g.mean, expected, 0.01 * expected) << g.size;
+  }
+  EXPECT_NEAR(e.prefactor * std::pow(4.0, -e.exponent), e.groups.front().mean, 0.02 * e.groups.front().mean);
+}
+
+TEST(SizeEffect, RefusesOneSizeAndNonPositiveValues) {
+  EXPECT_THROW(fit_size_effect({{4.0, 1.0}, {4.0, 2.0}}), SweepError);
+  EXPECT_THROW(fit_size_effect({{4.0, 1.0}, {-8.0, 2.0}}), SweepError);
+  EXPECT_THROW(fit_size_effect({{4.0, 1.0}, {8.0, 0.0}}), SweepError);
+}
+
 namespace {
 
 using Outcome = cleave::testing::CliOutcome;
