@@ -612,7 +612,8 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
   return w;
 }
 
-constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "sigma_c", "g_c"};
+constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "sigma_c", "g_c",
+                                          "strength_modulus"};
 
 void read_bond_table(const TableReader& t, BondDef& b) {
   t.reject_unknown(kBondKeys);
@@ -640,6 +641,7 @@ void read_bond_table(const TableReader& t, BondDef& b) {
     b.params.tbn = t.number("tbn", Range::positive()).value;
     b.params.tbs = t.number("tbs", Range::positive()).value;
   }
+  b.strength_modulus = t.number("strength_modulus", Range::positive(), 0.0).value;
 }
 
 constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",

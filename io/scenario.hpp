@@ -103,6 +103,9 @@ struct DynamicsDef {
 struct BondDef {
   bool enabled = false;
   physics::BondParams params;  ///< k_bn, k_bs in N/m^3; t_bn, t_bs in Pa
+  /// Weibull modulus of the bonds' own strength factors (mean 1, drawn from the [orientation]
+  /// seed and the two grains: physics::bond_strength_factor); 0: every bond as strong.
+  double strength_modulus = 0.0;
 };
 
 /// [fracture]: transgranular fracture during a run (chapter 3, eqs 3.22-3.25).

@@ -176,6 +176,8 @@ std::string scenario_to_toml(const Scenario& s) {
     } else {
       out += fmt::format("law = \"bonded_particle\"\ntbn = {}\ntbs = {}\n", num(b.tbn), num(b.tbs));
     }
+    if (s.bond.strength_modulus > 0.0)
+      out += fmt::format("strength_modulus = {}\n", num(s.bond.strength_modulus));
   }
 
   if (s.fracture.enabled) {
@@ -315,6 +317,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
 
   d.same("bond", a.bond.enabled, b.bond.enabled);
   d.same("bond.kbn", a.bond.params.kbn, b.bond.params.kbn);
+  d.same("bond.strength_modulus", a.bond.strength_modulus, b.bond.strength_modulus);
   d.same("bond.kbs", a.bond.params.kbs, b.bond.params.kbs);
   d.same("bond.tbn", a.bond.params.tbn, b.bond.params.tbn);
   d.same("bond.tbs", a.bond.params.tbs, b.bond.params.tbs);

@@ -393,6 +393,15 @@ class Dynamics::Runner {
     if (stage.kind == StageDef::Kind::bond) {
       current_ = &progress;
       sum_.bonds = world_.initialise_bonds(scenario_.bond.params, stage.bond_distance);
+      if (scenario_.bond.strength_modulus > 0.0) {
+        // Each bond's own strength, drawn from the microstructure's seed and its two grains.
+        for (std::size_t k = 0; k < world_.bonds().size(); ++k) {
+          const physics::Bond& bd = world_.bonds()[k];
+          world_.set_bond_strength(
+              k, physics::bond_strength_factor(scenario_.specimen.seed, world_.slot_infos()[bd.a].grain_id,
+                                               world_.slot_infos()[bd.b].grain_id, scenario_.bond.strength_modulus));
+        }
+      }
       st.ended_by = "bonded";
       st.end = world_.time();
       if (!quiet_) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "io/sweep.hpp"
 #include "physics/bonds/bond_law.hpp"
 
 using namespace cleave::physics;
@@ -118,3 +119,35 @@ TEST(BondLaw, CompressionDoesNotBreakInTension) {
   EXPECT_EQ(r.failure, BondFailure::none);
   EXPECT_GT(r.force.z(), 0.0);  // pushes B away
 }
+
+namespace cleave::physics {
+
+TEST(BondStrengthFactor, DrawsAWeibullOfUnitMeanAndTheModulusAskedFor) {
+  // 20,000 bonds of a 200 x 100 grid of grain pairs: the factors' mean is 1 and their
+  // Weibull plot has slope m (the fit of io::fit_weibull, a separate estimator).
+  for (const double m : {4.0, 12.0}) {
+    std::vector<double> f;
+    double sum = 0.0;
+    for (int a = 0; a < 200; ++a)
+      for (int b = 200; b < 300; ++b) {
+        f.push_back(bond_strength_factor(7, a, b, m));
+        sum += f.back();
+      }
+    EXPECT_NEAR(sum / static_cast<double>(f.size()), 1.0, 0.01) << m;
+    const io::WeibullFit fit = io::fit_weibull(f);
+    EXPECT_NEAR(fit.modulus, m, 0.05 * m);
+    EXPECT_NEAR(fit.scale, 1.0 / std::tgamma(1.0 + 1.0 / m), 0.01);
+  }
+}
+
+TEST(BondStrengthFactor, IsTheSameForEitherOrderOfTheGrainsAndChangesWithTheSeed) {
+  int differ = 0;
+  for (int a = 0; a < 50; ++a) {
+    EXPECT_EQ(bond_strength_factor(3, a, a + 7, 6.0), bond_strength_factor(3, a + 7, a, 6.0));
+    if (bond_strength_factor(3, a, a + 7, 6.0) != bond_strength_factor(4, a, a + 7, 6.0)) ++differ;
+  }
+  EXPECT_EQ(differ, 50);
+}
+
+}  // namespace cleave::physics
+

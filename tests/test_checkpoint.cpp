@@ -154,6 +154,24 @@ TEST_F(Checkpoint, WorldStateRoundTripsBitForBitAndStepsOnIdentically) {
   EXPECT_NE(a.state_hash(), b.state_hash());
 }
 
+TEST_F(Checkpoint, ABondsOwnStrengthSurvivesTheRoundTrip) {
+  physics::World a = small_world();
+  physics::BondParams bp;
+  bp.kbn = 1e12;
+  bp.kbs = 4e11;
+  bp.tbn = bp.tbs = 1e6;
+  ASSERT_GT(a.initialise_bonds(bp, 1e-3), 0u);
+  a.set_bond_strength(0, 0.37);
+  EXPECT_THROW(a.set_bond_strength(0, 0.0), std::invalid_argument);
+  physics::StateWriter w;
+  a.save_state(w);
+  physics::World b;
+  physics::StateReader r(w.bytes());
+  b.load_state(r);
+  ASSERT_EQ(b.bonds().size(), a.bonds().size());
+  EXPECT_EQ(b.bonds()[0].strength, 0.37);
+}
+
 TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTheSameHash) {
   const io::Scenario scenario = io::load_scenario(kScenario);
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);

@@ -191,3 +191,22 @@ TEST(WallGap, PlatensPlacedByGapMeetADiscOfAnySizeAfterTheSameApproach) {
     EXPECT_EQ(approach->steps, 1334u) << d;
   }
 }
+
+TEST(MaterialTest, ScatteredBondStrengthsMakeTheDiscWeakerAndItsStrengthDependOnTheSeed) {
+  // Weakest link: with bond strengths of mean 1 scattered (Weibull m = 6), the disc fails
+  // where they are weak, so below the disc whose bonds are all of the mean; and two seeds
+  // (two draws of the same microstructure) give two strengths.
+  const fs::path disc = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_brazilian.toml";
+  const std::vector<std::string> small = {"specimen.diameter=4"};
+  auto with = [&](std::vector<std::string> extra) {
+    extra.insert(extra.begin(), small.begin(), small.end());
+    return extra;
+  };
+  const double uniform = run(sim::Test::brazilian, disc, "scatter_none", small).value;
+  const double s1 = run(sim::Test::brazilian, disc, "scatter_1",
+                        with({"bond.strength_modulus=6", "orientation.seed=1"})).value;
+  const double s2 = run(sim::Test::brazilian, disc, "scatter_2",
+                        with({"bond.strength_modulus=6", "orientation.seed=2"})).value;
+  EXPECT_LT(0.5 * (s1 + s2), uniform);
+  EXPECT_GT(std::abs(s1 / s2 - 1.0), 0.01);
+}

@@ -704,6 +704,7 @@ kbn = 6.366e8
 kbs = 2.546e8
 tbn = 1000
 tbs = 500
+strength_modulus = 8
 [[stage]]
 name = "bonding"
 kind = "bond"
@@ -721,6 +722,7 @@ rate_scale = 2
 )";
   const Scenario s = parse_scenario(text, "rate.toml");
   EXPECT_EQ(s.dynamics.density_scale, 4.0);
+  EXPECT_EQ(s.bond.strength_modulus, 8.0);
   ASSERT_EQ(s.stages.size(), 3u);
   const StageDef& slow = s.stages[1];
   EXPECT_NEAR(slow.wall_velocity[0].second.z(), -0.5e-3, 1e-18);  // 2 mm/s x 0.25
@@ -745,6 +747,8 @@ TEST(ScenarioErrors, RampRateAndDensityScale) {
                         "stage[2].rate_scale", "> 0");
   EXPECT_SCENARIO_ERROR(text + "ramp_time = -1\n", line_of_last(text + "ramp_time = -1\n", "ramp_time"),
                         "stage[2].ramp_time", ">= 0");
+  const std::string scatter = std::string(text).replace(text.find("tbs = 1\n"), 8, "tbs = 1\nstrength_modulus = 0\n");
+  EXPECT_SCENARIO_ERROR(scatter, line_of_last(scatter, "strength_modulus"), "bond.strength_modulus", "> 0");
   std::string dense = text;
   dense.replace(dense.find("# staged\n"), 9, "density_scale = 0.5\n");
   EXPECT_SCENARIO_ERROR(dense, line_of_last(dense, "density_scale"), "dynamics.density_scale", ">= 1");

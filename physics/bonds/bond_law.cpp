@@ -85,4 +85,20 @@ const char* to_string(BondFailure mode) {
   return "unknown";
 }
 
+double bond_strength_factor(std::uint64_t seed, int grain_a, int grain_b, double modulus) {
+  // splitmix64 of the seed and the ordered pair: a uniform U in (0, 1).
+  const auto lo = static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(grain_a, grain_b)));
+  const auto hi = static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::max(grain_a, grain_b)));
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + ((hi << 32) | lo);
+  for (int round = 0; round < 2; ++round) {
+    z += 0x9E3779B97F4A7C15ULL;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    z ^= z >> 31;
+  }
+  const double u = (static_cast<double>(z >> 11) + 0.5) * 0x1.0p-53;
+  // Inverse of F: s = (-ln(1 - U))^(1/m) / Gamma(1 + 1/m).
+  return std::pow(-std::log1p(-u), 1.0 / modulus) / std::tgamma(1.0 + 1.0 / modulus);
+}
+
 }  // namespace cleave::physics

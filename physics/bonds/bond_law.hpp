@@ -16,6 +16,8 @@
 
 #include <Eigen/Dense>
 
+#include <cstdint>
+
 #include "physics/bonds/cohesive_law.hpp"
 
 namespace cleave::physics {
@@ -70,6 +72,13 @@ struct BondResult {
 
 /// Lower-case name of a failure mode ("none", "tension", ...).
 const char* to_string(BondFailure mode);
+
+/// A bond's strength factor drawn from a Weibull distribution of modulus `modulus` and mean
+/// 1, F(s) = 1 - exp(-(s Gamma(1 + 1/m))^m): the disorder of a polycrystal's grain
+/// boundaries (bonds of one material are not all equally strong). The draw is a hash of the
+/// seed and the two grains' ids (in either order), so it does not depend on the order the
+/// bonds were found in or on the thread count.
+double bond_strength_factor(std::uint64_t seed, int grain_a, int grain_b, double modulus);
 
 /// One step of the bond at unit normal n (from A towards B) with relative velocity
 /// `velocity` (B's material point minus A's at the bond) and relative spin `spin`

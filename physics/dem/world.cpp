@@ -662,6 +662,13 @@ double World::pair_offset(std::uint32_t a, std::uint32_t b) const {
   return it != offsets_.end() && it->a == a && it->b == b ? it->overlap : 0.0;
 }
 
+void World::set_bond_strength(std::size_t k, double factor) {
+  if (k >= bonds_.size()) throw std::out_of_range("set_bond_strength: no such bond");
+  if (!(factor > 0.0) || !std::isfinite(factor))
+    throw std::invalid_argument("set_bond_strength: the factor must be finite and > 0");
+  bonds_[k].strength = factor;
+}
+
 std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
   if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
@@ -736,8 +743,15 @@ void World::bond_forces(int nt) {
     const Eigen::Vector3d velocity =
         sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
     BondResult& r = bond_results_[static_cast<std::size_t>(k)];
-    r = bond_force(bond_params_, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state,
-                   settings_.dt);
+    if (bd.strength == 1.0) {
+      r = bond_force(bond_params_, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+    } else {
+      BondParams own = bond_params_;
+      own.tbn *= bd.strength;
+      own.tbs *= bd.strength;
+      own.sigma_c *= bd.strength;
+      r = bond_force(own, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+    }
     bd.force = r.force;
     bd.moment = r.moment;
   }

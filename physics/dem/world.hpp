@@ -60,6 +60,9 @@ struct Bond {
   Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
   Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
   BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
+  /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
+  /// 1 unless the scenario scatters them (bond_strength_factor).
+  double strength = 1.0;
   BondState state;
   BondFailure failure = BondFailure::none;  ///< the mode it broke in
   double broken_at = -1.0;                   ///< simulated time of the break, s
@@ -175,6 +178,8 @@ class World {
   /// histories, forces and moments are reset. Walls are never bonded. Returns the number
   /// of bonds made; throws std::logic_error when bonds already exist.
   std::size_t initialise_bonds(const BondParams& params, double distance);
+  /// Sets bond k's strength factor (Bond::strength, > 0), e.g. drawn by bond_strength_factor.
+  void set_bond_strength(std::size_t k, double factor);
   [[nodiscard]] const std::vector<Bond>& bonds() const { return bonds_; }
   [[nodiscard]] BondCounts bond_counts() const;
   /// Every bond failure so far, in the order they happened.

@@ -223,6 +223,7 @@ void World::save_state(StateWriter& w) const {
       w.put(*v);
     }
     w.put(bd.section.radius);
+    w.put(bd.strength);
     put_bond_state(w, bd.state);
     w.put(bd.failure);
     w.put(bd.broken_at);
@@ -368,6 +369,8 @@ void World::load_state(StateReader& r) {
       *v = r.vec3();
     }
     bd.section.radius = r.get<double>();
+    bd.strength = r.get<double>();
+    if (!(bd.strength > 0.0)) r.fail("a bond's strength factor is not positive");
     bd.state = get_bond_state(r);
     bd.failure = r.get_enum(BondFailure::torsion);
     bd.broken_at = r.get<double>();
