@@ -246,9 +246,10 @@ SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_st
   SizeEffect e;
   std::vector<double> normalised;
   double sx = 0, sy = 0;
-  for (auto& [size, strengths] : by_size) {
+  for (const auto& entry : by_size) {
+    const std::vector<double>& strengths = entry.second;  // a plain reference: lambdas take it
     SizeGroup g;
-    g.size = size;
+    g.size = entry.first;
     g.strengths = strengths;
     for (double s : strengths) g.mean += s;
     g.mean /= static_cast<double>(strengths.size());
@@ -257,7 +258,7 @@ SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_st
     const bool spread = std::any_of(strengths.begin(), strengths.end(), [&](double s) { return s != strengths.front(); });
     if (strengths.size() >= 3 && spread) g.weibull = fit_weibull(strengths);
     for (double s : strengths) normalised.push_back(s / g.mean);
-    sx += std::log(size);
+    sx += std::log(g.size);
     sy += std::log(g.mean);
     e.groups.push_back(std::move(g));
   }
