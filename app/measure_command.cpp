@@ -117,9 +117,8 @@ int converge_command(sim::Test test, const MeasureOptions& options, const sim::S
       }))
     return *code;
   const std::filesystem::path out = study.points.front().out.parent_path();
-  std::string csv = fmt::format("rate_scale,wall_speed_m_per_s,{}_{},change,kinetic_ratio,wall_seconds,folder\n",
-                                r.key, test == sim::Test::elastic || test == sim::Test::brazilian ||
-                                               test == sim::Test::flexural ? "Pa" : "Pa_sqrt_m");
+  std::string csv = fmt::format("rate_scale,wall_speed_m_per_s,{},change,kinetic_ratio,wall_seconds,folder\n",
+                                sim::value_key(test));
   io::PlotSeries values{fmt::format("{} at each loading rate", r.label), {}, {}, "", true};
   for (const auto& p : study.points) {
     csv += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{:.3f},{}\n", p.rate_scale, p.wall_speed, p.value,

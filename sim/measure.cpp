@@ -69,6 +69,12 @@ void run_to_last_stage(Simulation& sim) {
   while (sim.dynamics()->summary().stages.size() + 1 < stages && !sim.done()) sim.advance_stage();
 }
 
+/// The loading stage's length in steps, as its limit gives it.
+std::uint64_t stage_steps(const io::Scenario& s, const io::StageDef& loading) {
+  return loading.steps > 0 ? loading.steps
+                           : static_cast<std::uint64_t>(std::llround(loading.time / s.dynamics.dt));
+}
+
 Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
   const io::Scenario& s = sim.scenario();
   Dynamics& dyn = *sim.dynamics();
@@ -80,11 +86,8 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
     refuse(s, m.test, "the last stage must move two platens against each other");
   }
   const io::StageDef& loading = s.stages.back();
-  const double dt = s.dynamics.dt;
-  const auto stage_steps = loading.steps > 0
-                               ? loading.steps
-                               : static_cast<std::uint64_t>(std::llround(loading.time / dt));
-  const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps / static_cast<std::uint64_t>(samples));
+  const std::uint64_t chunk =
+      std::max<std::uint64_t>(1, stage_steps(s, loading) / static_cast<std::uint64_t>(samples));
 
   // The grains in the middle half of the height, and where they are at the loading's start.
   double ylo = INFINITY, yhi = -INFINITY;
@@ -176,10 +179,7 @@ void run_strength_test(Simulation& sim, Measurement& m) {
     const io::StageDef& loading = s.stages.back();
     const physics::World& world = sim.dynamics()->world();
     const auto loaders = moving_walls(s, world);
-    const auto stage_steps = loading.steps > 0
-                                 ? loading.steps
-                                 : static_cast<std::uint64_t>(std::llround(loading.time / s.dynamics.dt));
-    const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps / 400);
+    const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps(s, loading) / 400);
     std::vector<Eigen::Vector3d> last_origin, last_reaction;
     for (std::size_t w : loaders) {
       last_origin.push_back(world.walls()[w].origin);
@@ -418,21 +418,25 @@ RateStudy converge_loading_rate(Test test, const std::filesystem::path& scenario
   return study;
 }
 
+const char* value_key(Test t) {
+  switch (t) {
+    case Test::elastic: return "young_Pa";
+    case Test::brazilian: return "tensile_strength_Pa";
+    case Test::flexural: return "flexural_strength_Pa";
+    case Test::senb: return "k_ic_Pa_sqrt_m";
+  }
+  return "?";
+}
+
 std::string measurement_toml(const Measurement& m) {
   const auto num = [](double v) { return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string("nan"); };
-  std::string out = fmt::format("test = \"{}\"\n", to_string(m.test));
-  switch (m.test) {
-    case Test::elastic:
-      out += fmt::format("young_Pa = {}\npoisson = {}\nyoung_platens_Pa = {}\n", num(m.value),
-                         num(m.poisson), num(m.young_platens));
-      if (m.closed_form) {
-        out += fmt::format("closed_form_young_Pa = {}\nclosed_form_poisson = {}\n",
-                           num(m.closed_form->young), num(m.closed_form->poisson));
-      }
-      break;
-    case Test::brazilian: out += fmt::format("tensile_strength_Pa = {}\n", num(m.value)); break;
-    case Test::flexural: out += fmt::format("flexural_strength_Pa = {}\n", num(m.value)); break;
-    case Test::senb: out += fmt::format("k_ic_Pa_sqrt_m = {}\n", num(m.value)); break;
+  std::string out = fmt::format("test = \"{}\"\n{} = {}\n", to_string(m.test), value_key(m.test), num(m.value));
+  if (m.test == Test::elastic) {
+    out += fmt::format("poisson = {}\nyoung_platens_Pa = {}\n", num(m.poisson), num(m.young_platens));
+    if (m.closed_form) {
+      out += fmt::format("closed_form_young_Pa = {}\nclosed_form_poisson = {}\n",
+                         num(m.closed_form->young), num(m.closed_form->poisson));
+    }
   }
   if (std::isfinite(m.peak_load)) {
     out += fmt::format("peak_load_N = {}\npeak_displacement_m = {}\n", num(m.peak_load),

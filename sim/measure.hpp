@@ -89,6 +89,10 @@ Section specimen_section(const geometry::Specimen& specimen);
 Measurement measure(Test test, const std::filesystem::path& scenario, SimulationOptions options,
                     const std::vector<std::string>& overrides = {}, int samples = 25);
 
+/// The key of the measured value in measure.toml and convergence.csv: "young_Pa",
+/// "tensile_strength_Pa", "flexural_strength_Pa" or "k_ic_Pa_sqrt_m".
+const char* value_key(Test t);
+
 /// One run of a loading-rate study: the test with its loading stage at rate_scale times the
 /// scenario's wall velocities (and its length over it).
 struct RatePoint {

@@ -200,10 +200,6 @@ class CubicLattice {
   [[nodiscard]] const std::vector<Eigen::Vector3d>& rest_positions() const { return x0_; }
   /// The links, grouped by colour (see the private part): the order is not the grid's.
   [[nodiscard]] const std::vector<LatticeLink>& links() const { return links_; }
-  /// Shear separation delta_s of link k (world axes, eq. 55).
-  [[nodiscard]] const Eigen::Vector3d& link_shear(int k) const { return shear_[k]; }
-  /// Relative rotation of link k's bodies normal to it, integrated (bending springs only).
-  [[nodiscard]] const Eigen::Vector3d& link_bend(int k) const { return bend_[k]; }
 
   [[nodiscard]] LatticeEnergy energy() const;
   /// Half the elastic energy of body b's connective links (J): its share of the stored energy,
