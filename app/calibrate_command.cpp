@@ -1,9 +1,10 @@
 // `cleave calibrate FILE [--target KEY=VALUE ...]`: the bond parameters that make a bonded
-// specimen's measured E, nu and sigma_t hit their targets (sim/calibrate.hpp). Writes every
+// specimen's measured E, nu, sigma_t and sigma_f hit their targets (sim/calibrate.hpp). Writes every
 // trial to DIR/calibration.csv, the fit to DIR/calibration.toml and the errors per trial to
 // DIR/calibration.svg.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <chrono>
 #include <cmath>
@@ -25,6 +26,7 @@ int calibrate_command(const CalibrateOptions& options) {
     const io::CalibrationFile file = io::load_calibration(options.file);
     setup.elastic = file.elastic;
     setup.brazilian = file.brazilian;
+    setup.flexural = file.flexural;
     setup.tolerance = options.tolerance.value_or(file.tolerance);
     setup.max_trials = file.max_trials;
     if (!file.preset_file.empty()) {
@@ -34,6 +36,7 @@ int calibrate_command(const CalibrateOptions& options) {
         setup.targets.poisson = m.si("poisson");
       }
       if (!file.brazilian.empty()) setup.targets.tensile_strength = m.si("tensile_strength");
+      if (!file.flexural.empty()) setup.targets.flexural_strength = m.si("flexural_strength");
     }
   } catch (const io::ScenarioError& e) {
     fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
@@ -45,7 +48,7 @@ int calibrate_command(const CalibrateOptions& options) {
     const double v = eq == std::string::npos ? NAN : std::strtod(t.c_str() + eq + 1, &end);
     if (eq == std::string::npos || end == t.c_str() + eq + 1 || *end != '\0' || !std::isfinite(v) || !(v > 0.0)) {
       fmt::print(stderr, "cleave calibrate: error: --target '{}': expected KEY=VALUE with a positive number "
-                         "(E=415e9, nu=0.16, sigma_t=250e6)\n", t);
+                         "(E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6)\n", t);
       return 2;
     }
     const std::string key = t.substr(0, eq);
@@ -53,14 +56,18 @@ int calibrate_command(const CalibrateOptions& options) {
     if (key == "E") setup.targets.young = v;
     else if (key == "nu") setup.targets.poisson = v;
     else if (key == "sigma_t") setup.targets.tensile_strength = v;
+    else if (key == "sigma_f") setup.targets.flexural_strength = v;
     else {
       fmt::print(stderr, "cleave calibrate: error: --target '{}': unknown target '{}'; the targets are E "
-                         "(Pa), nu and sigma_t (Pa)\n", t, key);
+                         "(Pa), nu, sigma_t (Pa) and sigma_f (Pa)\n", t, key);
       return 2;
     }
-    if ((needs_elastic && setup.elastic.empty()) || (key == "sigma_t" && setup.brazilian.empty())) {
+    const char* test = needs_elastic ? "elastic" : key == "sigma_t" ? "brazilian" : "flexural";
+    const std::filesystem::path& scenario =
+        needs_elastic ? setup.elastic : key == "sigma_t" ? setup.brazilian : setup.flexural;
+    if (scenario.empty()) {
       fmt::print(stderr, "cleave calibrate: error: --target {}: {} names no {} test scenario\n", key,
-                 options.file.string(), needs_elastic ? "elastic" : "brazilian");
+                 options.file.string(), test);
       return 2;
     }
   }
@@ -68,10 +75,15 @@ int calibrate_command(const CalibrateOptions& options) {
   setup.quiet = options.quiet;
   std::filesystem::create_directories(setup.out);
   if (!options.quiet) {
-    fmt::print("cleave calibrate: {} -> {}\n  targets:", options.file.string(), setup.out.string());
-    if (setup.targets.young) fmt::print(" E = {:.4g} GPa", *setup.targets.young / 1e9);
-    if (setup.targets.poisson) fmt::print(", nu = {:.4g}", *setup.targets.poisson);
-    if (setup.targets.tensile_strength) fmt::print(", sigma_t = {:.4g} MPa", *setup.targets.tensile_strength / 1e6);
+    std::vector<std::string> t;
+    if (setup.targets.young) t.push_back(fmt::format("E = {:.4g} GPa", *setup.targets.young / 1e9));
+    if (setup.targets.poisson) t.push_back(fmt::format("nu = {:.4g}", *setup.targets.poisson));
+    if (setup.targets.tensile_strength)
+      t.push_back(fmt::format("sigma_t = {:.4g} MPa", *setup.targets.tensile_strength / 1e6));
+    if (setup.targets.flexural_strength)
+      t.push_back(fmt::format("sigma_f = {:.4g} MPa", *setup.targets.flexural_strength / 1e6));
+    fmt::print("cleave calibrate: {} -> {}\n  targets: {}", options.file.string(), setup.out.string(),
+               fmt::join(t, ", "));
     fmt::print(" (each within {:g} %)\n", 100 * setup.tolerance);
     std::fflush(stdout);
   }
@@ -99,7 +111,8 @@ int calibrate_command(const CalibrateOptions& options) {
   plot.title = "calibration: error of each trial against its target";
   plot.x_label = "trial";
   plot.y_label = "measured / target - 1 (%)";
-  io::PlotSeries e{"E", {}, {}, "", true}, nu{"nu", {}, {}, "", true}, st{"sigma_t", {}, {}, "", true};
+  io::PlotSeries e{"E", {}, {}, "", true}, nu{"nu", {}, {}, "", true}, st{"sigma_t", {}, {}, "", true},
+      sf{"sigma_f", {}, {}, "", true};
   for (const auto& t : r.trials) {
     if (t.loop == "elastic") {
       e.x.push_back(t.number);
@@ -111,9 +124,13 @@ int calibrate_command(const CalibrateOptions& options) {
     } else {
       st.x.push_back(t.number);
       st.y.push_back(100 * t.error);
+      if (!std::isnan(t.error_flexural)) {
+        sf.x.push_back(t.number);
+        sf.y.push_back(100 * t.error_flexural);
+      }
     }
   }
-  for (auto* s : {&e, &nu, &st}) {
+  for (auto* s : {&e, &nu, &st, &sf}) {
     if (!s->x.empty()) plot.series.push_back(*s);
   }
   plot.series.push_back({fmt::format("+{:g} %", 100 * setup.tolerance), {0.5, r.trials.size() + 0.5},

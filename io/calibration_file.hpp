@@ -7,6 +7,7 @@
 ///   preset = "sic_alpha"          # optional: targets default to its E, nu, tensile strength
 ///   elastic = "sic_elastic.toml"  # optional: the elastic test (E, nu), from this file's folder
 ///   brazilian = "sic_brazilian.toml"  # optional: the Brazilian test (sigma_t)
+///   flexural = "sic_four_point.toml"  # optional, with brazilian: four-point bending (sigma_f)
 ///   tolerance = 0.02              # optional (0, 0.5): relative, on every target
 ///   max_trials = 8                # optional (>= 1): per loop
 ///
@@ -21,7 +22,7 @@ namespace cleave::io {
 struct CalibrationFile {
   std::string source;
   std::string preset_file;                  ///< resolved, empty without a preset
-  std::filesystem::path elastic, brazilian;  ///< empty: not given
+  std::filesystem::path elastic, brazilian, flexural;  ///< empty: not given
   double tolerance = 0.02;
   int max_trials = 8;
 };

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -111,23 +113,61 @@ bool elastic_loop(Shared& sh, std::map<std::string, double> p, std::map<std::str
   return false;
 }
 
-/// sigma_t: the bond strengths scaled by target over measured, their ratio kept.
+/// sigma_t: the bond strengths scaled by target over measured, their ratio kept. With a
+/// sigma_f target as well, each trial also breaks the bar, and (ln t_bn, ln t_bs) move by
+/// Broyden's method on (ln sigma_t, ln sigma_f): the first Jacobian says that sigma_t grows
+/// with both strengths, half each, and sigma_f with t_bn alone (SiC's ratio study in
+/// docs/USER_GUIDE.md, "Real materials": from t_bs = t_bn up the bar breaks in tension and
+/// the disc gains as t_bs^0.53); each trial's secant corrects it. Steps are at most a factor
+/// e^0.5 per strength, so that no trial leaves the scenarios' reach by much.
 bool strength_loop(Shared& sh, std::map<std::string, double> p, std::map<std::string, double>& fit) {
   const CalibrationSetup& s = sh.setup;
   const double target = *s.targets.tensile_strength;
+  const std::optional<double> flexural = s.targets.flexural_strength;
+  Eigen::Matrix2d jacobian;
+  jacobian << 0.5, 0.5, 1.0, 0.0;
+  Eigen::Vector2d prev_x, prev_f;
+  bool have_prev = false;
   for (int k = 0; k < s.max_trials; ++k) {
     CalibrationTrial t;
     t.loop = "strength";
     const Measurement m = trial(sh, Test::brazilian, s.brazilian, p, t);
     t.measured = m.value;
     t.error = m.value / target - 1.0;
-    record(sh, t, fmt::format("t_bn {:.5g} t_bs {:.5g}: sigma_t {:.4g} MPa ({:+.2f} %)", p["bond.tbn"],
-                              p["bond.tbs"], m.value / 1e6, 100 * t.error));
+    std::string bar;
+    if (flexural) {
+      CalibrationTrial bar_trial;
+      const Measurement f = trial(sh, Test::flexural, s.flexural, p, bar_trial);
+      t.wall_seconds += bar_trial.wall_seconds;
+      t.measured_flexural = f.value;
+      t.error_flexural = f.value / *flexural - 1.0;
+      bar = fmt::format(", sigma_f {:.4g} MPa ({:+.2f} %)", f.value / 1e6, 100 * t.error_flexural);
+    }
+    record(sh, t, fmt::format("t_bn {:.5g} t_bs {:.5g}: sigma_t {:.4g} MPa ({:+.2f} %){}", p["bond.tbn"],
+                              p["bond.tbs"], m.value / 1e6, 100 * t.error, bar));
     fit["bond.tbn"] = p["bond.tbn"];
     fit["bond.tbs"] = p["bond.tbs"];
-    if (std::abs(t.error) <= s.tolerance) return true;
-    p["bond.tbn"] *= target / m.value;
-    p["bond.tbs"] *= target / m.value;
+    const bool bar_done = !flexural || std::abs(t.error_flexural) <= s.tolerance;
+    if (std::abs(t.error) <= s.tolerance && bar_done) return true;
+    if (!flexural) {
+      p["bond.tbn"] *= target / m.value;
+      p["bond.tbs"] *= target / m.value;
+      continue;
+    }
+    const Eigen::Vector2d x(std::log(p["bond.tbn"]), std::log(p["bond.tbs"]));
+    const Eigen::Vector2d f(std::log(m.value / target), std::log(t.measured_flexural / *flexural));
+    if (have_prev) {
+      const Eigen::Vector2d dx = x - prev_x, df = f - prev_f;
+      if (dx.squaredNorm() > 1e-12) jacobian += (df - jacobian * dx) * dx.transpose() / dx.squaredNorm();
+    }
+    Eigen::Vector2d step = -jacobian.fullPivLu().solve(f);
+    if (!step.allFinite() || std::abs(jacobian.determinant()) < 1e-6) step = Eigen::Vector2d::Constant(-f(0));
+    step = step.cwiseMax(-0.5).cwiseMin(0.5);
+    prev_x = x;
+    prev_f = f;
+    have_prev = true;
+    p["bond.tbn"] = std::exp(x(0) + step(0));
+    p["bond.tbs"] = std::exp(x(1) + step(1));
   }
   return false;
 }
@@ -139,6 +179,14 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
   Shared sh{setup};
   if (!setup.targets.young && !setup.targets.poisson && !setup.targets.tensile_strength) {
     throw std::invalid_argument("calibrate: no targets");
+  }
+  if (setup.targets.flexural_strength && !setup.targets.tensile_strength) {
+    throw std::invalid_argument(
+        "calibrate: a flexural strength target needs a tensile strength target too (sigma_f is "
+        "fitted through t_bs / t_bn, sigma_t through the strengths' scale)");
+  }
+  if (setup.targets.flexural_strength && setup.flexural.empty()) {
+    throw std::invalid_argument("calibrate: a flexural strength target needs a four-point bending scenario");
   }
   if (setup.targets.poisson && !setup.targets.young) {
     throw std::invalid_argument("calibrate: a Poisson's ratio target needs an E target too");
@@ -202,17 +250,21 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
 }
 
 std::string calibration_csv(const CalibrationResult& r) {
-  std::string out = "trial,loop,kbn,kbs,tbn,tbs,measured,measured_poisson,error,error_poisson,wall_s\n";
+  std::string out =
+      "trial,loop,kbn,kbs,tbn,tbs,measured,measured_poisson,error,error_poisson,measured_flexural,"
+      "error_flexural,wall_s\n";
   const auto get = [](const CalibrationTrial& t, const char* k) {
     const auto it = t.parameters.find(k);
     return it == t.parameters.end() ? std::string() : fmt::format("{:.9g}", it->second);
   };
   for (const auto& t : r.trials) {
-    out += fmt::format("{},{},{},{},{},{},{:.9g},{},{:.6g},{},{:.2f}\n", t.number, t.loop,
+    const bool bar = !std::isnan(t.measured_flexural);
+    out += fmt::format("{},{},{},{},{},{},{:.9g},{},{:.6g},{},{},{},{:.2f}\n", t.number, t.loop,
                        get(t, "bond.kbn"), get(t, "bond.kbs"), get(t, "bond.tbn"), get(t, "bond.tbs"),
                        t.measured, t.loop == "elastic" ? fmt::format("{:.6g}", t.measured_poisson) : "",
                        t.error, t.loop == "elastic" ? fmt::format("{:.6g}", t.error_poisson) : "",
-                       t.wall_seconds);
+                       bar ? fmt::format("{:.9g}", t.measured_flexural) : "",
+                       bar ? fmt::format("{:.6g}", t.error_flexural) : "", t.wall_seconds);
   }
   return out;
 }
