@@ -27,7 +27,9 @@ int calibrate_command(const CalibrateOptions& options) {
     setup.elastic = file.elastic;
     setup.brazilian = file.brazilian;
     setup.flexural = file.flexural;
+    setup.senb = file.senb;
     setup.tolerance = options.tolerance.value_or(file.tolerance);
+    setup.flexural_tolerance = options.tolerance ? options.tolerance : file.flexural_tolerance;
     setup.max_trials = file.max_trials;
     if (!file.preset_file.empty()) {
       const io::MaterialPreset m = io::load_material(file.preset_file);
@@ -37,6 +39,7 @@ int calibrate_command(const CalibrateOptions& options) {
       }
       if (!file.brazilian.empty()) setup.targets.tensile_strength = m.si("tensile_strength");
       if (!file.flexural.empty()) setup.targets.flexural_strength = m.si("flexural_strength");
+      if (!file.senb.empty()) setup.targets.toughness = m.si("k_ic");
     }
   } catch (const io::ScenarioError& e) {
     fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
@@ -48,7 +51,7 @@ int calibrate_command(const CalibrateOptions& options) {
     const double v = eq == std::string::npos ? NAN : std::strtod(t.c_str() + eq + 1, &end);
     if (eq == std::string::npos || end == t.c_str() + eq + 1 || *end != '\0' || !std::isfinite(v) || !(v > 0.0)) {
       fmt::print(stderr, "cleave calibrate: error: --target '{}': expected KEY=VALUE with a positive number "
-                         "(E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6)\n", t);
+                         "(E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6, K_Ic=3.1e6)\n", t);
       return 2;
     }
     const std::string key = t.substr(0, eq);
@@ -57,14 +60,20 @@ int calibrate_command(const CalibrateOptions& options) {
     else if (key == "nu") setup.targets.poisson = v;
     else if (key == "sigma_t") setup.targets.tensile_strength = v;
     else if (key == "sigma_f") setup.targets.flexural_strength = v;
+    else if (key == "K_Ic") setup.targets.toughness = v;
     else {
       fmt::print(stderr, "cleave calibrate: error: --target '{}': unknown target '{}'; the targets are E "
-                         "(Pa), nu, sigma_t (Pa) and sigma_f (Pa)\n", t, key);
+                         "(Pa), nu, sigma_t (Pa), sigma_f (Pa) and K_Ic (Pa m^0.5)\n", t, key);
       return 2;
     }
-    const char* test = needs_elastic ? "elastic" : key == "sigma_t" ? "brazilian" : "flexural";
-    const std::filesystem::path& scenario =
-        needs_elastic ? setup.elastic : key == "sigma_t" ? setup.brazilian : setup.flexural;
+    const char* test = needs_elastic        ? "elastic"
+                       : key == "sigma_t"   ? "brazilian"
+                       : key == "sigma_f"   ? "flexural"
+                                            : "senb";
+    const std::filesystem::path& scenario = needs_elastic        ? setup.elastic
+                                            : key == "sigma_t"   ? setup.brazilian
+                                            : key == "sigma_f"   ? setup.flexural
+                                                                 : setup.senb;
     if (scenario.empty()) {
       fmt::print(stderr, "cleave calibrate: error: --target {}: {} names no {} test scenario\n", key,
                  options.file.string(), test);
@@ -82,9 +91,15 @@ int calibrate_command(const CalibrateOptions& options) {
       t.push_back(fmt::format("sigma_t = {:.4g} MPa", *setup.targets.tensile_strength / 1e6));
     if (setup.targets.flexural_strength)
       t.push_back(fmt::format("sigma_f = {:.4g} MPa", *setup.targets.flexural_strength / 1e6));
+    if (setup.targets.toughness)
+      t.push_back(fmt::format("K_Ic = {:.4g} MPa m^0.5", *setup.targets.toughness / 1e6));
     fmt::print("cleave calibrate: {} -> {}\n  targets: {}", options.file.string(), setup.out.string(),
                fmt::join(t, ", "));
-    fmt::print(" (each within {:g} %)\n", 100 * setup.tolerance);
+    if (setup.targets.flexural_strength && setup.flexural_tolerance)
+      fmt::print(" (each within {:g} %, sigma_f within {:g} %)\n", 100 * setup.tolerance,
+                 100 * *setup.flexural_tolerance);
+    else
+      fmt::print(" (each within {:g} %)\n", 100 * setup.tolerance);
     std::fflush(stdout);
   }
   sim::CalibrationResult r;
@@ -104,7 +119,10 @@ int calibrate_command(const CalibrateOptions& options) {
   std::string toml = fmt::format("converged = {}\ntrials = {}\nwall_seconds = {:.1f}\ntolerance = {}\n",
                                  r.converged ? "true" : "false", r.trials.size(), r.wall_seconds,
                                  setup.tolerance);
-  toml += "\n[fit]   # set these in the test scenarios' [bond]\n";
+  if (setup.targets.flexural_strength && setup.flexural_tolerance)
+    toml += fmt::format("flexural_tolerance = {}\n", *setup.flexural_tolerance);
+  toml += "\n[fit]   # set these in the test scenarios' [bond] (fracture.crack_length: in the SENB\n"
+          "        # scenario's length unit, in its [fracture])\n";
   for (const auto& [key, value] : r.parameters) toml += fmt::format("\"{}\" = {:.9g}\n", key, value);
   io::write_file_atomically(setup.out / "calibration.toml", toml);
   io::Plot plot;
@@ -112,9 +130,12 @@ int calibrate_command(const CalibrateOptions& options) {
   plot.x_label = "trial";
   plot.y_label = "measured / target - 1 (%)";
   io::PlotSeries e{"E", {}, {}, "", true}, nu{"nu", {}, {}, "", true}, st{"sigma_t", {}, {}, "", true},
-      sf{"sigma_f", {}, {}, "", true};
+      sf{"sigma_f", {}, {}, "", true}, kic{"K_Ic", {}, {}, "", true};
   for (const auto& t : r.trials) {
-    if (t.loop == "elastic") {
+    if (t.loop == "toughness") {
+      kic.x.push_back(t.number);
+      kic.y.push_back(100 * t.error);
+    } else if (t.loop == "elastic") {
       e.x.push_back(t.number);
       e.y.push_back(100 * t.error);
       if (setup.targets.poisson) {
@@ -130,7 +151,7 @@ int calibrate_command(const CalibrateOptions& options) {
       }
     }
   }
-  for (auto* s : {&e, &nu, &st, &sf}) {
+  for (auto* s : {&e, &nu, &st, &sf, &kic}) {
     if (!s->x.empty()) plot.series.push_back(*s);
   }
   plot.series.push_back({fmt::format("+{:g} %", 100 * setup.tolerance), {0.5, r.trials.size() + 0.5},

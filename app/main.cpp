@@ -106,11 +106,11 @@ int main(int argc, char** argv) {
 
   CalibrateOptions calibrate;
   CLI::App* calibrate_cmd = app.add_subcommand(
-      "calibrate", "Find the bond parameters that give a bonded specimen E, nu, sigma_t and sigma_f targets");
+      "calibrate", "Find the bond (and grain-fracture) parameters that give a bonded specimen E, nu, sigma_t, sigma_f and K_Ic targets");
   calibrate_cmd->add_option("file", calibrate.file, "Calibration file (TOML: the test scenarios, a preset)")
       ->required();
   calibrate_cmd->add_option("--target", calibrate.targets,
-                            "KEY=VALUE: E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6 (default: the file's preset)");
+                            "KEY=VALUE: E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6, K_Ic=3.1e6 (default: the file's preset)");
   calibrate_cmd->add_option("--tolerance", calibrate.tolerance, "Relative, on every target (default 0.02)");
   calibrate_cmd->add_option("--out,-o", calibrate.out, "Folder (default: results/<file name>)");
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only the result");

@@ -11,7 +11,7 @@ namespace cleave::io {
 namespace {
 using namespace toml_reader;
 constexpr std::string_view kTables[] = {"calibration"};
-constexpr std::string_view kKeys[] = {"preset", "elastic", "brazilian", "flexural", "tolerance", "max_trials"};
+constexpr std::string_view kKeys[] = {"preset", "elastic", "brazilian", "flexural", "senb", "tolerance", "flexural_tolerance", "max_trials"};
 }  // namespace
 
 CalibrationFile load_calibration(const std::filesystem::path& file) {
@@ -30,17 +30,18 @@ CalibrationFile load_calibration(const std::filesystem::path& file) {
     if (!found) t.fail(*t.find("preset"), "preset", fmt::format("no material '{}' (`cleave materials` lists them)", preset));
     c.preset_file = found->string();
   }
-  for (const char* key : {"elastic", "brazilian", "flexural"}) {
+  for (const char* key : {"elastic", "brazilian", "flexural", "senb"}) {
     if (t.find(key) == nullptr) continue;
     const std::filesystem::path p = folder / t.string(key);
     if (!std::filesystem::is_regular_file(p)) {
       t.fail(*t.find(key), key, fmt::format("no scenario file {}", p.string()));
     }
     const std::string_view k(key);
-    (k == "elastic" ? c.elastic : k == "brazilian" ? c.brazilian : c.flexural) = p;
+    (k == "elastic" ? c.elastic : k == "brazilian" ? c.brazilian : k == "flexural" ? c.flexural : c.senb) = p;
   }
-  if (c.elastic.empty() && c.brazilian.empty()) {
-    t.fail_table("give the test scenarios to calibrate with: elastic = \"...\" and/or brazilian = \"...\"");
+  if (c.elastic.empty() && c.brazilian.empty() && c.senb.empty()) {
+    t.fail_table("give the test scenarios to calibrate with: elastic = \"...\", brazilian = \"...\" "
+                 "and/or senb = \"...\"");
   }
   if (!c.flexural.empty() && c.brazilian.empty()) {
     t.fail(*t.find("flexural"), "flexural",
@@ -48,6 +49,10 @@ CalibrationFile load_calibration(const std::filesystem::path& file) {
   }
   c.tolerance = t.number("tolerance", Range{0.0, 0.5, true, true}, 0.02).value;
   c.max_trials = t.int_integer("max_trials", 1, 8);
+  if (t.find("flexural_tolerance") != nullptr) {
+    if (c.flexural.empty()) t.fail(*t.find("flexural_tolerance"), "flexural_tolerance", "there is no flexural test");
+    c.flexural_tolerance = t.number("flexural_tolerance", Range{0.0, 0.5, true, true}, 0.02).value;
+  }
   return c;
 }
 

@@ -10,7 +10,11 @@
 /// - sigma_f (with sigma_t): a bar breaks in tension on its lower face (t_bn), a disc is split
 ///   by its bonds' shear as well (t_bs), so the two strengths are found together by Broyden's
 ///   method in log space from a first Jacobian of that structure. Each strength trial then
-///   runs both tests.
+///   runs both tests;
+/// - K_Ic (with transgranular fracture on, the crack running through grains): the notched
+///   beam's toughness is set by the grain-fracture criterion, a stress threshold K_Ic^cleavage
+///   / sqrt(pi a), so it goes as a^-1/2 in the criterion's crack length a: each trial scales a
+///   by (measured / target)^2. It runs after the strength loop, with its fit.
 /// The elastic and the strength trials do not depend on each other (a brittle bond breaks
 /// at a force, whatever the spring), so the two loops run side by side, one thread each.
 /// Every trial is a `sim::measure` of the test's scenario with the parameters as overrides;
@@ -33,14 +37,20 @@ struct CalibrationTargets {
   std::optional<double> poisson;           ///< nu
   std::optional<double> tensile_strength;  ///< sigma_t, Pa (Brazilian)
   std::optional<double> flexural_strength; ///< sigma_f, Pa (four-point bending); needs sigma_t
+  std::optional<double> toughness;         ///< K_Ic, Pa m^0.5 (SENB with [fracture])
 };
 
 struct CalibrationSetup {
   std::filesystem::path elastic;    ///< scenario of the elastic test (for E, nu)
   std::filesystem::path brazilian;  ///< scenario of the Brazilian test (for sigma_t)
   std::filesystem::path flexural;   ///< scenario of the four-point bending test (for sigma_f)
+  std::filesystem::path senb;       ///< scenario of the SENB test (for K_Ic), with [fracture]
   CalibrationTargets targets;
   double tolerance = 0.02;          ///< relative, on each target (nu: relative to nu)
+  /// Relative, on sigma_f; unset: `tolerance`. A coarse bar's strength moves by jumps of
+  /// several per cent as the strengths change by one (the first break on its lower face
+  /// becomes the peak or does not), which a tight tolerance may never meet.
+  std::optional<double> flexural_tolerance;
   int max_trials = 8;               ///< per loop
   std::filesystem::path out;        ///< trials go to out/trial_NNN
   /// Where to start instead of the closed form's springs and the scenario's strengths
@@ -52,8 +62,10 @@ struct CalibrationSetup {
 /// One trial: what was set, what was measured.
 struct CalibrationTrial {
   int number = 0;
-  std::string loop;  ///< "elastic" or "strength"
-  std::map<std::string, double> parameters;  ///< bond.kbn, ... as set
+  std::string loop;  ///< "elastic", "strength" or "toughness"
+  /// bond.kbn, ... as set; fracture.crack_length in the scenario's length unit (as an
+  /// override takes it)
+  std::map<std::string, double> parameters;
   double measured = 0.0, measured_poisson = 0.0;
   double error = 0.0, error_poisson = 0.0;   ///< relative to the target
   /// Strength trials with a sigma_f target: the bar's strength and its error (NaN otherwise).
@@ -63,7 +75,10 @@ struct CalibrationTrial {
 
 struct CalibrationResult {
   bool converged = false;
-  std::map<std::string, double> parameters;  ///< the fit: bond.kbn, bond.kbs, bond.tbn, bond.tbs
+  /// The fit: bond.kbn, bond.kbs, bond.tbn, bond.tbs (the strengths of the best strength
+  /// trial: the one whose largest error relative to its tolerance is smallest), and with a
+  /// K_Ic target fracture.crack_length (in the SENB scenario's length unit)
+  std::map<std::string, double> parameters;
   std::vector<CalibrationTrial> trials;      ///< in the order they ended
   double wall_seconds = 0.0;
 };

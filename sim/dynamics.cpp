@@ -510,10 +510,12 @@ class Dynamics::Runner {
         });
         break;
       case StageDef::Until::load_drop:
-        // After the peak, once bonds have broken (or there are none to break): load that
-        // eases off before anything has broken (a rig settling) does not end a test.
+        // After the peak, once bonds have broken or grains split (or there are no bonds to
+        // break): load that eases off before anything has broken (a rig settling) does not
+        // end a test. A crack may run through grains alone (transgranular fracture on,
+        // strong bonds): its splits count as the fracture that ends the test.
         event = st.peak_load > 0.0 && load < stage.load_drop * st.peak_load &&
-                (broken > 0 || world_.bonds().empty());
+                (broken > 0 || st.splits > 0 || world_.bonds().empty());
         break;
     }
     if (i % r.log_every == 0 || i == limit || event) {

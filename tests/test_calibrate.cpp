@@ -108,3 +108,23 @@ TEST(CalibrationFile, AFlexuralTestWithoutABrazilianOneIsAnErrorNamingTheLineAnd
   const io::CalibrationFile ok = io::load_calibration(file);
   EXPECT_EQ(ok.flexural, kDir / "sic_four_point.toml");
 }
+
+TEST(MaterialTest, CalibrationFindsTheCrackLengthThatGivesANotchedBeamItsToughness) {
+  // sic_senb.toml cracks through its grains (transgranular fracture on): its K_Ic goes as
+  // a^-1/2 in the criterion's crack length a (eq. 3.23). The target is what a = 20 um gives;
+  // the calibration starts at the scenario's 40 um and must find 20 um again.
+  const sim::Measurement truth =
+      measured(sim::Test::senb, "sic_senb.toml", "truth_senb", {"fracture.crack_length=0.02"});
+  sim::CalibrationSetup setup;
+  setup.senb = kDir / "sic_senb.toml";
+  setup.targets.toughness = truth.value;
+  setup.tolerance = 0.02;
+  setup.quiet = true;
+  setup.out = fs::temp_directory_path() / "cleave_test_calibrate_toughness";
+  const sim::CalibrationResult r = sim::calibrate(setup);
+  ASSERT_TRUE(r.converged) << r.trials.size() << " trials";
+  EXPECT_LE(std::abs(r.trials.back().error), 0.02);
+  EXPECT_NEAR(r.parameters.at("fracture.crack_length") / 0.02, 1.0, 0.08);
+  EXPECT_LE(r.trials.size(), 3u) << "K_Ic ~ a^-1/2 should need one correction, two at most";
+  for (const auto& t : r.trials) EXPECT_EQ(t.loop, "toughness");
+}
