@@ -28,11 +28,10 @@ struct StableStep {
   double dt = 0.0, mass = 0.0, inertia = 0.0, stiffness = 0.0;
 };
 
-StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shape) {
+StableStep stable_step(const Scenario& scenario, double mass, double inertia, double arm) {
   StableStep s;
-  const double rho = grain_density(scenario);
-  s.mass = rho * shape.volume;
-  s.inertia = rho * shape.principal_moments.minCoeff();
+  s.mass = mass;
+  s.inertia = inertia;
   // A bond (eq. 2.10: K = k A_b with the dilation radius) acts in parallel with the
   // particle-particle spring.
   const physics::BondSection section{scenario.contact.dilation_radius};
@@ -40,14 +39,23 @@ StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shap
   const double bond_rolling = scenario.bond.enabled ? scenario.bond.params.kbn * section.inertia() : 0.0;
   s.stiffness = std::max(scenario.contact.particle_particle.c_res * scenario.contact.particle_particle.kn + bond_normal,
                          scenario.contact.particle_wall.c_res * scenario.contact.particle_wall.kn);
-  const double arm = shape.bounding_radius();
   const double translation = physics::critical_time_step(s.mass, s.stiffness);
   const double rotation =
       physics::critical_time_step(s.inertia, std::max(s.stiffness * arm * arm, bond_rolling));
   s.dt = scenario.dynamics.dt_safety * std::min(translation, rotation);
   return s;
 }
+
+StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shape) {
+  const double rho = grain_density(scenario);
+  return stable_step(scenario, rho * shape.volume, rho * shape.principal_moments.minCoeff(),
+                     shape.bounding_radius());
+}
 }  // namespace
+
+double stable_time_step(const Scenario& scenario, double mass, double inertia, double bounding_radius) {
+  return stable_step(scenario, mass, inertia, bounding_radius).dt;
+}
 
 namespace {
 /// The most restrictive of the shapes' stable steps.

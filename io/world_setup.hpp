@@ -19,6 +19,11 @@ double stable_time_step(const Scenario& scenario, const geometry::Specimen& spec
 /// stable_time_step, saying which value is needed.
 void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen);
 
+/// The same stable step for one body of the given mass, smallest principal moment of
+/// inertia and bounding radius (e.g. a piece a transgranular split has just made), with
+/// the scenario's springs and dt_safety.
+double stable_time_step(const Scenario& scenario, double mass, double inertia, double bounding_radius);
+
 /// The world of a [dynamics] run: grains become bodies at their lattice centres lifted so
 /// the specimen's lowest point is `dynamics.lift` above z = 0, at rest; walls are added in
 /// file order. Checks the time step first.

@@ -742,6 +742,29 @@ class Dynamics::Runner {
           r.k_i, r.k_ii, r.criterion);
     }
     sum_.splits += events.size();
+    // A piece is lighter than its grain, and a thin one turns faster on the same springs:
+    // the step checked for the grains may not be stable for it. By the same (conservative:
+    // the stiffest spring at the bounding radius) bound, say so once. Where such a piece
+    // touches a platen or roller, the run may blow up a few steps later, or first throw a
+    // load spike that a load_drop stage would take for the peak.
+    for (const auto& e : events) {
+      for (const physics::BodyId id : e.split.ids) {
+        if (piece_warned_) break;
+        const physics::BodyInfo& info = world_.info(id);
+        const double limit = io::stable_time_step(scenario_, info.mass, info.inertia.minCoeff(),
+                                                  world_.shape(info.shape).bounding_radius());
+        if (scenario_.dynamics.dt > limit) {
+          piece_warned_ = true;
+          fmt::print(stderr,
+                     "cleave: warning: step {}: grain {} split into a piece of {:.3g} kg (smallest principal "
+                     "moment {:.3g} kg m^2) whose stable step by the grains' bound is {:.3g} s, below dt = "
+                     "{:.3g} s; if the run blows up or its load spikes after a split, use [dynamics] dt <= "
+                     "{:.3g} s\n",
+                     world_.steps(), e.split.parent.grain_id, info.mass, info.inertia.minCoeff(), limit,
+                     scenario_.dynamics.dt, limit);
+        }
+      }
+    }
     return events.size();
   }
 
@@ -885,6 +908,7 @@ class Dynamics::Runner {
   std::uint64_t max_steps_;
   RunHooks hooks_;
   physics::StepGuard guard_;
+  bool piece_warned_ = false;  ///< a split made a piece the time step may not be stable for (said once)
   std::size_t stage_index_ = 0;
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   physics::World world_;
