@@ -112,7 +112,7 @@ TEST(CalibrationFile, AFlexuralTestWithoutABrazilianOneIsAnErrorNamingTheLineAnd
 TEST(MaterialTest, CalibrationFindsTheCrackLengthThatGivesANotchedBeamItsToughness) {
   // sic_senb.toml cracks through its grains (transgranular fracture on): its K_Ic goes as
   // a^-1/2 in the criterion's crack length a (eq. 3.23). The target is what a = 20 um gives;
-  // the calibration starts at the scenario's 40 um and must find 20 um again.
+  // the calibration starts at the scenario's 42 um and must find 20 um again.
   const sim::Measurement truth =
       measured(sim::Test::senb, "sic_senb.toml", "truth_senb", {"fracture.crack_length=0.02"});
   sim::CalibrationSetup setup;
