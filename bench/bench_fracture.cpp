@@ -1,12 +1,16 @@
 // Transgranular fracture costs (chapter 3):
-//   ./build/bench/cleave_bench_fracture [GRAINS]        (default 10000)
+//   ./build/bench/cleave_bench_fracture [GRAINS] [K_IC] [GATE]
+//   (defaults 10000, 0.5 Pa m^0.5, gate open; GATE: eq. 3.22's sigma_f_hyd in Pa)
 // 1. One split inside a running world: the first cut of a (shape, plane) pair (exact CGAL
 //    split + mass properties of the pieces) and a repeated one (shared pieces), each with
 //    World::split_body, in microseconds.
 // 2. A bonded Brazilian disc of about GRAINS prisms (the lattice of scenarios/brazilian.toml
 //    with the disc widened), squeezed between two platens: milliseconds per step with the
 //    transgranular check after every step (gate open, so every grain is assessed on every
-//    plane: the worst case) and without it, and how many grains split.
+//    plane: the worst case; GATE sets a real one) and without it, and how many grains
+//    split. A K_IC high enough
+//    that nothing splits times the assessment alone (no pieces, so the neighbour search's
+//    pair list and near-feature caches are never rebuilt for new bodies).
 
 #include <chrono>
 #include <cmath>
@@ -56,9 +60,10 @@ int main(int argc, char** argv) {
 
   // 2. A fragmenting disc, with and without the check.
   FractureParams p;
-  p.sigma_f_hyd = -1e30;  // gate open: every grain assessed on every plane, every step
+  // Default: gate open, every grain assessed on every plane, every step (the worst case).
+  p.sigma_f_hyd = argc > 3 ? std::atof(argv[3]) : -1e30;
   p.crack_length = 0.1e-3;
-  p.k_ic = 0.5;  // Pa sqrt(m): low enough that the loaded disc fragments during the run
+  p.k_ic = argc > 2 ? std::atof(argv[2]) : 0.5;  // Pa sqrt(m): 0.5 fragments the loaded disc
   constexpr int kWarm = 20, kSteps = 100;
   for (const bool fracture : {false, true}) {
     Disc d = make_disc(grains, fracture);
