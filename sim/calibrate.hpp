@@ -10,7 +10,7 @@
 /// - sigma_f (with sigma_t): a bar breaks in tension on its lower face (t_bn), a disc is split
 ///   by its bonds' shear as well (t_bs), so the two strengths are found together by Broyden's
 ///   method in log space from a first Jacobian of that structure. Each strength trial then
-///   runs both tests;
+///   runs both tests, side by side on two threads;
 /// - K_Ic (with transgranular fracture on, the crack running through grains): the notched
 ///   beam's toughness is set by the grain-fracture criterion, a stress threshold K_Ic^cleavage
 ///   / sqrt(pi a), so it goes as a^-1/2 in the criterion's crack length a: each trial scales a
@@ -70,7 +70,7 @@ struct CalibrationTrial {
   double error = 0.0, error_poisson = 0.0;   ///< relative to the target
   /// Strength trials with a sigma_f target: the bar's strength and its error (NaN otherwise).
   double measured_flexural = NAN, error_flexural = NAN;
-  double wall_seconds = 0.0;
+  double wall_seconds = 0.0;  ///< a disc and a bar side by side: the longer of the two
 };
 
 struct CalibrationResult {
