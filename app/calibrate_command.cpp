@@ -6,9 +6,11 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 #include "commands.hpp"
 #include "io/calibration_file.hpp"
@@ -54,29 +56,32 @@ int calibrate_command(const CalibrateOptions& options) {
                          "(E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6, K_Ic=3.1e6)\n", t);
       return 2;
     }
+    // Each target: its key, where it goes and the test scenario that measures it.
+    struct Target {
+      const char* key;
+      std::optional<double>* value;
+      const char* test;
+      const std::filesystem::path* scenario;
+    };
+    const Target targets[] = {
+        {"E", &setup.targets.young, "elastic", &setup.elastic},
+        {"nu", &setup.targets.poisson, "elastic", &setup.elastic},
+        {"sigma_t", &setup.targets.tensile_strength, "brazilian", &setup.brazilian},
+        {"sigma_f", &setup.targets.flexural_strength, "flexural", &setup.flexural},
+        {"K_Ic", &setup.targets.toughness, "senb", &setup.senb},
+    };
     const std::string key = t.substr(0, eq);
-    const bool needs_elastic = key == "E" || key == "nu";
-    if (key == "E") setup.targets.young = v;
-    else if (key == "nu") setup.targets.poisson = v;
-    else if (key == "sigma_t") setup.targets.tensile_strength = v;
-    else if (key == "sigma_f") setup.targets.flexural_strength = v;
-    else if (key == "K_Ic") setup.targets.toughness = v;
-    else {
+    const auto target = std::find_if(std::begin(targets), std::end(targets),
+                                     [&](const Target& x) { return key == x.key; });
+    if (target == std::end(targets)) {
       fmt::print(stderr, "cleave calibrate: error: --target '{}': unknown target '{}'; the targets are E "
                          "(Pa), nu, sigma_t (Pa), sigma_f (Pa) and K_Ic (Pa m^0.5)\n", t, key);
       return 2;
     }
-    const char* test = needs_elastic        ? "elastic"
-                       : key == "sigma_t"   ? "brazilian"
-                       : key == "sigma_f"   ? "flexural"
-                                            : "senb";
-    const std::filesystem::path& scenario = needs_elastic        ? setup.elastic
-                                            : key == "sigma_t"   ? setup.brazilian
-                                            : key == "sigma_f"   ? setup.flexural
-                                                                 : setup.senb;
-    if (scenario.empty()) {
+    *target->value = v;
+    if (target->scenario->empty()) {
       fmt::print(stderr, "cleave calibrate: error: --target {}: {} names no {} test scenario\n", key,
-                 options.file.string(), test);
+                 options.file.string(), target->test);
       return 2;
     }
   }

@@ -8,9 +8,9 @@
 //    with the disc widened), squeezed between two platens: milliseconds per step with the
 //    transgranular check after every step (gate open, so every grain is assessed on every
 //    plane: the worst case; GATE sets a real one) and without it, and how many grains
-//    split. A K_IC high enough
-//    that nothing splits times the assessment alone (no pieces, so the neighbour search's
-//    pair list and near-feature caches are never rebuilt for new bodies).
+//    split. A K_IC high enough that nothing splits times the assessment alone (no pieces,
+//    so the neighbour search's pair list and near-feature caches are never rebuilt for new
+//    bodies).
 
 #include <chrono>
 #include <cmath>

@@ -30,14 +30,15 @@ CalibrationFile load_calibration(const std::filesystem::path& file) {
     if (!found) t.fail(*t.find("preset"), "preset", fmt::format("no material '{}' (`cleave materials` lists them)", preset));
     c.preset_file = found->string();
   }
-  for (const char* key : {"elastic", "brazilian", "flexural", "senb"}) {
+  const std::pair<const char*, std::filesystem::path*> scenarios[] = {
+      {"elastic", &c.elastic}, {"brazilian", &c.brazilian}, {"flexural", &c.flexural}, {"senb", &c.senb}};
+  for (const auto& [key, path] : scenarios) {
     if (t.find(key) == nullptr) continue;
     const std::filesystem::path p = folder / t.string(key);
     if (!std::filesystem::is_regular_file(p)) {
       t.fail(*t.find(key), key, fmt::format("no scenario file {}", p.string()));
     }
-    const std::string_view k(key);
-    (k == "elastic" ? c.elastic : k == "brazilian" ? c.brazilian : k == "flexural" ? c.flexural : c.senb) = p;
+    *path = p;
   }
   if (c.elastic.empty() && c.brazilian.empty() && c.senb.empty()) {
     t.fail_table("give the test scenarios to calibrate with: elastic = \"...\", brazilian = \"...\" "

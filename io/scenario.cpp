@@ -142,6 +142,17 @@ struct Unit {
 constexpr Unit kUnits[] = {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}};
 constexpr const Unit* kDefaultUnit = &kUnits[1];
 
+}  // namespace
+
+double length_unit_metres(std::string_view name) {
+  for (const Unit& u : kUnits) {
+    if (u.name == name) return u.metres;
+  }
+  throw std::invalid_argument("length_unit_metres: no length unit '" + std::string(name) + "'");
+}
+
+namespace {
+
 void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
   t.reject_unknown(kScenarioKeys);
   std::string default_name = std::filesystem::path(s.source).stem().string();

@@ -142,6 +142,10 @@ struct StageDef {
 /// The name of an `until` event as written in scenario files.
 const char* to_string(StageDef::Until until);
 
+/// Metres per unit of a scenario's `length_unit` ("m", "mm" or "um"); throws
+/// std::invalid_argument for another name (a loaded Scenario holds only these).
+double length_unit_metres(std::string_view name);
+
 struct Scenario {
   std::string source;            ///< file path (or a name for in-memory text)
   std::string name;              ///< [scenario] name, default: the file stem

@@ -310,8 +310,7 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
                               "a K_Ic target is fitted through the transgranular criterion's crack "
                               "length: the SENB scenario needs a [fracture] table");
     }
-    const double unit = sc.length_unit == "m" ? 1.0 : sc.length_unit == "mm" ? 1e-3 : 1e-6;
-    double a = sc.fracture.params.crack_length / unit;
+    double a = sc.fracture.params.crack_length / io::length_unit_metres(sc.length_unit);
     if (const auto it = setup.start.find("fracture.crack_length"); it != setup.start.end()) a = it->second;
     // The bonds at the strength fit; the springs stay the scenario's: the beam is linear up
     // to the first split, so the load at which the splitting stress is reached does not
