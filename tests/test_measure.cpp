@@ -175,8 +175,8 @@ TEST(QuasiStaticLoading, DensityScaleOfFourDoublesTheStableTimeStepAndQuadruples
 
 TEST(WallGap, PlatensPlacedByGapMeetADiscOfAnySizeAfterTheSameApproach) {
   // sic_brazilian's platens stand `gap` = 0.5 um from the disc's nearest grain surface and
-  // close at 50 mm/s each until both touch: 0.5 um / 50 mm/s = 10 us = 1333.3 steps of
-  // 7.5 ns, so the approach ends on step 1334 whatever the diameter.
+  // close at 50 mm/s each until both touch: 0.5 um / 50 mm/s = 10 us = 2666.7 steps of
+  // 3.75 ns, so the approach ends on step 2667 whatever the diameter.
   const fs::path disc = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_brazilian.toml";
   for (const char* d : {"4", "8", "11"}) {
     sim::SimulationOptions o;
@@ -188,7 +188,7 @@ TEST(WallGap, PlatensPlacedByGapMeetADiscOfAnySizeAfterTheSameApproach) {
     const auto approach = sim->advance_stage();
     ASSERT_TRUE(approach.has_value()) << d;
     EXPECT_EQ(approach->ended_by, "walls_touch") << d;
-    EXPECT_EQ(approach->steps, 1334u) << d;
+    EXPECT_EQ(approach->steps, 2667u) << d;
   }
 }
 
