@@ -280,6 +280,30 @@ TEST(CohesiveMmb, OnceTheCrackRunsTheLoadTendsToEq69sAsThePlaneStrengthens) {
   }
 }
 
+TEST(CohesiveMmb, TheLeversLoadPointTravelsAsFarAsInTheLatticeRuns) {
+  // The lever is rigid: its load point moves down by the mid-span's deflection plus (that
+  // deflection + the end's rise) C / L. The full lattice runs (docs/validation/mmb_*,
+  // archived; their rig drives the load point at 0.075 m/s after a 0.5 ms ramp, and turns
+  // the lever under its own equations) took it this far to Delta = 1.4 mm: the travel that
+  // `cleave validate` now estimates its step count from. A lever that forgot the end's
+  // rise, or took the load point at the end, would be 25-50 % off.
+  struct Run {
+    double beta, time_s, delta_mm, tolerance;
+  };
+  // Last rows of docs/validation/mmb_{20,50,80}/measured.csv (time, Delta).
+  for (const Run& run : {Run{0.2, 0.0358386967, 1.40131431, 0.02}, Run{0.5, 0.0192432052, 1.40346294, 0.02},
+                         Run{0.8, 0.0252478418, 1.40072113, 0.10}}) {
+    BeamTest t = mmb();
+    t.C = mmb_lever_arm(run.beta, t.L);
+    const double travel = 0.075 * (run.time_s - 0.25e-3);
+    const auto curve = cohesive_mmb_curve(t, 70e6, run.delta_mm * 1e-3, {0, 400});
+    ASSERT_FALSE(curve.empty());
+    EXPECT_NEAR(curve.back().delta, run.delta_mm * 1e-3, 1e-9);
+    EXPECT_NEAR(curve.back().load_point / travel, 1.0, run.tolerance) << "beta = " << run.beta;
+    EXPECT_GT(curve.back().load_point, curve.back().delta);  // the load point outruns the end
+  }
+}
+
 TEST(CohesiveMmb, RefusesWhatItCannotSolve) {
   BeamTest t = mmb();
   EXPECT_THROW(cohesive_mmb_curve(enf(), 70e6, 1e-3), std::invalid_argument);

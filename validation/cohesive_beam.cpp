@@ -654,6 +654,7 @@ class MmbSolver {
     h_ = t.h;
     lever_ = (t.C + t.L) / t.C;
     to_load_ = t.L / t.C;
+    c_over_l_ = t.C / t.L;
     const double lII = chi_II(t.E, t.nu) * t.h;
     plane_.kn = 0.5 * cohesive_beam_spring(t);
     plane_.kt = t.E * t.B * t.h / (8.0 * lII * lII);
@@ -757,6 +758,8 @@ class MmbSolver {
 
   [[nodiscard]] CohesiveBeamPoint point() const {
     CohesiveBeamPoint p{u_[0], load_, 0.0, a0_, a0_};
+    const double mid_down = -u_[6 * mid_];  // the upper arm's deflection at mid-span
+    p.load_point = mid_down + (mid_down + u_[0]) * c_over_l_;
     mark_crack(p, quad_, plane_.dc, x_[1] - x_[0]);
     return p;
   }
@@ -846,6 +849,7 @@ class MmbSolver {
   }
 
   double EI_ = 0, EA_ = 0, h_ = 0, a0_ = 0, viscosity_ = 0, load_ = 0, lever_ = 0, to_load_ = 0;
+  double c_over_l_ = 0;
   MixedPlane plane_;
   std::vector<double> x_;
   std::vector<Quad> quad_;

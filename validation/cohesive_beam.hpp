@@ -45,6 +45,9 @@ struct CohesiveBeamPoint {
   double rotation;      ///< how far each arm has turned at the load line, -w'(0) (rad)
   double crack;         ///< where the plane has fully decohered, from the load line (m)
   double process_zone;  ///< the farthest point of the plane that has softened (m)
+  /// MMB: how far the lever's load point has moved down (m), from the lever's kinematics:
+  /// the mid-span deflection plus (mid-span deflection + Delta) C / L. 0 for the others.
+  double load_point = 0.0;
 };
 
 /// The DCB's load-deflection path with a cohesive zone of strength sigma_c (Pa), from 0 to
