@@ -31,7 +31,8 @@ struct Disc {
   std::unique_ptr<FractureBook> book;
 };
 
-inline Disc make_disc(int grains, bool fracture) {
+/// `manifold`: WorldSettings::manifold_tolerance (0: the exact search).
+inline Disc make_disc(int grains, bool fracture, double manifold = 0.0) {
   geometry::SpecimenDef def;
   const double diameter = 15e-3 * std::sqrt(grains / 187.0);
   def.outline = geometry::Outline::disc(diameter, 5e-3);
@@ -50,6 +51,7 @@ inline Disc make_disc(int grains, bool fracture) {
   ws.particle_wall.ks = 2.0;
   ws.particle_wall.c_res = 10.0;
   ws.local_damping = 0.7;
+  ws.manifold_tolerance = manifold;
   Disc d{geometry::build_specimen(def), World(ws), nullptr};
   const RigidShape shape = make_rigid_shape(d.specimen.prism, kDilation);
   const auto sh = d.world.add_shape(shape);

@@ -56,6 +56,7 @@ namespace {
 constexpr double kR = 1e-3, kT = 1e-3, kDilation = 0.05e-3, kRho = 3100.0;
 constexpr int kTile = 1000;  // bodies poured at once for the poured pile
 double g_feature_skin = 0.5;  // WorldSettings::feature_skin of every case (--full-search: 0)
+double g_manifold = 0.0;       // WorldSettings::manifold_tolerance (--manifold TOL)
 std::string g_pile_dir;        // --pile DIR, or empty
 int g_steps = 0;              // timed steps per case (0: 2e6/N, clamped to 3..200)
 
@@ -75,6 +76,7 @@ physics::WorldSettings bench_settings(const physics::RigidShape& shape) {
   ws.particle_wall = ws.particle_particle;
   ws.local_damping = 0.7;  // the poured pile's settling
   ws.feature_skin = g_feature_skin;
+  ws.manifold_tolerance = g_manifold;
   // The stable step as cleave's scenario check computes it (io/world_setup.cpp): 0.2 of
   // 2 sqrt(m/k) for translation and for rotation about the weakest axis, with the stiffest
   // spring C_res K_n acting at the bounding radius.
@@ -350,8 +352,8 @@ std::string as_bytes(const T& value) {
 
 int usage(const char* why) {
   std::fprintf(stderr,
-               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--pile DIR] [--steps K] "
-               "[poured|packed|falling ...] [N ...]\n",
+               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--manifold TOL] [--pile DIR] "
+               "[--steps K] [poured|packed|falling ...] [N ...]\n",
                why);
   return 2;
 }
@@ -363,9 +365,14 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--full-search") {
       g_feature_skin = 0.0;
-    } else if (arg == "--pile" || arg == "--steps") {
+    } else if (arg == "--pile" || arg == "--steps" || arg == "--manifold") {
       if (i + 1 == argc) return usage(("'" + arg + "' needs a value").c_str());
-      if (arg == "--pile") {
+      if (arg == "--manifold") {
+        char* end = nullptr;
+        g_manifold = std::strtod(argv[++i], &end);
+        if (*end != '\0' || !(g_manifold >= 0.0 && g_manifold < 1.0))
+          return usage("--manifold needs a tolerance in [0, 1) (a fraction of the pair's dilation radii)");
+      } else if (arg == "--pile") {
         g_pile_dir = argv[++i];
       } else if ((g_steps = std::atoi(argv[++i])) <= 0) {
         return usage("--steps needs a positive number of steps");
@@ -381,6 +388,8 @@ int main(int argc, char** argv) {
   if (sizes.empty()) sizes = {168, 1000, 10000, 100000};
   if (kinds.empty()) kinds = {Case::poured, Case::packed, Case::falling};
   std::printf("near-feature cache: %s\n", g_feature_skin > 0 ? "on (feature_skin 0.5)" : "off (--full-search)");
+  if (g_manifold > 0)
+    std::printf("persistent contact manifolds: on (manifold_tolerance %g: an approximation)\n", g_manifold);
   std::printf("%-8s %8s %12s %14s %14s %12s %16s %10s\n", "case", "bodies", "us/step",
               "ns/contact", "touching pairs", "contacts/body", "us/pair/step", "peak MiB");
   // The poured piles: one per size below a tile, one tile for the rest.

@@ -1,6 +1,7 @@
 // Transgranular fracture costs (chapter 3):
-//   ./build/bench/cleave_bench_fracture [GRAINS] [K_IC] [GATE]
-//   (defaults 10000, 0.5 Pa m^0.5, gate open; GATE: eq. 3.22's sigma_f_hyd in Pa)
+//   ./build/bench/cleave_bench_fracture [GRAINS] [K_IC] [GATE] [MANIFOLD]
+//   (defaults 10000, 0.5 Pa m^0.5, gate open; GATE: eq. 3.22's sigma_f_hyd in Pa; MANIFOLD:
+//   WorldSettings::manifold_tolerance, default 0, the exact search)
 // 1. One split inside a running world: the first cut of a (shape, plane) pair (exact CGAL
 //    split + mass properties of the pieces) and a repeated one (shared pieces), each with
 //    World::split_body, in microseconds.
@@ -64,9 +65,11 @@ int main(int argc, char** argv) {
   p.sigma_f_hyd = argc > 3 ? std::atof(argv[3]) : -1e30;
   p.crack_length = 0.1e-3;
   p.k_ic = argc > 2 ? std::atof(argv[2]) : 0.5;  // Pa sqrt(m): 0.5 fragments the loaded disc
+  const double manifold = argc > 4 ? std::atof(argv[4]) : 0.0;
+  if (manifold > 0.0) std::printf("persistent contact manifolds: tolerance %g (an approximation)\n", manifold);
   constexpr int kWarm = 20, kSteps = 100;
   for (const bool fracture : {false, true}) {
-    Disc d = make_disc(grains, fracture);
+    Disc d = make_disc(grains, fracture, manifold);
     // Load first, so the disc is stressed when timing starts.
     for (int i = 0; i < 2000; ++i) d.world.step();
     std::size_t splits = 0;

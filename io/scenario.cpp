@@ -69,7 +69,8 @@
 ///   frames (integer >= 0, default 20), settle_ratio ([0, 1], default 0),
 ///   dt_safety ((0, 1], default 0.2), search ("bounding_box" | "basic"), threads (>= 0),
 ///   local_damping ([0, 1), default 0), density_scale (>= 1, default 1: masses and inertias
-///   times this). With [[stage]] tables, duration is left out.
+///   times this), manifold_tolerance ([0, 1), default 0: persistent contact manifolds, an
+///   approximation; see physics::WorldSettings). With [[stage]] tables, duration is left out.
 ///   [[wall]]                   # any number: name, kind ("plane" | "platen" | "cylinder"),
 ///                              # point, normal, velocity (length unit/s), load_axis;
 ///                              # platen: u, size; cylinder: length, radius (length unit)
@@ -532,7 +533,7 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
 
 constexpr std::string_view kDynamicsKeys[] = {
     "dt",        "duration", "gravity", "lift",         "frames",       "settle_ratio",
-    "dt_safety", "search",   "threads", "local_damping", "density_scale"};
+    "dt_safety", "search",   "threads", "local_damping", "density_scale", "manifold_tolerance"};
 
 void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool staged) {
   t.reject_unknown(kDynamicsKeys);
@@ -553,6 +554,8 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
   d.local_damping =
       t.number("local_damping", {.lo = 0.0, .hi = 1.0, .hi_open = true}, 0.0).value;
   d.density_scale = t.number("density_scale", {.lo = 1.0}, 1.0).value;
+  d.manifold_tolerance =
+      t.number("manifold_tolerance", {.lo = 0.0, .hi = 1.0, .hi_open = true}, 0.0).value;
   if (t.find("gravity") != nullptr) {
     const auto g = t.numbers("gravity", 3, Range{});
     d.gravity = {g[0], g[1], g[2]};

@@ -97,6 +97,11 @@ struct DynamicsDef {
   /// stays quasi-static only while the kinetic energy stays small against the work done,
   /// which `cleave measure` reports; 1: none.
   double density_scale = 1.0;
+  /// Persistent contact manifolds (physics::WorldSettings::manifold_tolerance): 0, the
+  /// default, searches every touching pair every step (exact); above 0 a touching pair's
+  /// contacts are carried with its bodies while their relative motion stays under half this
+  /// fraction of the pair's dilation radii (faster, approximate).
+  double manifold_tolerance = 0.0;
 };
 
 /// [bond]: the bonded-particle law of sec. 2.3.3 (eqs 2.9, 2.14), SI units.

@@ -146,6 +146,8 @@ std::string scenario_to_toml(const Scenario& s) {
         dyn.search == physics::SearchMethod::basic ? "basic" : "bounding_box", dyn.threads,
         num(dyn.local_damping));
     if (dyn.density_scale != 1.0) out += fmt::format("density_scale = {}\n", num(dyn.density_scale));
+    if (dyn.manifold_tolerance != 0.0)
+      out += fmt::format("manifold_tolerance = {}\n", num(dyn.manifold_tolerance));
   }
 
   for (const physics::Wall& w : s.walls) {
@@ -314,6 +316,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("dynamics.threads", da.threads, db.threads);
   d.same("dynamics.local_damping", da.local_damping, db.local_damping);
   d.same("dynamics.density_scale", da.density_scale, db.density_scale);
+  d.same("dynamics.manifold_tolerance", da.manifold_tolerance, db.manifold_tolerance);
 
   d.same("bond", a.bond.enabled, b.bond.enabled);
   d.same("bond.kbn", a.bond.params.kbn, b.bond.params.kbn);

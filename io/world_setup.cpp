@@ -104,6 +104,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.search = dyn.search;
   ws.threads = dyn.threads;
   ws.local_damping = dyn.local_damping;
+  ws.manifold_tolerance = dyn.manifold_tolerance;
   physics::World world(ws);
   // World shape k is specimen shape k (sim/dynamics.cpp registers them so with the fracture book).
   std::vector<std::uint32_t> ids;

@@ -754,4 +754,21 @@ TEST(ScenarioErrors, RampRateAndDensityScale) {
   EXPECT_SCENARIO_ERROR(dense, line_of_last(dense, "density_scale"), "dynamics.density_scale", ">= 1");
 }
 
+TEST(Scenario, ManifoldToleranceReadsBackAndIsRefusedOutsideItsRange) {
+  std::string text = kDropTest;
+  text.replace(text.find("duration = 0.5\n"), 15, "duration = 0.5\nmanifold_tolerance = 0.02\n");
+  const Scenario s = parse_scenario(text, "manifold.toml");
+  EXPECT_EQ(s.dynamics.manifold_tolerance, 0.02);
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  EXPECT_EQ(again.dynamics.manifold_tolerance, 0.02);
+  EXPECT_EQ(parse_scenario(kDropTest, "plain.toml").dynamics.manifold_tolerance, 0.0);  // exact by default
+  for (const char* bad : {"-0.1", "1"}) {
+    std::string t = kDropTest;
+    t.replace(t.find("duration = 0.5\n"), 15, std::string("duration = 0.5\nmanifold_tolerance = ") + bad + "\n");
+    EXPECT_SCENARIO_ERROR(t, line_of_last(t, "manifold_tolerance"), "dynamics.manifold_tolerance",
+                          std::string("must be in [0, 1), found ") + bad);
+  }
+}
+
 }  // namespace cleave::io

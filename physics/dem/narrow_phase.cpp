@@ -5,6 +5,7 @@
 #include <cmath>
 #include <bit>
 #include <limits>
+#include <tuple>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -12,6 +13,11 @@
 namespace cleave::physics {
 
 void PosedShape::update(const RigidShape& shape, const BodyState& state) {
+  update_frame(shape, state);
+  update_geometry();
+}
+
+void PosedShape::update_frame(const RigidShape& shape, const BodyState& state) {
   if (primitives != nullptr) {
     travel += (state.x - centre).norm();
     turn += std::sqrt(std::min((state.q.coeffs() - orientation.coeffs()).squaredNorm(),
@@ -21,12 +27,16 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
   centre = state.x;
   orientation = state.q;
   radius = shape.primitives.dilation_radius;
-  const Eigen::Matrix3d R = state.q.toRotationMatrix();
-  const auto& p = shape.primitives;
+  rotation = state.q.toRotationMatrix();
+}
+
+void PosedShape::update_geometry() {
+  const Eigen::Matrix3d& R = rotation;
+  const auto& p = *primitives;
   vertices.resize(p.vertices.size());
-  lo = hi = state.x;
+  lo = hi = centre;
   for (std::size_t i = 0; i < p.vertices.size(); ++i) {
-    vertices[i] = state.x + R * p.vertices[i];
+    vertices[i] = centre + R * p.vertices[i];
     lo = lo.cwiseMin(vertices[i]);
     hi = hi.cwiseMax(vertices[i]);
   }
@@ -38,7 +48,6 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
     for (int k = 0; k < 3; ++k) planes[k * stride + f] = n[k];
     planes[3 * stride + f] = n.dot(vertices[p.faces[f].vertices[0]]);
   }
-  rotation = R;
 }
 
 namespace {
@@ -598,6 +607,36 @@ bool within_buffers(const PosedShape& a, const PosedShape& b) {
 
 /// The broad early outs: boxes, then a separating face plane from either side. When one
 /// holds for `reach`, no feature of A is within `reach` of B.
+/// How far apart A and B certainly are beyond `reach`, by early_out's tests: the largest
+/// margin by which the boxes, or one body's vertices beyond the other's face that faces it,
+/// clear it; negative when no test separates them (early_out is then false).
+double separation(const PosedShape& a, const PosedShape& b, double reach) {
+  double gap = -1.0;
+  for (int k = 0; k < 3; ++k) {
+    const double g = std::max(a.lo[k] - reach - b.hi[k], b.lo[k] - reach - a.hi[k]);
+    if (g > 0.0) gap = std::max(gap, g);
+  }
+  if (gap > 0.0) return gap;
+  for (const auto& [s, other] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
+    const Eigen::Vector3d towards = other->centre - s->centre;
+    std::size_t best = 0;
+    double best_dot = -std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < s->faces; ++f) {
+      const double d = s->face_normal(f).dot(towards);
+      if (d > best_dot) {
+        best_dot = d;
+        best = f;
+      }
+    }
+    const Eigen::Vector3d n = s->face_normal(best);
+    const double offset = s->face_offset(best) + reach;
+    double least = std::numeric_limits<double>::infinity();
+    for (const auto& v : other->vertices) least = std::min(least, n.dot(v) - offset);
+    if (least >= 0.0) gap = std::max(gap, least);
+  }
+  return gap;
+}
+
 bool early_out(const PosedShape& a, const PosedShape& b, double reach) {
   // Boxes first: far cheaper than the face tests, and enough for most pairs of elongated
   // bodies whose bounding spheres overlap. Most pairs found by the bounding-sphere search
@@ -617,6 +656,7 @@ FeatureSet every_feature(const PosedShape& a, const PosedShape& b) {
 void start_near_features(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near) {
   near.travel = a.travel + b.travel;
   near.turn = a.turn + b.turn;
+  near.gap = 0.0;  // a gap is found within one cache's time (its lever bounds the motion)
   near.lever = a.primitives->bounding_radius + b.primitives->bounding_radius + (b.centre - a.centre).norm() + skin;
 }
 
@@ -702,13 +742,27 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
                          std::vector<FeatureContact>& out) {
   const bool hold = near_features_hold(a, b, near);
   if (hold && near.none) return true;  // the commonest case, on the fewest cache lines
+  if (hold && near.gap > 0.0 &&
+      (a.travel + b.travel - near.gap_travel) + 2.0 * near.lever * (a.turn + b.turn - near.gap_turn) <
+          0.5 * near.gap)
+    return true;  // apart by a gap found since the search, and still
   if (!within_buffers(a, b)) return false;
   const double reach = a.radius + b.radius;
   PlaneDistances a_to_b, b_to_a;
   if (hold) {
     // The early outs rule out only pairs that the search would find apart; a pair that
     // touched at the last search most likely still does, and goes straight to the search.
-    if (!near.touching && early_out(a, b, reach)) return true;
+    if (!near.touching) {
+      // Apart by these tests: and certainly so while the motion stays under half the gap
+      // they leave (near_features_apart), which saves the geometry and the tests.
+      const double gap = separation(a, b, reach);
+      if (gap >= 0.0) {
+        near.gap = gap;
+        near.gap_travel = a.travel + b.travel;
+        near.gap_turn = a.turn + b.turn;
+        return true;
+      }
+    }
     plane_distances(a, b, near.rows_a, reach, a_to_b);
     plane_distances(b, a, near.rows_b, reach, b_to_a);
     const FeatureSet set{near.vertices_a, near.vertices_b, near.edges_a, near.edges_b,
@@ -735,6 +789,70 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   if (!early_out(a, b, reach)) contacts_over(a, b, 0.0, all, a_to_b, b_to_a, out);
   near.touching = out.size() > before;
   return false;
+}
+
+void capture_manifold(const PosedShape& a, const PosedShape& b, double margin, ContactManifold& m,
+                      std::vector<FeatureContact>& scratch) {
+  scratch.clear();
+  polyhedron_contacts(a, b, 0.0, scratch);
+  const Eigen::Matrix3d at = a.rotation.transpose(), bt = b.rotation.transpose();
+  m.entries.clear();
+  for (const FeatureContact& fc : scratch) {
+    ContactManifold::Entry e;
+    e.feature_a = fc.feature_a;
+    e.feature_b = fc.feature_b;
+    e.point_a = at * (fc.contact.point - a.centre);
+    e.point_b = bt * (fc.contact.point - b.centre);
+    e.normal_a = at * fc.contact.normal;
+    e.penetration = fc.contact.penetration;
+    m.entries.push_back(e);
+  }
+  // In feature order, as the world lists a pair's contacts: carried ones need no sort.
+  std::sort(m.entries.begin(), m.entries.end(), [](const auto& x, const auto& y) {
+    return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+  });
+  m.offset = at * (b.centre - a.centre);
+  m.turn = a.orientation.conjugate() * b.orientation;
+  m.lever = b.primitives->bounding_radius;  // the dilation included
+  m.margin = margin;
+}
+
+bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManifold& m) {
+  if (!(m.margin > 0.0)) return false;
+  const Eigen::Vector3d offset = a.rotation.transpose() * (b.centre - a.centre);
+  const Eigen::Quaterniond turn = a.orientation.conjugate() * b.orientation;
+  // A unit vector of B turned by theta relative to A moves 2 sin(theta/2) <= 2 |dq|.
+  const double dq = std::sqrt(std::min((turn.coeffs() - m.turn.coeffs()).squaredNorm(),
+                                       (turn.coeffs() + m.turn.coeffs()).squaredNorm()));
+  const double moved = (offset - m.offset).norm() + 2.0 * m.lever * dq;
+  return moved < 0.5 * m.margin;
+}
+
+void carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
+                      std::vector<FeatureContact>& out) {
+  for (const ContactManifold::Entry& e : m.entries) {
+    const Eigen::Vector3d pa = a.centre + a.rotation * e.point_a;
+    const Eigen::Vector3d pb = b.centre + b.rotation * e.point_b;
+    const Eigen::Vector3d n = a.rotation * e.normal_a;
+    const double penetration = e.penetration - n.dot(pb - pa);
+    if (penetration > 0.0) out.push_back({e.feature_a, e.feature_b, {0.5 * (pa + pb), n, penetration}});
+  }
+}
+
+bool manifold_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
+                       std::vector<FeatureContact>& out) {
+  if (!manifold_holds(a, b, m)) return false;
+  carried_contacts(a, b, m, out);
+  return true;
+}
+
+bool near_features_apart(const PosedShape& a, const PosedShape& b, const NearFeatures& near) {
+  if (!near_features_hold(a, b, near)) return false;
+  if (near.none) return true;
+  // Found apart by a gap since the search (the cache's lever bounds the bodies' points).
+  const double moved =
+      (a.travel + b.travel - near.gap_travel) + 2.0 * near.lever * (a.turn + b.turn - near.gap_turn);
+  return near.gap > 0.0 && moved < 0.5 * near.gap;
 }
 
 }  // namespace cleave::physics

@@ -64,7 +64,13 @@ struct PosedShape {
   Eigen::Vector3d lo = Eigen::Vector3d::Zero();  ///< world box of the vertices (undilated)
   Eigen::Vector3d hi = Eigen::Vector3d::Zero();
 
+  /// Both of the below.
   void update(const RigidShape& shape, const BodyState& state);
+  /// The frame alone: centre, orientation, rotation, radius and the motion bounds (what the
+  /// motion checks of the near-feature cache and of a contact manifold read).
+  void update_frame(const RigidShape& shape, const BodyState& state);
+  /// The vertices, face planes and box from the frame (what a search reads).
+  void update_geometry();
 };
 
 /// Feature codes: kind in the top bits, index below.
@@ -99,6 +105,9 @@ struct NearFeatures {
   double lever = 0.0;
   double skin = 0.0;   ///< 0: nothing cached
   bool none = false;   ///< nothing below may come within reach (the pair was apart by the skin)
+  /// A later check found the pair apart by this gap beyond reach, at these motion bounds: it
+  /// stays apart while the motion since stays under half of it (0: none found).
+  double gap = 0.0, gap_travel = 0.0, gap_turn = 0.0;
   bool touching = false;  ///< the last search found contacts (its early outs are then skipped)
   std::uint64_t vertices_a = 0, vertices_b = 0;  ///< vertices that may come within reach
   std::uint64_t rows_a = 0, rows_b = 0;          ///< vertices whose plane distances are read
@@ -114,5 +123,54 @@ struct NearFeatures {
 /// Returns true when the cached features were searched.
 bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, NearFeatures& near,
                          std::vector<FeatureContact>& out);
+
+/// A pair's persistent contact manifold (WorldSettings::manifold_tolerance > 0; an
+/// approximation of the search above, off by default). A full search with a margin finds
+/// the contacts with penetration above -margin; each is held as the two material points
+/// that meet there (one in each body's principal frame), the normal in A's frame and the
+/// penetration. While B's pose relative to A stays within half the margin of its pose at
+/// that search (no point of B moved by more, relative to A), the contacts are those points
+/// carried with their bodies: the penetration at the search minus the normal component of
+/// the points' separation since, at the point midway between them. That is exact to first
+/// order in the relative motion for a vertex against a face, an edge against an edge or
+/// two faces (the distance between two planes is linear in position); its error is of the
+/// order of the motion times the turn, and a contact left out (penetration at most -margin
+/// at the search) cannot have come within reach. Tests bound the force error against the
+/// full search (ContactManifold tests).
+struct ContactManifold {
+  struct Entry {
+    std::uint32_t feature_a = 0, feature_b = 0;
+    Eigen::Vector3d point_a = Eigen::Vector3d::Zero();   ///< A's material point, A's frame
+    Eigen::Vector3d point_b = Eigen::Vector3d::Zero();   ///< B's material point, B's frame
+    Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< from A towards B, A's frame
+    double penetration = 0.0;                             ///< at the search
+  };
+  std::vector<Entry> entries;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();                ///< B's centre in A's frame
+  Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();        ///< B's frame in A's frame
+  double lever = 0.0;   ///< bounds the distance of B's points from its centre
+  double margin = 0.0;  ///< 0: nothing held
+};
+
+/// Fills `m` from a full search of A and B with `margin` (m); `scratch` is a work list.
+void capture_manifold(const PosedShape& a, const PosedShape& b, double margin, ContactManifold& m,
+                      std::vector<FeatureContact>& scratch);
+
+/// While B's motion relative to A since `m` was captured stays under half its margin,
+/// appends the held contacts that overlap now (in the order held) and returns true;
+/// otherwise appends nothing and returns false.
+bool manifold_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
+                       std::vector<FeatureContact>& out);
+
+/// manifold_contacts in two halves: whether the manifold still holds (from the frames
+/// alone), and the held contacts that overlap now, appended (it must hold).
+bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManifold& m);
+void carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
+                      std::vector<FeatureContact>& out);
+
+/// Whether the near-feature cache says the pair is apart and will stay so (read from the
+/// frames alone): polyhedron_contacts through `near` would then find nothing, without
+/// reading vertices or planes.
+bool near_features_apart(const PosedShape& a, const PosedShape& b, const NearFeatures& near);
 
 }  // namespace cleave::physics

@@ -1,6 +1,7 @@
 #include "physics/dem/world.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <tuple>
 #include <stdexcept>
@@ -304,13 +305,20 @@ void World::compute_forces() {
   // them): the bodies that have are counted here, with the poses.
   const bool searched = pairs_current_ && searched_at_.size() == live_slots_.size();
   const double limit = 0.25 * skin_ * skin_;
+  const bool lazy = settings_.manifold_tolerance > 0.0;
   std::size_t moved = 0;
 #pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin) reduction(+ : moved)
   for (std::ptrdiff_t k = 0; k < live; ++k) {
     const std::uint32_t i = live_slots_[static_cast<std::size_t>(k)];
     states_[i].f = infos_[i].mass * settings_.gravity;
     states_[i].tau.setZero();
-    posed_[i].update(shapes_[infos_[i].shape], states_[i]);
+    // With manifolds, only the bodies a search or a wall reads get their vertices and
+    // planes (body_contacts); the frame is all the carried contacts need.
+    if (lazy) {
+      posed_[i].update_frame(shapes_[infos_[i].shape], states_[i]);
+    } else {
+      posed_[i].update(shapes_[infos_[i].shape], states_[i]);
+    }
     if (searched) moved += !((states_[i].x - searched_at_[static_cast<std::size_t>(k)]).squaredNorm() < limit);
   }
   for (auto& w : walls_) w.reaction.setZero();
@@ -334,7 +342,26 @@ void World::body_contacts(int nt, bool stale) {
       smallest = std::min(smallest, r);
     }
     skin_ = live_slots_.empty() ? 0.0 : settings_.search_skin * smallest;
+    // The manifolds are the pairs' and follow them to the new list (both are sorted) when no
+    // body came or went; otherwise they are searched afresh.
+    std::vector<BodyPair> old_pairs;
+    std::vector<ContactManifold> old_manifolds;
+    if (settings_.manifold_tolerance > 0.0 && manifold_slots_ == live_slots_) {
+      old_pairs = pairs_;
+      old_manifolds = std::move(manifolds_);
+    }
     search_.find_pairs(spheres_, skin_, pairs_);
+    manifolds_.clear();
+    if (settings_.manifold_tolerance > 0.0) {
+      manifolds_.resize(pairs_.size());
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < pairs_.size() && j < old_pairs.size(); ++i) {
+        while (j < old_pairs.size() && old_pairs[j] < pairs_[i]) ++j;
+        if (j < old_pairs.size() && old_pairs[j] == pairs_[i]) manifolds_[i] = std::move(old_manifolds[j]);
+      }
+      manifold_slots_ = live_slots_;
+    }
+    held_.clear();  // made again from the manifolds below
     near_.clear();
     searched_at_.clear();
     for (std::uint32_t slot : live_slots_) searched_at_.push_back(states_[slot].x);
@@ -354,9 +381,16 @@ void World::body_contacts(int nt, bool stale) {
   // them gives what the full search would, bit for bit, and skips what cannot touch.
   const bool cached = settings_.feature_skin > 0.0;
   if (cached) near_.resize(n);
+  const bool manifolds = settings_.manifold_tolerance > 0.0;
+  if (manifolds && manifolds_.size() != n) manifolds_.assign(n, ContactManifold{});
+  if (manifolds && held_.size() != n) {
+    held_.resize(n);
+    for (std::size_t p = 0; p < n; ++p) held_[p] = manifolds_[p].margin > 0.0;
+  }
+  if (manifolds) plan_pairs(nt);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    std::vector<FeatureContact> features;
+    std::vector<FeatureContact> features, scratch;
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
       auto& out = chunk_pending_[chunk];
@@ -365,16 +399,34 @@ void World::body_contacts(int nt, bool stale) {
       for (std::size_t p = begin; p < end; ++p) {
         const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
         features.clear();
-        if (cached) {
-          const double skin = settings_.feature_skin * (posed_[a].radius + posed_[b].radius);
-          polyhedron_contacts(posed_[a], posed_[b], skin, near_[p], features);
+        const double radii = posed_[a].radius + posed_[b].radius;
+        if (manifolds && plan_[p] == kCarried) {
+          carried_contacts(posed_[a], posed_[b], manifolds_[p], features);  // in feature order
+        } else if (manifolds && plan_[p] == kApart) {
+          // the near features say nothing can touch: what the search would find
         } else {
-          polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+          if (cached) {
+            polyhedron_contacts(posed_[a], posed_[b], settings_.feature_skin * radii, near_[p], features);
+          } else {
+            polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+          }
+          // A pair that touches keeps its contacts from here on; one that does not is left to
+          // the search (apart, it costs next to nothing).
+          if (manifolds) {
+            const bool touching = std::any_of(features.begin(), features.end(),
+                                              [](const FeatureContact& f) { return f.contact.penetration > 0.0; });
+            if (!touching && held_[p]) manifolds_[p].margin = 0.0;  // held_ follows it (restarts)
+            held_[p] = touching;
+            if (touching)
+              capture_manifold(posed_[a], posed_[b], settings_.manifold_tolerance * radii, manifolds_[p],
+                               scratch);
+          }
         }
         // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
-        std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
-          return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
-        });
+        if (!manifolds || plan_[p] == kSearch)
+          std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
+            return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+          });
         for (const auto& fc : features) {
           if (fc.contact.penetration > 0.0) {
             out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
@@ -382,6 +434,51 @@ void World::body_contacts(int nt, bool stale) {
         }
       }
     }
+  }
+}
+
+namespace {
+/// Broad test of a body (centre, bounding radius) against a wall's surface (planes) or axis
+/// (cylinders): false when no point of it can touch.
+bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double reach) {
+  if (wall.kind != Wall::Kind::cylinder) return !(wall.normal.dot(centre - wall.origin) > reach);
+  const Eigen::Vector3d rel = centre - wall.origin;
+  const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
+  return !((rel - s * wall.normal).norm() > reach + wall.radius);
+}
+}  // namespace
+
+void World::plan_pairs(int nt) {
+  // Which pairs carry their manifold's contacts, which the near features hold apart, and
+  // which are searched; a body that a search or a wall will read gets its vertices and
+  // planes, the others keep their frame alone (PosedShape::update_frame).
+  const std::size_t n = pairs_.size();
+  plan_.resize(n);
+  need_geometry_.assign(states_.size(), 0);
+  const bool cached = settings_.feature_skin > 0.0;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::size_t p = 0; p < n; ++p) {
+    const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
+    if (held_[p] && manifold_holds(posed_[a], posed_[b], manifolds_[p])) {
+      plan_[p] = kCarried;
+    } else if (cached && !held_[p] && near_features_apart(posed_[a], posed_[b], near_[p])) {
+      plan_[p] = kApart;
+    } else {
+      plan_[p] = kSearch;
+      std::atomic_ref<unsigned char>(need_geometry_[a]).store(1, std::memory_order_relaxed);
+      std::atomic_ref<unsigned char>(need_geometry_[b]).store(1, std::memory_order_relaxed);
+    }
+  }
+  const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
+#pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin)
+  for (std::ptrdiff_t k = 0; k < live; ++k) {
+    const std::uint32_t slot = live_slots_[static_cast<std::size_t>(k)];
+    bool need = need_geometry_[slot] != 0;
+    for (const Wall& wall : walls_) {
+      if (need) break;
+      need = wall_within_reach(wall, posed_[slot].centre, shapes_[infos_[slot].shape].bounding_radius());
+    }
+    if (need) posed_[slot].update_geometry();
   }
 }
 
@@ -403,15 +500,7 @@ void World::wall_contacts(int nt) {
       for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t slot = live_slots_[k];
         const PosedShape& p = posed_[slot];
-        const double reach = shapes_[infos_[slot].shape].bounding_radius();
-        // Broad test against the wall's surface (planes) or axis (cylinders).
-        if (wall.kind != Wall::Kind::cylinder) {
-          if (wall.normal.dot(p.centre - wall.origin) > reach) continue;
-        } else {
-          const Eigen::Vector3d rel = p.centre - wall.origin;
-          const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
-          if ((rel - s * wall.normal).norm() > reach + wall.radius) continue;
-        }
+        if (!wall_within_reach(wall, p.centre, shapes_[infos_[slot].shape].bounding_radius())) continue;
         for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
           if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
             out.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
@@ -673,6 +762,7 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
   if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
   if (!forces_current_) compute_forces();  // posed shapes and live slots of this state
+  for (std::uint32_t slot : live_slots_) posed_[slot].update_geometry();  // a lazy pose may have skipped some
   std::vector<BoundingSphere> spheres;
   for (std::uint32_t slot : live_slots_) {
     spheres.push_back({states_[slot].x, shapes_[infos_[slot].shape].bounding_radius()});

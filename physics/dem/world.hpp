@@ -48,6 +48,14 @@ struct WorldSettings {
   /// between them changed) stays under half of it (0: every pair searched in full every
   /// step). It changes speed only: results are bit-identical.
   double feature_skin = 0.5;
+  /// Persistent contact manifolds (narrow_phase.hpp, ContactManifold), as a fraction of the
+  /// sum of a pair's dilation radii: a touching pair's contacts are found with this margin
+  /// and then carried with the two bodies, without a search, while B's motion relative to A
+  /// stays under half of it. 0 (the default): every pair is searched every step (exact,
+  /// bit-identical for any feature_skin). Above 0 the contacts are an approximation whose
+  /// error grows with it (its tests bound the force error), and a checkpoint does not hold
+  /// the manifolds: a restart searches afresh, so it is not bit for bit the run it continues.
+  double manifold_tolerance = 0.0;
 };
 
 /// A bond between two bodies (sec. 2.3.3): eqs 2.9-2.16 act at the bond point in parallel
@@ -281,6 +289,13 @@ class World {
   std::vector<BoundingSphere> spheres_;
   std::vector<BodyPair> pairs_;
   std::vector<NearFeatures> near_;  // by pair; cleared with each new pair list and on load
+  std::vector<ContactManifold> manifolds_;  // by pair (manifold_tolerance > 0); follow the pairs
+  std::vector<std::uint32_t> manifold_slots_;  // live slots when the pairs were listed
+  std::vector<unsigned char> held_;             // by pair: its manifold holds contacts
+  enum : unsigned char { kCarried, kApart, kSearch };
+  std::vector<unsigned char> plan_;           // by pair, with manifolds: what body_contacts does
+  std::vector<unsigned char> need_geometry_;  // by slot: a search or a wall reads its vertices
+  void plan_pairs(int nt);
   std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
   double skin_ = 0.0;                         // margin of the last search
   bool pairs_current_ = false;

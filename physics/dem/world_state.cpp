@@ -12,7 +12,7 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 1;
+constexpr std::uint32_t kWorldLayout = 2;  // 2: the persistent contact manifolds
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -194,6 +194,25 @@ void World::save_state(StateWriter& w) const {
     w.put(i);
     w.put(j);
   }
+  // The pairs' contact manifolds (manifold_tolerance > 0), so that a restart carries the
+  // same contacts as the run it continues.
+  w.put(manifold_slots_);
+  w.count(manifolds_.size());
+  for (const ContactManifold& m : manifolds_) {
+    w.put(m.margin);
+    w.put(m.lever);
+    w.put(m.offset);
+    w.put(m.turn);
+    w.count(m.entries.size());
+    for (const ContactManifold::Entry& e : m.entries) {
+      w.put(e.feature_a);
+      w.put(e.feature_b);
+      w.put(e.point_a);
+      w.put(e.point_b);
+      w.put(e.normal_a);
+      w.put(e.penetration);
+    }
+  }
 
   w.count(history_.size());
   for (const HistoryEntry& e : history_) {
@@ -272,6 +291,7 @@ void World::load_state(StateReader& r) {
   WorldSettings ws;
   ws.threads = settings_.threads;
   ws.feature_skin = settings_.feature_skin;
+  ws.manifold_tolerance = settings_.manifold_tolerance;  // a choice of this run, as the skin
   ws.gravity = r.vec3();
   ws.dt = r.get<double>();
   ws.particle_particle = get_params(r);
@@ -335,6 +355,24 @@ void World::load_state(StateReader& r) {
     i = r.get<std::uint32_t>();
     j = r.get<std::uint32_t>();
     if (i >= searched_at.size() || j >= searched_at.size()) r.fail("a searched pair is out of range");
+  }
+  std::vector<std::uint32_t> manifold_slots = r.numbers<std::uint32_t>();
+  std::vector<ContactManifold> manifolds(r.count(8));
+  if (!manifolds.empty() && manifolds.size() != pairs.size()) r.fail("the contact manifolds are not one per pair");
+  for (ContactManifold& m : manifolds) {
+    m.margin = r.get<double>();
+    m.lever = r.get<double>();
+    m.offset = r.vec3();
+    m.turn = r.quat();
+    m.entries.resize(r.count(8));
+    for (ContactManifold::Entry& e : m.entries) {
+      e.feature_a = r.get<std::uint32_t>();
+      e.feature_b = r.get<std::uint32_t>();
+      e.point_a = r.vec3();
+      e.point_b = r.vec3();
+      e.normal_a = r.vec3();
+      e.penetration = r.get<double>();
+    }
   }
 
   std::vector<HistoryEntry> history(r.count(16));
@@ -422,6 +460,9 @@ void World::load_state(StateReader& r) {
   searched_at_ = std::move(searched_at);
   pairs_ = std::move(pairs);
   near_.clear();
+  manifolds_ = std::move(manifolds);
+  manifold_slots_ = std::move(manifold_slots);
+  held_.clear();  // made again from the manifolds
   history_ = std::move(history);
   next_history_.clear();
   records_ = std::move(records);
