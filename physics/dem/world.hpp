@@ -297,6 +297,7 @@ class World {
   std::vector<unsigned char> need_geometry_;  // by slot: a search or a wall reads its vertices
   void plan_pairs(int nt);
   std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
+  std::vector<Eigen::Quaterniond> searched_q_;  // orientations at the last search, by live index
   double skin_ = 0.0;                         // margin of the last search
   bool pairs_current_ = false;
   NeighbourSearch search_;

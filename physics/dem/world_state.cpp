@@ -12,7 +12,7 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 2;  // 2: the persistent contact manifolds
+constexpr std::uint32_t kWorldLayout = 3;  // 2: contact manifolds; 3: orientations at the search
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -189,6 +189,8 @@ void World::save_state(StateWriter& w) const {
   w.put(pairs_current_);
   w.put(skin_);
   w.put(searched_at_);
+  w.count(searched_q_.size());
+  for (const Eigen::Quaterniond& q : searched_q_) w.put(q);
   w.count(pairs_.size());
   for (const auto& [i, j] : pairs_) {
     w.put(i);
@@ -350,6 +352,9 @@ void World::load_state(StateReader& r) {
   const bool pairs_current = r.get_bool();
   const double skin = r.get<double>();
   std::vector<Eigen::Vector3d> searched_at = r.vec3s();
+  std::vector<Eigen::Quaterniond> searched_q(r.count(4 * sizeof(double)));
+  for (Eigen::Quaterniond& q : searched_q) q = r.quat();
+  if (searched_q.size() != searched_at.size()) r.fail("the search's orientations are not one per centre");
   std::vector<BodyPair> pairs(r.count(8));
   for (auto& [i, j] : pairs) {
     i = r.get<std::uint32_t>();
@@ -458,6 +463,7 @@ void World::load_state(StateReader& r) {
   pairs_current_ = pairs_current;
   skin_ = skin;
   searched_at_ = std::move(searched_at);
+  searched_q_ = std::move(searched_q);
   pairs_ = std::move(pairs);
   near_.clear();
   manifolds_ = std::move(manifolds);

@@ -1,6 +1,9 @@
 #include "physics/transgranular/transgranular.hpp"
 
 #include <algorithm>
+#include <omp.h>
+#include <optional>
+#include <span>
 #include <cmath>
 
 namespace cleave::physics {
@@ -83,27 +86,50 @@ std::vector<Eigen::Vector3d> section(const PosedFaces& faces, const CrackPlane& 
 namespace {
 
 /// Every contact and bond force of the last force evaluation, by body slot.
-std::vector<std::vector<PointForce>> forces_by_body(const World& world) {
-  std::vector<std::vector<PointForce>> out;
-  auto add = [&](std::uint32_t slot, const Eigen::Vector3d& point, const Eigen::Vector3d& force) {
-    if (out.size() <= slot) out.resize(slot + 1);
-    out[slot].push_back({point, force});
+/// The point forces on each body (contacts and intact bonds), grouped by slot in one array:
+/// body slot i's are at [start[i], start[i + 1]), in contact order, then bond order.
+struct ForcesByBody {
+  std::vector<std::size_t> start;
+  std::vector<PointForce> forces;
+  std::span<const PointForce> of(std::uint32_t slot) const {
+    if (slot + 1 >= start.size()) return {};
+    return {forces.data() + start[slot], start[slot + 1] - start[slot]};
+  }
+};
+
+ForcesByBody forces_by_body(const World& world) {
+  ForcesByBody out;
+  const std::vector<ContactRecord>& contacts = world.contacts();
+  const std::vector<Bond>& bonds = world.bonds();
+  std::uint32_t slots = 0;
+  for (const ContactRecord& c : contacts) slots = std::max({slots, c.b + 1, c.wall ? 0u : c.a + 1});
+  for (const Bond& b : bonds) slots = std::max({slots, b.a + 1, b.b + 1});
+  out.start.assign(slots + 1, 0);
+  // Count, then place: each body's forces in the order the contacts and bonds list them.
+  auto each = [&](auto&& put) {
+    for (const ContactRecord& c : contacts) {
+      put(c.b, c.point, c.force);
+      if (!c.wall) put(c.a, c.point, Eigen::Vector3d(-c.force));
+    }
+    for (const Bond& b : bonds) {
+      if (!b.intact()) continue;
+      put(b.b, b.point, b.force);
+      put(b.a, b.point, Eigen::Vector3d(-b.force));
+    }
   };
-  for (const ContactRecord& c : world.contacts()) {
-    add(c.b, c.point, c.force);
-    if (!c.wall) add(c.a, c.point, -c.force);
-  }
-  for (const Bond& b : world.bonds()) {
-    if (!b.intact()) continue;
-    add(b.b, b.point, b.force);
-    add(b.a, b.point, -b.force);
-  }
+  each([&](std::uint32_t slot, const Eigen::Vector3d&, const Eigen::Vector3d&) { ++out.start[slot + 1]; });
+  for (std::size_t i = 1; i < out.start.size(); ++i) out.start[i] += out.start[i - 1];
+  out.forces.resize(out.start.back());
+  std::vector<std::size_t> next(out.start.begin(), out.start.end() - 1);
+  each([&](std::uint32_t slot, const Eigen::Vector3d& point, const Eigen::Vector3d& force) {
+    out.forces[next[slot]++] = {point, force};
+  });
   return out;
 }
 
 std::vector<CrackAssessment> assess_with(const World& world, const FractureBook& book, BodyId id,
                                          const FractureParams& params, const Eigen::Matrix3d& sigma,
-                                         const std::vector<PointForce>& acting) {
+                                         std::span<const PointForce> acting) {
   std::vector<CrackAssessment> out;
   if (!book.knows(id)) return out;
   // Eq. 3.22 first: below the hydrostatic gate no plane is worth the work.
@@ -148,10 +174,8 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
 std::vector<CrackAssessment> assess(const World& world, const FractureBook& book, BodyId id,
                                     const FractureParams& params,
                                     const std::vector<Eigen::Matrix3d>& stresses) {
-  const auto forces = forces_by_body(world);
-  static const std::vector<PointForce> none;
-  return assess_with(world, book, id, params, stresses.at(id.index),
-                     id.index < forces.size() ? forces[id.index] : none);
+  const ForcesByBody forces = forces_by_body(world);
+  return assess_with(world, book, id, params, stresses.at(id.index), forces.of(id.index));
 }
 
 std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& book,
@@ -159,18 +183,26 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
   std::vector<TransgranularEvent> events;
   if (world.body_count() == 0) return events;
   const std::vector<Eigen::Matrix3d> stresses = world.body_stresses();
-  const auto forces = forces_by_body(world);
-  static const std::vector<PointForce> none;
-  // Decide on the state of this step for every body, then cut.
-  std::vector<CrackAssessment> failing;
-  for (const BodyId id : world.body_ids()) {
-    const std::vector<CrackAssessment> found = assess_with(
-        world, book, id, params, stresses[id.index], id.index < forces.size() ? forces[id.index] : none);
-    const CrackAssessment* worst = nullptr;
+  const ForcesByBody forces = forces_by_body(world);
+  // Decide on the state of this step for every body (each on its own, in parallel: the
+  // world and the book are only read), then cut, in body order.
+  const std::vector<BodyId> ids = world.body_ids();
+  std::vector<std::optional<CrackAssessment>> worst(ids.size());
+  const auto n = static_cast<std::ptrdiff_t>(ids.size());
+  const int threads = world.settings().threads;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n >= 512)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const BodyId id = ids[static_cast<std::size_t>(k)];
+    const std::vector<CrackAssessment> found =
+        assess_with(world, book, id, params, stresses[id.index], forces.of(id.index));
     for (const auto& a : found) {
-      if (a.result.fails && (worst == nullptr || a.result.criterion > worst->result.criterion)) worst = &a;
+      auto& w = worst[static_cast<std::size_t>(k)];
+      if (a.result.fails && (!w || a.result.criterion > w->result.criterion)) w = a;
     }
-    if (worst != nullptr) failing.push_back(*worst);
+  }
+  std::vector<CrackAssessment> failing;
+  for (const auto& w : worst) {
+    if (w) failing.push_back(*w);
   }
   for (const CrackAssessment& a : failing) {
     SplitEvent split = book.split(world, a.id, a.plane);
