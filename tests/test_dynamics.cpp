@@ -153,11 +153,16 @@ std::uint64_t state_hash(const World& world) {
 
 }  // namespace
 
-TEST(DropTest, GrainsFallBounceAndSettleAboveTheFloor) {
-  const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
+namespace {
+// The small drop: the grains fall, bounce and settle above the floor, which carries their
+// weight; `manifold_tolerance` as [dynamics] sets it (0: the exact search).
+void expect_the_drop_to_settle(double manifold_tolerance) {
+  io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
+  scenario.dynamics.manifold_tolerance = manifold_tolerance;
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
   ASSERT_GE(specimen.grains.size(), 12u);
   World world = io::make_world(scenario, specimen);
+  ASSERT_EQ(world.settings().manifold_tolerance, manifold_tolerance);
   const double pe0 = world.potential_energy();
   const double radius = scenario.contact.dilation_radius;
   double max_overlap = 0.0;
@@ -187,6 +192,9 @@ TEST(DropTest, GrainsFallBounceAndSettleAboveTheFloor) {
   for (const BodyId id : world.body_ids()) weight += world.info(id).mass * 9.81;
   EXPECT_NEAR(-world.walls()[0].reaction.z(), weight, 0.01 * weight);
 }
+}  // namespace
+
+TEST(DropTest, GrainsFallBounceAndSettleAboveTheFloor) { expect_the_drop_to_settle(0.0); }
 
 TEST(DropTest, RepeatRunsAreBitIdentical) {
   const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
@@ -224,15 +232,17 @@ TEST(DropTest, TheNearFeatureCacheChangesNoBit) {
   EXPECT_EQ(state_hash(full), state_hash(cached));
 }
 
-TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalStates) {
-  // A packed block of 168 grains pressed 5 um into each other on a floor: about 850
-  // touching pairs and 4,500 contacts, enough for every loop to run on both threads.
+namespace {
+// A packed block of 168 grains pressed 5 um into each other on a floor, run on one and on
+// two threads: the two must end in the same bits.
+void expect_one_and_two_threads_agree(double manifold_tolerance) {
   io::Scenario one = io::parse_scenario(kSmallDrop, "small_drop.toml");
   one.specimen.outline = geometry::Outline::box(12e-3, 12e-3, 4e-3);
   one.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
   one.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
   one.dynamics.lift = 0.05e-3 - 2.5e-6;
   one.dynamics.dt = 1e-8;  // the block stays packed over the steps compared
+  one.dynamics.manifold_tolerance = manifold_tolerance;
   io::Scenario two = one;
   one.dynamics.threads = 1;
   two.dynamics.threads = 2;
@@ -248,6 +258,12 @@ TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalStates) {
   EXPECT_EQ(a.contacts().size(), b.contacts().size());
   EXPECT_EQ(state_hash(a), state_hash(b));
 }
+}  // namespace
+
+TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalStates) {
+  // About 850 touching pairs and 4,500 contacts, enough for every loop to run on both threads.
+  expect_one_and_two_threads_agree(0.0);
+}
 
 // ---- persistent contact manifolds (WorldSettings::manifold_tolerance > 0) -----------------
 
@@ -256,53 +272,11 @@ TEST(ContactManifolds, TheDroppedGrainsSettleAndTheFloorCarriesTheirWeight) {
   // approximation, so not the same bits, but the same physics: the grains settle, none
   // sinks through the floor, the impacts' overlaps stay small and the floor carries the
   // weight.
-  io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
-  scenario.dynamics.manifold_tolerance = 0.05;
-  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  World world = io::make_world(scenario, specimen);
-  ASSERT_EQ(world.settings().manifold_tolerance, 0.05);
-  const double pe0 = world.potential_energy();
-  double max_overlap = 0.0;
-  bool settled = false;
-  const int steps = static_cast<int>(scenario.dynamics.duration / scenario.dynamics.dt);
-  for (int i = 0; i < steps && !settled; ++i) {
-    world.step();
-    for (const auto& c : world.contacts()) max_overlap = std::max(max_overlap, c.overlap);
-    settled = !world.contacts().empty() && world.kinetic_energy() < 1e-6 * (pe0 - world.potential_energy());
-  }
-  EXPECT_TRUE(settled);
-  for (const BodyId id : world.body_ids()) {
-    const BodyState& s = world.state(id);
-    for (const auto& v : world.shape(world.info(id).shape).primitives.vertices) EXPECT_GT((s.x + s.q * v).z(), 0.0);
-  }
-  EXPECT_LT(max_overlap, 0.5 * scenario.contact.dilation_radius);
-  double weight = 0.0;
-  for (const BodyId id : world.body_ids()) weight += world.info(id).mass * 9.81;
-  EXPECT_NEAR(-world.walls()[0].reaction.z(), weight, 0.01 * weight);
+  expect_the_drop_to_settle(0.05);
 }
 
 TEST(ContactManifolds, OneAndTwoThreadsGiveBitIdenticalStates) {
-  // The packed block of Determinism above, its pairs' contacts carried.
-  io::Scenario one = io::parse_scenario(kSmallDrop, "small_drop.toml");
-  one.specimen.outline = geometry::Outline::box(12e-3, 12e-3, 4e-3);
-  one.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
-  one.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
-  one.dynamics.lift = 0.05e-3 - 2.5e-6;
-  one.dynamics.dt = 1e-8;
-  one.dynamics.manifold_tolerance = 0.02;
-  io::Scenario two = one;
-  one.dynamics.threads = 1;
-  two.dynamics.threads = 2;
-  const geometry::Specimen specimen = geometry::build_specimen(one.specimen);
-  World a = io::make_world(one, specimen);
-  World b = io::make_world(two, specimen);
-  for (int i = 0; i < 300; ++i) {
-    a.step();
-    b.step();
-  }
-  EXPECT_GT(a.contacts().size(), 2000u);
-  EXPECT_EQ(a.contacts().size(), b.contacts().size());
-  EXPECT_EQ(state_hash(a), state_hash(b));
+  expect_one_and_two_threads_agree(0.02);  // the packed block's contacts carried
 }
 
 TEST(ContactManifolds, AWorldReadBackFromItsStateCarriesOnBitForBit) {

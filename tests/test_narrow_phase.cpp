@@ -212,6 +212,40 @@ bool same_contacts(const std::vector<FeatureContact>& x, const std::vector<Featu
   }
   return true;
 }
+// A prism, a thin slab and a large prism: the pairs the random trials below draw from.
+std::vector<RigidShape> trial_shapes() {
+  return {prism(), make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kR, 0.2 * kT), kRho),
+          make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(3 * kR, kT), kRho)};
+}
+
+PosedShape posed(const RigidShape& s, const BodyState& st) {
+  PosedShape p;
+  p.update(s, st);
+  return p;
+}
+
+/// Trial `trial`'s pair drawn at random: A and B turned at random, or on odd trials B's
+/// faces within `face_lo` + [0, `face_span`] degrees of opposite A's, coming in along one
+/// of A's principal axes; moved in along the line of centres to the first contact, then up
+/// to 40 um further.
+void touching_pair(geometry::SplitMix64& rng, int trial, const RigidShape& sa, const RigidShape& sb,
+                   double face_lo, double face_span, BodyState& a, BodyState& b) {
+  Eigen::Vector3d dir(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+  dir.normalize();
+  a = BodyState{};
+  b = BodyState{};
+  a.q = random_turn(rng, 2 * M_PI * rng.uniform());
+  b.q = random_turn(rng, 2 * M_PI * rng.uniform());
+  if (trial % 2 == 1) {
+    b.q = random_turn(rng, (face_lo + face_span * rng.uniform()) * M_PI / 180) * a.q;
+    dir = a.q * (Eigen::Vector3d::Unit(static_cast<int>(rng.below(3))) * (rng.below(2) != 0 ? 1.0 : -1.0) +
+                 0.2 * dir);
+    dir.normalize();
+  }
+  double d = sa.bounding_radius() + sb.bounding_radius();
+  for (b.x = d * dir; d > 0 && contacts(posed(sa, a), posed(sb, b)).empty(); b.x = d * dir) d -= 2e-6;
+  b.x = (d - 40e-6 * rng.uniform()) * dir;
+}
 }  // namespace
 
 // The near-feature cache against the full search as its brute-force reference: pairs of a
@@ -220,36 +254,15 @@ bool same_contacts(const std::vector<FeatureContact>& x, const std::vector<Featu
 // step the cached search must give the full search's contacts bit for bit, and it must
 // have been the cached features that were searched in most steps.
 TEST(NearFeatureCache, GivesTheFullSearchsContactsBitForBit) {
-  const std::vector<RigidShape> shapes = {
-      prism(), make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kR, 0.2 * kT), kRho),
-      make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(3 * kR, kT), kRho)};
+  const std::vector<RigidShape> shapes = trial_shapes();
   geometry::SplitMix64 rng(2026);
   int steps = 0, cached = 0, touching = 0;
   for (int trial = 0; trial < 1500; ++trial) {
     const RigidShape& sa = shapes[trial % 3];
     const RigidShape& sb = shapes[(trial / 3) % 3];
-    Eigen::Vector3d dir(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
-    dir.normalize();
+    // Faces nearly opposite on odd trials: about the face-to-face threshold of 6 degrees.
     BodyState a, b;
-    a.q = random_turn(rng, 2 * M_PI * rng.uniform());
-    b.q = random_turn(rng, 2 * M_PI * rng.uniform());
-    if (trial % 2 == 1) {
-      // Faces nearly opposite, about the face-to-face threshold of 6 degrees, B coming in
-      // along one of A's principal axes.
-      b.q = random_turn(rng, (5.0 + 2.0 * rng.uniform()) * M_PI / 180) * a.q;
-      dir = a.q * (Eigen::Vector3d::Unit(static_cast<int>(rng.below(3))) * (rng.below(2) != 0 ? 1.0 : -1.0) +
-                   0.2 * dir);
-      dir.normalize();
-    }
-    // In along the line of centres to the first contact, then up to 40 um further.
-    double d = sa.bounding_radius() + sb.bounding_radius();
-    auto posed = [](const RigidShape& s, const BodyState& st) {
-      PosedShape p;
-      p.update(s, st);
-      return p;
-    };
-    for (b.x = d * dir; d > 0 && contacts(posed(sa, a), posed(sb, b)).empty(); b.x = d * dir) d -= 2e-6;
-    b.x = (d - 40e-6 * rng.uniform()) * dir;
+    touching_pair(rng, trial, sa, sb, 5.0, 2.0, a, b);
     NearFeatures near;
     PosedShape pa, pb;  // kept, so that their motion bounds add up step by step
     const double skin = 0.5 * 2 * kRho;
@@ -355,14 +368,7 @@ TEST(NarrowPhaseCulls, ChangeNoContactBitForBit) {
 //   be within that jump plus the same bound.
 // The manifold must have held in most trials.
 TEST(ContactManifold, CarriedContactsStayWithinTheMotionOfTheFullSearchsForce) {
-  const std::vector<RigidShape> shapes = {
-      prism(), make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kR, 0.2 * kT), kRho),
-      make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(3 * kR, kT), kRho)};
-  auto posed = [](const RigidShape& s, const BodyState& st) {
-    PosedShape p;
-    p.update(s, st);
-    return p;
-  };
+  const std::vector<RigidShape> shapes = trial_shapes();
   auto force = [](const std::vector<FeatureContact>& c, const Eigen::Vector3d& centre) {
     Eigen::Matrix<double, 6, 1> fm = Eigen::Matrix<double, 6, 1>::Zero();
     for (const FeatureContact& f : c) {
@@ -386,20 +392,8 @@ TEST(ContactManifold, CarriedContactsStayWithinTheMotionOfTheFullSearchsForce) {
     for (int trial = 0; trial < 1500; ++trial) {
       const RigidShape& sa = shapes[trial % 3];
       const RigidShape& sb = shapes[(trial / 3) % 3];
-      Eigen::Vector3d dir(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
-      dir.normalize();
       BodyState a, b;
-      a.q = random_turn(rng, 2 * M_PI * rng.uniform());
-      b.q = random_turn(rng, 2 * M_PI * rng.uniform());
-      if (trial % 2 == 1) {
-        b.q = random_turn(rng, (8.0 * rng.uniform()) * M_PI / 180) * a.q;
-        dir = a.q * (Eigen::Vector3d::Unit(static_cast<int>(rng.below(3))) * (rng.below(2) != 0 ? 1.0 : -1.0) +
-                     0.2 * dir);
-        dir.normalize();
-      }
-      double d = sa.bounding_radius() + sb.bounding_radius();
-      for (b.x = d * dir; d > 0 && contacts(posed(sa, a), posed(sb, b)).empty(); b.x = d * dir) d -= 2e-6;
-      b.x = (d - 40e-6 * rng.uniform()) * dir;
+      touching_pair(rng, trial, sa, sb, 0.0, 8.0, a, b);
       const PosedShape pa = posed(sa, a);
       const PosedShape pb0 = posed(sb, b);
       ContactManifold m;
