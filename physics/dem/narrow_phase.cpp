@@ -830,13 +830,9 @@ bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManif
 
 void carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
                       std::vector<FeatureContact>& out) {
-  for (const ContactManifold::Entry& e : m.entries) {
-    const Eigen::Vector3d pa = a.centre + a.rotation * e.point_a;
-    const Eigen::Vector3d pb = b.centre + b.rotation * e.point_b;
-    const Eigen::Vector3d n = a.rotation * e.normal_a;
-    const double penetration = e.penetration - n.dot(pb - pa);
-    if (penetration > 0.0) out.push_back({e.feature_a, e.feature_b, {0.5 * (pa + pb), n, penetration}});
-  }
+  for_carried_contacts(a, b, m, [&](std::uint32_t fa, std::uint32_t fb, const PrimitiveContact& c) {
+    out.push_back({fa, fb, c});
+  });
 }
 
 bool manifold_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,

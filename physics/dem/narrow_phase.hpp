@@ -168,6 +168,19 @@ bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManif
 void carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
                       std::vector<FeatureContact>& out);
 
+/// carried_contacts handing each contact to f(feature_a, feature_b, contact), in the order
+/// held (for a caller that files them in a list of its own).
+template <class F>
+void for_carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m, F&& f) {
+  for (const ContactManifold::Entry& e : m.entries) {
+    const Eigen::Vector3d pa = a.centre + a.rotation * e.point_a;
+    const Eigen::Vector3d pb = b.centre + b.rotation * e.point_b;
+    const Eigen::Vector3d n = a.rotation * e.normal_a;
+    const double penetration = e.penetration - n.dot(pb - pa);
+    if (penetration > 0.0) f(e.feature_a, e.feature_b, PrimitiveContact{0.5 * (pa + pb), n, penetration});
+  }
+}
+
 /// Whether the near-feature cache says the pair is apart and will stay so (read from the
 /// frames alone): polyhedron_contacts through `near` would then find nothing, without
 /// reading vertices or planes.

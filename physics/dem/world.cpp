@@ -426,8 +426,14 @@ void World::body_contacts(int nt, bool stale) {
         features.clear();
         const double radii = posed_[a].radius + posed_[b].radius;
         if (manifolds && plan_[p] == kCarried) {
-          carried_contacts(posed_[a], posed_[b], manifolds_[p], features);  // in feature order
-        } else if (manifolds && plan_[p] == kApart) {
+          // Straight into the list: held in feature order, overlapping only.
+          for_carried_contacts(posed_[a], posed_[b], manifolds_[p],
+                               [&](std::uint32_t fa, std::uint32_t fb, const PrimitiveContact& c) {
+                                 out.push_back({{a, b, fa, fb}, c});
+                               });
+          continue;
+        }
+        if (manifolds && plan_[p] == kApart) {
           // the near features say nothing can touch: what the search would find
         } else {
           if (cached) {
