@@ -153,16 +153,27 @@ std::uint64_t state_hash(const World& world) {
 
 }  // namespace
 
+// The small drop, with the exact search and with the touching pairs' contacts carried
+// between searches (manifold_tolerance 0.05: an approximation, so not the same bits, but the
+// same physics). The grains fall, bounce and settle above the floor, the impacts' overlaps
+// stay small, and the floor carries their weight.
 namespace {
-// The small drop: the grains fall, bounce and settle above the floor, which carries their
-// weight; `manifold_tolerance` as [dynamics] sets it (0: the exact search).
-void expect_the_drop_to_settle(double manifold_tolerance) {
+class DropSettles : public ::testing::TestWithParam<double> {};
+class ThreadCounts : public ::testing::TestWithParam<double> {};
+
+/// "Exact" for manifold_tolerance 0, "Manifolds" otherwise: test names for the parameter.
+std::string search_name(const ::testing::TestParamInfo<double>& info) {
+  return info.param > 0.0 ? "Manifolds" : "Exact";
+}
+}  // namespace
+
+TEST_P(DropSettles, GrainsFallBounceAndSettleAboveTheFloor) {
   io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
-  scenario.dynamics.manifold_tolerance = manifold_tolerance;
+  scenario.dynamics.manifold_tolerance = GetParam();
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
   ASSERT_GE(specimen.grains.size(), 12u);
   World world = io::make_world(scenario, specimen);
-  ASSERT_EQ(world.settings().manifold_tolerance, manifold_tolerance);
+  ASSERT_EQ(world.settings().manifold_tolerance, GetParam());
   const double pe0 = world.potential_energy();
   const double radius = scenario.contact.dilation_radius;
   double max_overlap = 0.0;
@@ -192,9 +203,8 @@ void expect_the_drop_to_settle(double manifold_tolerance) {
   for (const BodyId id : world.body_ids()) weight += world.info(id).mass * 9.81;
   EXPECT_NEAR(-world.walls()[0].reaction.z(), weight, 0.01 * weight);
 }
-}  // namespace
 
-TEST(DropTest, GrainsFallBounceAndSettleAboveTheFloor) { expect_the_drop_to_settle(0.0); }
+INSTANTIATE_TEST_SUITE_P(SearchModes, DropSettles, ::testing::Values(0.0, 0.05), search_name);
 
 TEST(DropTest, RepeatRunsAreBitIdentical) {
   const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
@@ -232,17 +242,19 @@ TEST(DropTest, TheNearFeatureCacheChangesNoBit) {
   EXPECT_EQ(state_hash(full), state_hash(cached));
 }
 
-namespace {
-// A packed block of 168 grains pressed 5 um into each other on a floor, run on one and on
-// two threads: the two must end in the same bits.
-void expect_one_and_two_threads_agree(double manifold_tolerance) {
+// A packed block of 168 grains pressed 5 um into each other on a floor (about 850 touching
+// pairs and 4,500 contacts, enough for every loop to run on both threads), run on one and
+// on two threads, with the exact search and with the contacts carried: each pair of runs
+// must end in the same bits.
+
+TEST_P(ThreadCounts, OneAndTwoThreadsGiveBitIdenticalStates) {
   io::Scenario one = io::parse_scenario(kSmallDrop, "small_drop.toml");
   one.specimen.outline = geometry::Outline::box(12e-3, 12e-3, 4e-3);
   one.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
   one.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
   one.dynamics.lift = 0.05e-3 - 2.5e-6;
   one.dynamics.dt = 1e-8;  // the block stays packed over the steps compared
-  one.dynamics.manifold_tolerance = manifold_tolerance;
+  one.dynamics.manifold_tolerance = GetParam();
   io::Scenario two = one;
   one.dynamics.threads = 1;
   two.dynamics.threads = 2;
@@ -258,26 +270,10 @@ void expect_one_and_two_threads_agree(double manifold_tolerance) {
   EXPECT_EQ(a.contacts().size(), b.contacts().size());
   EXPECT_EQ(state_hash(a), state_hash(b));
 }
-}  // namespace
 
-TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalStates) {
-  // About 850 touching pairs and 4,500 contacts, enough for every loop to run on both threads.
-  expect_one_and_two_threads_agree(0.0);
-}
+INSTANTIATE_TEST_SUITE_P(SearchModes, ThreadCounts, ::testing::Values(0.0, 0.02), search_name);
 
 // ---- persistent contact manifolds (WorldSettings::manifold_tolerance > 0) -----------------
-
-TEST(ContactManifolds, TheDroppedGrainsSettleAndTheFloorCarriesTheirWeight) {
-  // The drop above with the touching pairs' contacts carried between searches: an
-  // approximation, so not the same bits, but the same physics: the grains settle, none
-  // sinks through the floor, the impacts' overlaps stay small and the floor carries the
-  // weight.
-  expect_the_drop_to_settle(0.05);
-}
-
-TEST(ContactManifolds, OneAndTwoThreadsGiveBitIdenticalStates) {
-  expect_one_and_two_threads_agree(0.02);  // the packed block's contacts carried
-}
 
 TEST(ContactManifolds, AWorldReadBackFromItsStateCarriesOnBitForBit) {
   // The manifolds are part of the world's state: saved through the first impacts and read

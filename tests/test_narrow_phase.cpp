@@ -397,10 +397,9 @@ TEST(ContactManifold, CarriedContactsStayWithinTheMotionOfTheFullSearchsForce) {
       const PosedShape pa = posed(sa, a);
       const PosedShape pb0 = posed(sb, b);
       ContactManifold m;
-      std::vector<FeatureContact> scratch;
       const double margin = tolerance * 2 * kRho;
-      capture_manifold(pa, pb0, margin, m, scratch);
       const std::vector<FeatureContact> before = contacts(pa, pb0);
+      capture_manifold(pa, pb0, before, margin, m);
       // B moved relative to A by up to half the margin: a translation and a turn about its
       // own centre, sharing it at random.
       const BodyState b0 = b;

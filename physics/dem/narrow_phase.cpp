@@ -409,10 +409,9 @@ bool feature_on_face(const geometry::ContactPrimitives& p, std::uint32_t code, s
   return false;
 }
 
-/// Separating-axis early out: the face of `s` that looks most towards `other`; when every
-/// vertex of `other` is beyond reach of its plane the two cannot touch. Most pairs found by
-/// the bounding-sphere search end here, before the full distance tables are built.
-bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, double reach) {
+/// The face of `s` that looks most towards `other` (its outward normal nearest the line of
+/// centres): the separating axis the early outs try.
+std::size_t facing_face(const PosedShape& s, const PosedShape& other) {
   const Eigen::Vector3d towards = other.centre - s.centre;
   std::size_t best = 0;
   double best_dot = -std::numeric_limits<double>::infinity();
@@ -423,6 +422,14 @@ bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, doub
       best = f;
     }
   }
+  return best;
+}
+
+/// Separating-axis early out: when every vertex of `other` is beyond reach of the plane of
+/// `s`'s facing face the two cannot touch. Most pairs found by the bounding-sphere search
+/// end here, before the full distance tables are built.
+bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, double reach) {
+  const std::size_t best = facing_face(s, other);
   const Eigen::Vector3d n = s.face_normal(best);
   const double offset = s.face_offset(best) + reach;
   for (const auto& v : other.vertices) {
@@ -605,11 +612,9 @@ bool within_buffers(const PosedShape& a, const PosedShape& b) {
          a.primitives->edges.size() <= kMaxEdges && b.primitives->edges.size() <= kMaxEdges;
 }
 
-/// The broad early outs: boxes, then a separating face plane from either side. When one
-/// holds for `reach`, no feature of A is within `reach` of B.
 /// How far apart A and B certainly are beyond `reach`, by early_out's tests: the largest
-/// margin by which the boxes, or one body's vertices beyond the other's face that faces it,
-/// clear it; negative when no test separates them (early_out is then false).
+/// margin by which the boxes, or one body's vertices beyond the other's facing face, clear
+/// it; negative when no test separates them (early_out is then false).
 double separation(const PosedShape& a, const PosedShape& b, double reach) {
   double gap = -1.0;
   for (int k = 0; k < 3; ++k) {
@@ -618,16 +623,7 @@ double separation(const PosedShape& a, const PosedShape& b, double reach) {
   }
   if (gap > 0.0) return gap;
   for (const auto& [s, other] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
-    const Eigen::Vector3d towards = other->centre - s->centre;
-    std::size_t best = 0;
-    double best_dot = -std::numeric_limits<double>::infinity();
-    for (std::size_t f = 0; f < s->faces; ++f) {
-      const double d = s->face_normal(f).dot(towards);
-      if (d > best_dot) {
-        best_dot = d;
-        best = f;
-      }
-    }
+    const std::size_t best = facing_face(*s, *other);
     const Eigen::Vector3d n = s->face_normal(best);
     const double offset = s->face_offset(best) + reach;
     double least = std::numeric_limits<double>::infinity();
@@ -637,6 +633,8 @@ double separation(const PosedShape& a, const PosedShape& b, double reach) {
   return gap;
 }
 
+/// The broad early outs: boxes, then a separating face plane from either side. When one
+/// holds for `reach`, no feature of A is within `reach` of B.
 bool early_out(const PosedShape& a, const PosedShape& b, double reach) {
   // Boxes first: far cheaper than the face tests, and enough for most pairs of elongated
   // bodies whose bounding spheres overlap. Most pairs found by the bounding-sphere search
@@ -723,6 +721,14 @@ bool near_features_hold(const PosedShape& a, const PosedShape& b, const NearFeat
   return moved < 0.5 * near.skin;
 }
 
+/// The pair was found apart by `near.gap` since its cache was filled, and its motion since
+/// stays under half of it (the cache's lever bounds the bodies' points).
+bool gap_holds(const PosedShape& a, const PosedShape& b, const NearFeatures& near) {
+  const double moved =
+      (a.travel + b.travel - near.gap_travel) + 2.0 * near.lever * (a.turn + b.turn - near.gap_turn);
+  return near.gap > 0.0 && moved < 0.5 * near.gap;
+}
+
 }  // namespace
 
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
@@ -742,10 +748,7 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
                          std::vector<FeatureContact>& out) {
   const bool hold = near_features_hold(a, b, near);
   if (hold && near.none) return true;  // the commonest case, on the fewest cache lines
-  if (hold && near.gap > 0.0 &&
-      (a.travel + b.travel - near.gap_travel) + 2.0 * near.lever * (a.turn + b.turn - near.gap_turn) <
-          0.5 * near.gap)
-    return true;  // apart by a gap found since the search, and still
+  if (hold && gap_holds(a, b, near)) return true;  // apart by a gap found since, and still
   if (!within_buffers(a, b)) return false;
   const double reach = a.radius + b.radius;
   PlaneDistances a_to_b, b_to_a;
@@ -791,13 +794,11 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   return false;
 }
 
-void capture_manifold(const PosedShape& a, const PosedShape& b, double margin, ContactManifold& m,
-                      std::vector<FeatureContact>& scratch) {
-  scratch.clear();
-  polyhedron_contacts(a, b, 0.0, scratch);
+void capture_manifold(const PosedShape& a, const PosedShape& b, const std::vector<FeatureContact>& found,
+                      double margin, ContactManifold& m) {
   const Eigen::Matrix3d at = a.rotation.transpose(), bt = b.rotation.transpose();
   m.entries.clear();
-  for (const FeatureContact& fc : scratch) {
+  for (const FeatureContact& fc : found) {
     ContactManifold::Entry e;
     e.feature_a = fc.feature_a;
     e.feature_b = fc.feature_b;
@@ -828,27 +829,17 @@ bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManif
   return moved < 0.5 * m.margin;
 }
 
-void carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
-                      std::vector<FeatureContact>& out) {
-  for_carried_contacts(a, b, m, [&](std::uint32_t fa, std::uint32_t fb, const PrimitiveContact& c) {
-    out.push_back({fa, fb, c});
-  });
-}
-
 bool manifold_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
                        std::vector<FeatureContact>& out) {
   if (!manifold_holds(a, b, m)) return false;
-  carried_contacts(a, b, m, out);
+  for_carried_contacts(a, b, m, [&](std::uint32_t fa, std::uint32_t fb, const PrimitiveContact& c) {
+    out.push_back({fa, fb, c});
+  });
   return true;
 }
 
 bool near_features_apart(const PosedShape& a, const PosedShape& b, const NearFeatures& near) {
-  if (!near_features_hold(a, b, near)) return false;
-  if (near.none) return true;
-  // Found apart by a gap since the search (the cache's lever bounds the bodies' points).
-  const double moved =
-      (a.travel + b.travel - near.gap_travel) + 2.0 * near.lever * (a.turn + b.turn - near.gap_turn);
-  return near.gap > 0.0 && moved < 0.5 * near.gap;
+  return near_features_hold(a, b, near) && (near.none || gap_holds(a, b, near));
 }
 
 }  // namespace cleave::physics

@@ -125,18 +125,17 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
                          std::vector<FeatureContact>& out);
 
 /// A pair's persistent contact manifold (WorldSettings::manifold_tolerance > 0; an
-/// approximation of the search above, off by default). A full search with a margin finds
-/// the contacts with penetration above -margin; each is held as the two material points
-/// that meet there (one in each body's principal frame), the normal in A's frame and the
-/// penetration. While B's pose relative to A stays within half the margin of its pose at
-/// that search (no point of B moved by more, relative to A), the contacts are those points
-/// carried with their bodies: the penetration at the search minus the normal component of
-/// the points' separation since, at the point midway between them. That is exact to first
-/// order in the relative motion for a vertex against a face, an edge against an edge or
-/// two faces (the distance between two planes is linear in position); its error is of the
-/// order of the motion times the turn, and a contact left out (penetration at most -margin
-/// at the search) cannot have come within reach. Tests bound the force error against the
-/// full search (ContactManifold tests).
+/// approximation of the search above, off by default). The contacts a search found for a
+/// touching pair are held, each as the two material points that meet there (one in each
+/// body's principal frame), the normal in A's frame and the penetration. While B's pose
+/// relative to A stays within half the margin of its pose at that search (no point of B
+/// moved by more, relative to A), the contacts are those points carried with their bodies:
+/// the penetration at the search minus the normal component of the points' separation
+/// since, at the point midway between them. That is exact to first order in the relative
+/// motion for a vertex against a face, an edge against an edge or two faces (the distance
+/// between two planes is linear in position). A contact that begins to overlap while the
+/// manifold holds is missed until the next search; its penetration is then below the
+/// motion. Tests bound the force error against the full search (ContactManifold tests).
 struct ContactManifold {
   struct Entry {
     std::uint32_t feature_a = 0, feature_b = 0;
@@ -149,12 +148,13 @@ struct ContactManifold {
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();                ///< B's centre in A's frame
   Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();        ///< B's frame in A's frame
   double lever = 0.0;   ///< bounds the distance of B's points from its centre
-  double margin = 0.0;  ///< 0: nothing held
+  double margin = 0.0;  ///< the motion budget (m): it holds under half of it; 0: nothing held
 };
 
-/// Fills `m` from a full search of A and B with `margin` (m); `scratch` is a work list.
-void capture_manifold(const PosedShape& a, const PosedShape& b, double margin, ContactManifold& m,
-                      std::vector<FeatureContact>& scratch);
+/// Fills `m` from the contacts `found` by a search of A and B as posed, with the motion
+/// budget `margin` (m).
+void capture_manifold(const PosedShape& a, const PosedShape& b, const std::vector<FeatureContact>& found,
+                      double margin, ContactManifold& m);
 
 /// While B's motion relative to A since `m` was captured stays under half its margin,
 /// appends the held contacts that overlap now (in the order held) and returns true;
@@ -163,13 +163,9 @@ bool manifold_contacts(const PosedShape& a, const PosedShape& b, const ContactMa
                        std::vector<FeatureContact>& out);
 
 /// manifold_contacts in two halves: whether the manifold still holds (from the frames
-/// alone), and the held contacts that overlap now, appended (it must hold).
+/// alone), and the held contacts that overlap now, each handed to f(feature_a, feature_b,
+/// contact) in the order held (it must hold; for a caller that files them in its own list).
 bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManifold& m);
-void carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
-                      std::vector<FeatureContact>& out);
-
-/// carried_contacts handing each contact to f(feature_a, feature_b, contact), in the order
-/// held (for a caller that files them in a list of its own).
 template <class F>
 void for_carried_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m, F&& f) {
   for (const ContactManifold::Entry& e : m.entries) {

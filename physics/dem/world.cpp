@@ -415,7 +415,7 @@ void World::body_contacts(int nt, bool stale) {
   if (manifolds) plan_pairs(nt);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    std::vector<FeatureContact> features, scratch;
+    std::vector<FeatureContact> features;
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
       auto& out = chunk_pending_[chunk];
@@ -449,8 +449,7 @@ void World::body_contacts(int nt, bool stale) {
             if (!touching && held_[p]) manifolds_[p].margin = 0.0;  // held_ follows it (restarts)
             held_[p] = touching;
             if (touching)
-              capture_manifold(posed_[a], posed_[b], settings_.manifold_tolerance * radii, manifolds_[p],
-                               scratch);
+              capture_manifold(posed_[a], posed_[b], features, settings_.manifold_tolerance * radii, manifolds_[p]);
           }
         }
         // Ascending feature order within the pair keeps the keys ascending (see ContactKey).

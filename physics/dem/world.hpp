@@ -49,12 +49,12 @@ struct WorldSettings {
   /// step). It changes speed only: results are bit-identical.
   double feature_skin = 0.5;
   /// Persistent contact manifolds (narrow_phase.hpp, ContactManifold), as a fraction of the
-  /// sum of a pair's dilation radii: a touching pair's contacts are found with this margin
-  /// and then carried with the two bodies, without a search, while B's motion relative to A
-  /// stays under half of it. 0 (the default): every pair is searched every step (exact,
-  /// bit-identical for any feature_skin). Above 0 the contacts are an approximation whose
-  /// error grows with it (its tests bound the force error), and a checkpoint does not hold
-  /// the manifolds: a restart searches afresh, so it is not bit for bit the run it continues.
+  /// sum of a pair's dilation radii: a touching pair's contacts, once found, are carried
+  /// with the two bodies, without a search, while B's motion relative to A stays under half
+  /// of it. 0 (the default): every pair is searched every step (exact, bit-identical for any
+  /// feature_skin). Above 0 the contacts are an approximation whose error grows with it (its
+  /// tests bound the force error); the manifolds are part of the saved state, so a restart
+  /// carries on bit for bit.
   double manifold_tolerance = 0.0;
 };
 

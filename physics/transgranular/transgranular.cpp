@@ -101,10 +101,7 @@ ForcesByBody forces_by_body(const World& world) {
   ForcesByBody out;
   const std::vector<ContactRecord>& contacts = world.contacts();
   const std::vector<Bond>& bonds = world.bonds();
-  std::uint32_t slots = 0;
-  for (const ContactRecord& c : contacts) slots = std::max({slots, c.b + 1, c.wall ? 0u : c.a + 1});
-  for (const Bond& b : bonds) slots = std::max({slots, b.a + 1, b.b + 1});
-  out.start.assign(slots + 1, 0);
+  out.start.assign(world.slot_states().size() + 1, 0);
   // Count, then place: each body's forces in the order the contacts and bonds list them.
   auto each = [&](auto&& put) {
     for (const ContactRecord& c : contacts) {
