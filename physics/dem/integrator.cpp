@@ -6,8 +6,8 @@ namespace cleave::physics {
 
 Eigen::Vector3d angular_velocity(const Eigen::Quaterniond& q, const Eigen::Vector3d& L,
                                  const Eigen::Vector3d& inv_inertia) {
-  const Eigen::Vector3d pi = q.conjugate() * L;  // body-frame angular momentum
-  return q * inv_inertia.cwiseProduct(pi);
+  const Eigen::Vector3d pi = rotated(q.conjugate(), L);  // body-frame angular momentum
+  return rotated(q, inv_inertia.cwiseProduct(pi));
 }
 
 void kick_momenta(BodyState& s, const BodyInfo& b, double h) {
@@ -44,7 +44,7 @@ void rotate_about(int k, double h, Eigen::Quaterniond& q, Eigen::Vector3d& pi,
 
 void rotate_free(Eigen::Quaterniond& q, const Eigen::Vector3d& L, const Eigen::Vector3d& inv_inertia,
                  double h) {
-  Eigen::Vector3d pi = q.conjugate() * L;
+  Eigen::Vector3d pi = rotated(q.conjugate(), L);
   rotate_about(0, 0.5 * h, q, pi, inv_inertia);
   rotate_about(1, 0.5 * h, q, pi, inv_inertia);
   rotate_about(2, h, q, pi, inv_inertia);

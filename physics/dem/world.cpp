@@ -693,13 +693,19 @@ void World::sum_forces(int nt) {
 
 const std::vector<ContactRecord>& World::contacts() const {
   if (!records_current_) {
-    records_.clear();
-    records_.reserve(pending_count());
-    for_pending(0, pending_count(), [&](std::size_t k, const Pending& p) {
-      const bool wall = (p.key.a & kWallFlag) != 0;
-      records_.push_back({p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
-                          forces_[k].force});
-    });
+    // Each thread fills its own block of the records, in contact order.
+    const std::size_t n = pending_count();
+    records_.resize(n);
+    const int nt = static_cast<std::ptrdiff_t>(n) < kParallelMin ? 1 : thread_count(settings_.threads);
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+      const Block block = thread_block(n);
+      for_pending(block.begin, block.end, [&](std::size_t k, const Pending& p) {
+        const bool wall = (p.key.a & kWallFlag) != 0;
+        records_[k] = {p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
+                       forces_[k].force};
+      });
+    }
     records_current_ = true;
   }
   return records_;
@@ -848,53 +854,72 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
 void World::bond_forces(int nt) {
   const std::size_t n = bonds_.size();
   if (n == 0) return;
-  bond_results_.assign(n, BondResult{});
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
-  // Each bond reads the two bodies and writes only itself.
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
-    Bond& bd = bonds_[static_cast<std::size_t>(k)];
-    if (!bd.intact()) continue;
-    const BodyState& sa = states_[bd.a];
-    const BodyState& sb = states_[bd.b];
-    const Eigen::Vector3d pa = sa.x + sa.q * bd.arm_a, pb = sb.x + sb.q * bd.arm_b;
-    bd.point = 0.5 * (pa + pb);
-    bd.normal = (sa.q * bd.normal_a + sb.q * bd.normal_b).normalized();
-    const Eigen::Vector3d velocity =
-        sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
-    BondResult& r = bond_results_[static_cast<std::size_t>(k)];
-    if (bd.strength == 1.0) {
-      r = bond_force(bond_params_, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
-    } else {
+  // Each bond reads the two bodies and writes only itself; the few that break this step
+  // are listed by the thread that met them (blocks of bonds in thread order, so the lists
+  // joined in thread order are in bond order).
+  bond_failures_.resize(static_cast<std::size_t>(std::max(nt, 1)));
+  for (auto& list : bond_failures_) list.clear();
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const Block block = thread_block(n);
+    std::vector<BondFailureAt>& failed = bond_failures_[block.thread];
+    for (std::size_t k = block.begin; k < block.end; ++k) {
+      Bond& bd = bonds_[k];
+      if (!bd.intact()) continue;
+      const BodyState& sa = states_[bd.a];
+      const BodyState& sb = states_[bd.b];
+      const Eigen::Vector3d pa = sa.x + rotated(sa.q, bd.arm_a), pb = sb.x + rotated(sb.q, bd.arm_b);
+      bd.point = 0.5 * (pa + pb);
+      bd.normal = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
+      const Eigen::Vector3d velocity =
+          sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
       BondParams own = bond_params_;
-      own.tbn *= bd.strength;
-      own.tbs *= bd.strength;
-      own.sigma_c *= bd.strength;
-      r = bond_force(own, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+      if (bd.strength != 1.0) {
+        own.tbn *= bd.strength;
+        own.tbs *= bd.strength;
+        own.sigma_c *= bd.strength;
+      }
+      const BondResult r = bond_force(own, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+      bd.force = r.force;
+      bd.moment = r.moment;
+      if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});
     }
-    bd.force = r.force;
-    bd.moment = r.moment;
   }
-  // Sum and log in bond order, on one thread (deterministic for any thread count).
-  for (std::size_t k = 0; k < n; ++k) {
-    Bond& bd = bonds_[k];
-    const BondResult& r = bond_results_[k];
-    if (r.failure != BondFailure::none) {
-      bd.failure = r.failure;
+  // Log the breaks in bond order.
+  for (const auto& list : bond_failures_) {
+    for (const BondFailureAt& f : list) {
+      Bond& bd = bonds_[f.bond];
+      bd.failure = f.failure;
       bd.broken_at = time_;
       bd.force.setZero();
       bd.moment.setZero();
-      breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id,
-                         bd.point, bd.normal, r.failure, r.at_failure});
-      continue;
+      breaks_.push_back({time_, steps_, f.bond, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id,
+                         bd.point, bd.normal, f.failure, f.at});
     }
-    if (!bd.intact()) continue;
-    BodyState& sa = states_[bd.a];
-    BodyState& sb = states_[bd.b];
-    sb.f += r.force;
-    sb.tau += (bd.point - sb.x).cross(r.force) + r.moment;
-    sa.f -= r.force;
-    sa.tau -= (bd.point - sa.x).cross(r.force) + r.moment;
+  }
+  // Sum onto the bodies as sum_forces does: each thread walks all bonds in order and adds
+  // to the bodies of its own block of slots, so every body's sum runs in bond order for any
+  // number of threads.
+  const std::size_t slots = states_.size();
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const Block block = thread_block(slots);
+    const std::size_t lo = block.begin, hi = block.end;
+    for (const Bond& bd : bonds_) {
+      const bool in_a = bd.a >= lo && bd.a < hi, in_b = bd.b >= lo && bd.b < hi;
+      if (!(in_a || in_b) || !bd.intact()) continue;
+      if (in_b) {
+        BodyState& sb = states_[bd.b];
+        sb.f += bd.force;
+        sb.tau += (bd.point - sb.x).cross(bd.force) + bd.moment;
+      }
+      if (in_a) {
+        BodyState& sa = states_[bd.a];
+        sa.f -= bd.force;
+        sa.tau -= (bd.point - sa.x).cross(bd.force) + bd.moment;
+      }
+    }
   }
 }
 

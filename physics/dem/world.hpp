@@ -329,7 +329,13 @@ class World {
   std::vector<PairOffset> offsets_;
   [[nodiscard]] double pair_offset(std::uint32_t a, std::uint32_t b) const;
   BondParams bond_params_;
-  std::vector<BondResult> bond_results_;
+  /// The bonds that broke in this step's bond_forces, one list per thread.
+  struct BondFailureAt {
+    std::size_t bond;
+    BondFailure failure;
+    BondState at;
+  };
+  std::vector<std::vector<BondFailureAt>> bond_failures_;
   std::vector<BondBreak> breaks_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0;

@@ -97,31 +97,77 @@ struct ForcesByBody {
   }
 };
 
+int check_threads(const World& world) {
+  const int wanted = world.settings().threads;
+  return wanted > 0 ? wanted : omp_get_max_threads();
+}
+
 ForcesByBody forces_by_body(const World& world) {
   ForcesByBody out;
   const std::vector<ContactRecord>& contacts = world.contacts();
   const std::vector<Bond>& bonds = world.bonds();
-  out.start.assign(world.slot_states().size() + 1, 0);
-  // Count, then place: each body's forces in the order the contacts and bonds list them.
-  auto each = [&](auto&& put) {
-    for (const ContactRecord& c : contacts) {
+  const std::size_t slots = world.slot_states().size();
+  out.start.assign(slots + 1, 0);
+  // The items are the contacts, then the bonds, each giving one force to B and one to A
+  // (not to a wall, not from a broken bond). Each thread counts the forces of its own block
+  // of items per body, then places them after those of the blocks before it: every body's
+  // forces land in item order, for any number of threads.
+  const std::size_t nc = contacts.size(), items = nc + bonds.size();
+  auto each = [&](std::size_t begin, std::size_t end, auto&& put) {
+    for (std::size_t k = begin; k < std::min(end, nc); ++k) {
+      const ContactRecord& c = contacts[k];
       put(c.b, c.point, c.force);
       if (!c.wall) put(c.a, c.point, Eigen::Vector3d(-c.force));
     }
-    for (const Bond& b : bonds) {
+    for (std::size_t k = std::max(begin, nc); k < end; ++k) {
+      const Bond& b = bonds[k - nc];
       if (!b.intact()) continue;
       put(b.b, b.point, b.force);
       put(b.a, b.point, Eigen::Vector3d(-b.force));
     }
   };
-  each([&](std::uint32_t slot, const Eigen::Vector3d&, const Eigen::Vector3d&) { ++out.start[slot + 1]; });
-  for (std::size_t i = 1; i < out.start.size(); ++i) out.start[i] += out.start[i - 1];
-  out.forces.resize(out.start.back());
-  std::vector<std::size_t> next(out.start.begin(), out.start.end() - 1);
-  each([&](std::uint32_t slot, const Eigen::Vector3d& point, const Eigen::Vector3d& force) {
-    out.forces[next[slot]++] = {point, force};
-  });
+  const int nt = items < 4096 ? 1 : check_threads(world);
+  std::vector<std::vector<std::size_t>> next(static_cast<std::size_t>(nt));
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+    const auto teams = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t begin = items * t / teams, end = items * (t + 1) / teams;
+    std::vector<std::size_t>& mine = next[t];
+    mine.assign(slots, 0);
+    each(begin, end, [&](std::uint32_t slot, const Eigen::Vector3d&, const Eigen::Vector3d&) { ++mine[slot]; });
+#pragma omp barrier
+#pragma omp single
+    {
+      // Body by body, the blocks in thread order: where each block's forces start.
+      std::size_t at = 0;
+      for (std::size_t slot = 0; slot < slots; ++slot) {
+        out.start[slot] = at;
+        for (std::size_t u = 0; u < teams; ++u) {
+          const std::size_t count = next[u][slot];
+          next[u][slot] = at;
+          at += count;
+        }
+      }
+      out.start[slots] = at;
+      out.forces.resize(at);
+    }
+    each(begin, end, [&](std::uint32_t slot, const Eigen::Vector3d& point, const Eigen::Vector3d& force) {
+      out.forces[mine[slot]++] = {point, force};
+    });
+  }
   return out;
+}
+
+/// Eq. 2.17 from the body's forces: sum (point - centroid) (x) force, symmetrised, over 2V.
+/// The same sums in the same order as World::body_stresses (its A-side terms subtracted,
+/// these added negated: the same bits).
+Eigen::Matrix3d stress_of(const World& world, std::uint32_t slot, std::span<const PointForce> acting) {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d& x = world.slot_states()[slot].x;
+  for (const PointForce& f : acting) sum += (f.point - x) * f.force.transpose();
+  const double volume = world.shape(world.slot_infos()[slot].shape).volume;
+  return (sum + sum.transpose()) / (2.0 * volume);
 }
 
 std::vector<CrackAssessment> assess_with(const World& world, const FractureBook& book, BodyId id,
@@ -179,19 +225,19 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
                                                    const FractureParams& params) {
   std::vector<TransgranularEvent> events;
   if (world.body_count() == 0) return events;
-  const std::vector<Eigen::Matrix3d> stresses = world.body_stresses();
   const ForcesByBody forces = forces_by_body(world);
   // Decide on the state of this step for every body (each on its own, in parallel: the
   // world and the book are only read), then cut, in body order.
   const std::vector<BodyId> ids = world.body_ids();
   std::vector<std::optional<CrackAssessment>> worst(ids.size());
   const auto n = static_cast<std::ptrdiff_t>(ids.size());
-  const int threads = world.settings().threads;
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n >= 512)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(check_threads(world)) if (n >= 512)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const BodyId id = ids[static_cast<std::size_t>(k)];
+    if (!book.knows(id)) continue;
+    const std::span<const PointForce> acting = forces.of(id.index);
     const std::vector<CrackAssessment> found =
-        assess_with(world, book, id, params, stresses[id.index], forces.of(id.index));
+        assess_with(world, book, id, params, stress_of(world, id.index, acting), acting);
     for (const auto& a : found) {
       auto& w = worst[static_cast<std::size_t>(k)];
       if (a.result.fails && (!w || a.result.criterion > w->result.criterion)) w = a;
@@ -207,5 +253,4 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
   }
   return events;
 }
-
 }  // namespace cleave::physics
