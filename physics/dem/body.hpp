@@ -41,6 +41,18 @@ struct BodyState {
   return {(v.x() + qw * ux) + cx, (v.y() + qw * uy) + cy, (v.z() + qw * uz) + cz};
 }
 
+/// A body's temperature and thermal expansion (seed 003's l0(T) rule, per crystal axis).
+/// The grain's shape keeps its reference size: its expansion acts through its bonds (their
+/// rest state follows it) and through the overlaps its bonded neighbours count from.
+struct BodyThermal {
+  double temperature = 0.0;  ///< K (only differences matter)
+  double bonded_at = 0.0;    ///< the temperature the body's bonds last followed, K
+  /// Linear expansion coefficients in the body's principal frame, 1/K: a material point at
+  /// r from the centroid moves by alpha r dT (symmetric; alpha_a I + (alpha_c - alpha_a) c c^T
+  /// for a hexagonal or trigonal crystal with c-axis c).
+  Eigen::Matrix3d alpha = Eigen::Matrix3d::Zero();
+};
+
 /// What a body is (changes only when bodies are created, split or removed).
 struct BodyInfo {
   std::uint32_t shape = 0;       ///< index into the world's shapes

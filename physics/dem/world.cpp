@@ -39,7 +39,9 @@ BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x
     slot = static_cast<std::uint32_t>(states_.size());
     states_.emplace_back();
     infos_.emplace_back();
+    thermal_.emplace_back();
   }
+  thermal_[slot] = BodyThermal{};
   const RigidShape& s = shapes_[shape];
   BodyInfo& b = infos_[slot];
   b.shape = shape;
@@ -94,6 +96,7 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
   if (pieces.empty()) throw std::invalid_argument("split_body: no pieces");
   const BodyState ps = states_[parent.index];
   const BodyInfo pi = infos_[parent.index];
+  const BodyThermal pt = thermal_[parent.index];
   const double rho = pi.mass / shapes_[pi.shape].volume;
   const std::uint32_t old_slot = parent.index;
   // The parent's bonds, taken out before its slot is freed.
@@ -123,6 +126,10 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     const BodyId id = add_body(f.shape, rho, x, ps.q * f.turn, ps.v + ps.w.cross(x - ps.x), ps.w,
                                pi.grain_id);
     infos_[id.index].fixed = pi.fixed;
+    // The piece is of the parent's material: its temperature, and its expansion tensor
+    // turned into the piece's own frame.
+    const Eigen::Matrix3d turn = f.turn.toRotationMatrix();
+    thermal_[id.index] = {pt.temperature, pt.bonded_at, turn.transpose() * pt.alpha * turn};
     ids.push_back(id);
   }
   // Each bond follows its material point to the piece that holds it.
@@ -644,6 +651,9 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     double stored = bonds_.empty() ? 0.0 : initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
     if (!offsets_.empty()) stored = std::max(stored, pair_offset(a, b));
     kin.overlap -= stored;
+    // A bonded pair's grains have grown or shrunk with temperature; their shapes have not.
+    if (thermal_on_ && bond_cursor < bonds_.size() && bonds_[bond_cursor].a == a && bonds_[bond_cursor].b == b)
+      kin.overlap -= bonds_[bond_cursor].thermal_gap;
   }
   ContactHistory h;
   if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
@@ -794,6 +804,46 @@ void World::set_bond_strength(std::size_t k, double factor) {
   bonds_[k].strength = factor;
 }
 
+void World::set_expansion(BodyId id, const Eigen::Matrix3d& alpha_world) {
+  if (!contains(id)) throw std::out_of_range("set_expansion: stale or invalid body id");
+  if (!alpha_world.allFinite()) throw std::invalid_argument("set_expansion: the tensor must be finite");
+  if ((alpha_world - alpha_world.transpose()).norm() > 1e-9 * alpha_world.norm())
+    throw std::invalid_argument("set_expansion: the tensor must be symmetric");
+  const Eigen::Matrix3d r = states_[id.index].q.toRotationMatrix();
+  thermal_[id.index].alpha = r.transpose() * alpha_world * r;
+  if (!alpha_world.isZero(0.0)) thermal_on_ = true;
+}
+
+Eigen::Matrix3d World::expansion(BodyId id) const {
+  if (!contains(id)) throw std::out_of_range("expansion: stale or invalid body id");
+  const Eigen::Matrix3d r = states_[id.index].q.toRotationMatrix();
+  return r * thermal_[id.index].alpha * r.transpose();
+}
+
+Eigen::Matrix3d World::crystal_expansion(const Eigen::Vector3d& c_axis, double alpha_a, double alpha_c) {
+  if (!(c_axis.norm() > 0.0)) throw std::invalid_argument("crystal_expansion: the c-axis must not be zero");
+  const Eigen::Vector3d c = c_axis.normalized();
+  return alpha_a * Eigen::Matrix3d::Identity() + (alpha_c - alpha_a) * c * c.transpose();
+}
+
+void World::set_temperature(BodyId id, double kelvin) {
+  if (!contains(id)) throw std::out_of_range("set_temperature: stale or invalid body id");
+  if (!std::isfinite(kelvin)) throw std::invalid_argument("set_temperature: not a finite temperature");
+  thermal_[id.index].temperature = kelvin;
+}
+
+void World::set_temperature(double kelvin) {
+  if (!std::isfinite(kelvin)) throw std::invalid_argument("set_temperature: not a finite temperature");
+  for (std::size_t i = 0; i < thermal_.size(); ++i) {
+    if (infos_[i].alive) thermal_[i].temperature = kelvin;
+  }
+}
+
+double World::temperature(BodyId id) const {
+  if (!contains(id)) throw std::out_of_range("temperature: stale or invalid body id");
+  return thermal_[id.index].temperature;
+}
+
 std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
   if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
@@ -838,6 +888,8 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
     bonds_.push_back(std::move(bd));
   }
   bond_params_ = params;
+  // Bonded at this temperature: their rest state is the present one.
+  for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
   // The stress-free start: at rest, no shear or rolling springs, forces recomputed.
   for (std::uint32_t slot : live_slots_) {
     if (infos_[slot].fixed) continue;
@@ -864,16 +916,38 @@ void World::bond_forces(int nt) {
   {
     const Block block = thread_block(n);
     std::vector<BondFailureAt>& failed = bond_failures_[block.thread];
+    // Each grain expands about its centroid (seed 003's l0(T), per crystal axis): the bond
+    // point as a point of B moves by alpha_B arm_B dT_B, as a point of A by alpha_A arm_A
+    // dT_A; the bond deforms by their difference on top of the rigid motions. Its normal
+    // part is the gap the grains' thermal strain opens at the bond (negative: they grow into
+    // each other), kept for the pair's contacts (a broken bond's too).
+    auto thermal_free = [&](const Bond& bd, const BodyState& sa, const BodyState& sb) -> Eigen::Vector3d {
+      const BodyThermal& ta = thermal_[bd.a];
+      const BodyThermal& tb = thermal_[bd.b];
+      const double dta = ta.temperature - ta.bonded_at, dtb = tb.temperature - tb.bonded_at;
+      if (dta == 0.0 && dtb == 0.0) return Eigen::Vector3d::Zero();
+      return rotated(sb.q, tb.alpha * bd.arm_b) * dtb - rotated(sa.q, ta.alpha * bd.arm_a) * dta;
+    };
     for (std::size_t k = block.begin; k < block.end; ++k) {
       Bond& bd = bonds_[k];
-      if (!bd.intact()) continue;
       const BodyState& sa = states_[bd.a];
       const BodyState& sb = states_[bd.b];
+      if (!bd.intact()) {
+        if (thermal_on_) {
+          const Eigen::Vector3d n = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
+          bd.thermal_gap += n.dot(thermal_free(bd, sa, sb));
+        }
+        continue;
+      }
       const Eigen::Vector3d pa = sa.x + rotated(sa.q, bd.arm_a), pb = sb.x + rotated(sb.q, bd.arm_b);
       bd.point = 0.5 * (pa + pb);
       bd.normal = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
-      const Eigen::Vector3d velocity =
-          sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
+      Eigen::Vector3d velocity = sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
+      if (thermal_on_) {
+        const Eigen::Vector3d free = thermal_free(bd, sa, sb);
+        velocity += free / settings_.dt;
+        bd.thermal_gap += bd.normal.dot(free);
+      }
       BondParams own = bond_params_;
       if (bd.strength != 1.0) {
         own.tbn *= bd.strength;
@@ -885,6 +959,9 @@ void World::bond_forces(int nt) {
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});
     }
+  }
+  if (thermal_on_) {
+    for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
   }
   // Log the breaks in bond order.
   for (const auto& list : bond_failures_) {

@@ -83,6 +83,10 @@ struct Bond {
   };
   static constexpr std::uint32_t kAnyFeature = 0xFFFFFFFFu;
   std::vector<Overlap> initial;
+  /// The gap the two grains' thermal strain has opened at the bond along its normal since
+  /// bonding (m; negative when they have grown into each other). The pair's contacts count
+  /// their overlap from it as well, since the grains' shapes keep their reference size.
+  double thermal_gap = 0.0;
   // Last force evaluation (world): the bond point, normal, and the force and moment on B.
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
@@ -193,6 +197,26 @@ class World {
   /// Every bond failure so far, in the order they happened.
   [[nodiscard]] const std::vector<BondBreak>& bond_breaks() const { return breaks_; }
 
+  /// Thermal expansion (seed 003: "l0(T) = l0(T0) + alpha (T - T0)", generalised to a tensor
+  /// per grain). `alpha_world` is the body's expansion tensor in world axes now (1/K,
+  /// symmetric); it is kept in the body's frame and turns with it. Bonds follow the change
+  /// of each end's temperature from the next force evaluation on.
+  void set_expansion(BodyId id, const Eigen::Matrix3d& alpha_world);
+  /// The body's expansion tensor in world axes.
+  [[nodiscard]] Eigen::Matrix3d expansion(BodyId id) const;
+  /// alpha_a across the c-axis and alpha_c along it (world), the tensor of a hexagonal or
+  /// trigonal crystal: alpha_a I + (alpha_c - alpha_a) c c^T.
+  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Vector3d& c_axis, double alpha_a,
+                                                         double alpha_c);
+  /// Sets one body's temperature (K), or every live body's.
+  void set_temperature(BodyId id, double kelvin);
+  void set_temperature(double kelvin);
+  [[nodiscard]] double temperature(BodyId id) const;
+  /// Every slot's temperature and expansion (free slots included).
+  [[nodiscard]] const std::vector<BodyThermal>& slot_thermal() const { return thermal_; }
+  /// Whether some body has a non-zero expansion tensor (thermal terms are computed).
+  [[nodiscard]] bool thermal() const { return thermal_on_; }
+
   /// Adds a wall; returns its index.
   std::size_t add_wall(Wall wall);
   [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
@@ -281,6 +305,8 @@ class World {
   std::vector<RigidShape> shapes_;
   std::vector<BodyState> states_;  // hot, indexed by slot
   std::vector<BodyInfo> infos_;    // cold, indexed by slot
+  std::vector<BodyThermal> thermal_;  // by slot
+  bool thermal_on_ = false;           // some body expands
   std::vector<std::uint32_t> free_slots_;
   std::size_t live_ = 0;
   std::vector<Wall> walls_;

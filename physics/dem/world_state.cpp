@@ -1,5 +1,6 @@
 // World checkpoints: save_state / load_state (bit-exact) and the state hash.
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -12,7 +13,7 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 3;  // 2: contact manifolds; 3: orientations at the search
+constexpr std::uint32_t kWorldLayout = 4;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -173,6 +174,12 @@ void World::save_state(StateWriter& w) const {
   }
   w.put(free_slots_);
   w.put<std::uint64_t>(live_);
+  w.put(thermal_on_);
+  for (const BodyThermal& t : thermal_) {
+    w.put(t.temperature);
+    w.put(t.bonded_at);
+    w.put(t.alpha);
+  }
 
   w.count(walls_.size());
   for (const Wall& wall : walls_) {
@@ -245,6 +252,7 @@ void World::save_state(StateWriter& w) const {
     }
     w.put(bd.section.radius);
     w.put(bd.strength);
+    w.put(bd.thermal_gap);
     put_bond_state(w, bd.state);
     w.put(bd.failure);
     w.put(bd.broken_at);
@@ -327,6 +335,15 @@ void World::load_state(StateReader& r) {
   }
   std::vector<std::uint32_t> free_slots = r.numbers<std::uint32_t>();
   const auto live = r.get<std::uint64_t>();
+  const bool thermal_on = r.get_bool();
+  std::vector<BodyThermal> thermal(slots);
+  for (BodyThermal& t : thermal) {
+    t.temperature = r.get<double>();
+    t.bonded_at = r.get<double>();
+    t.alpha = r.mat3();
+    if (!std::isfinite(t.temperature) || !std::isfinite(t.bonded_at) || !t.alpha.allFinite())
+      r.fail("a body's temperature or expansion is not finite");
+  }
   std::size_t alive = 0;
   for (const BodyInfo& b : infos) alive += b.alive ? 1 : 0;
   if (alive != live) r.fail("the live body count does not match the bodies");
@@ -413,6 +430,7 @@ void World::load_state(StateReader& r) {
     }
     bd.section.radius = r.get<double>();
     bd.strength = r.get<double>();
+    bd.thermal_gap = r.get<double>();
     if (!(bd.strength > 0.0)) r.fail("a bond's strength factor is not positive");
     bd.state = get_bond_state(r);
     bd.failure = r.get_enum(BondFailure::torsion);
@@ -457,6 +475,8 @@ void World::load_state(StateReader& r) {
   shapes_ = std::move(shapes);
   states_ = std::move(states);
   infos_ = std::move(infos);
+  thermal_ = std::move(thermal);
+  thermal_on_ = thermal_on;
   free_slots_ = std::move(free_slots);
   live_ = live;
   walls_ = std::move(walls);
@@ -533,6 +553,14 @@ std::uint64_t World::state_hash() const {
     h.add(o.a);
     h.add(o.b);
     h.add(o.overlap);
+  }
+  if (thermal_on_) {  // (left out otherwise: a world without expansion hashes as before)
+    for (std::uint32_t i = 0; i < thermal_.size(); ++i) {
+      if (!infos_[i].alive) continue;
+      h.add(thermal_[i].temperature);
+      h.add(thermal_[i].bonded_at);
+    }
+    for (const Bond& bd : bonds_) h.add(bd.thermal_gap);
   }
   return h.h;
 }

@@ -1,0 +1,250 @@
+// Thermal expansion of bonded grains (seed 003: bonds relax to l0(T) = l0(T0) + alpha
+// (T - T0), generalised to a tensor per grain), against closed forms: a free bar lengthens
+// by alpha L dT and carries nothing, a clamped one carries -E alpha dT, a bimaterial pair
+// and an anisotropic pair move and stress as their expansion tensors say; pieces of a
+// split grain keep its temperature and expansion; a checkpoint carries them bit for bit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "geometry/exact_polyhedron.hpp"
+#include "physics/dem/state_codec.hpp"
+#include "physics/dem/world.hpp"
+
+using namespace cleave;
+using namespace cleave::physics;
+
+namespace {
+
+constexpr double kSide = 0.5e-3;       // prism side, m
+constexpr double kThick = 1.0e-3;      // prism thickness, m
+constexpr double kDilation = 0.05e-3;  // m
+constexpr double kRho = 3100.0;
+const double kFlat = std::sqrt(3.0) * kSide;    // distance between opposite side faces
+const double kPitch = kFlat + 2.0 * kDilation;  // centroid spacing of touching neighbours
+const double kArea = M_PI * kDilation * kDilation;  // bond section (eq. 2.10)
+constexpr double kSpringN = 5000.0, kSpringS = 2000.0;  // bond springs K_bn, K_bs, N/m
+
+BondParams strong_bonds() {
+  // Springs of table 2.5's size, strengths far above anything these tests load them to.
+  return {kSpringN / kArea, kSpringS / kArea, 1e12, 1e12};
+}
+
+World make_world() {
+  WorldSettings ws;
+  ws.gravity.setZero();
+  ws.dt = 2e-7;
+  ws.particle_particle.kn = 5000.0;
+  ws.particle_particle.ks = 2000.0;
+  ws.particle_particle.mu_s = 0.3;
+  ws.particle_wall = ws.particle_particle;
+  ws.local_damping = 0.7;  // quasi-static: the answers are equilibria
+  ws.threads = 1;
+  return World(ws);
+}
+
+/// n prisms in a row along x, side face to side face, their dilated surfaces touching.
+std::vector<BodyId> row(World& world, int n) {
+  const RigidShape shape = make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick), kDilation);
+  const auto sh = world.add_shape(shape);
+  std::vector<BodyId> ids;
+  for (int i = 0; i < n; ++i) ids.push_back(world.add_body(sh, kRho, {i * kPitch, 0, 0}, shape.orientation_for()));
+  return ids;
+}
+
+/// Ramps every body from its temperature by dT over `ramp` steps, then lets it settle.
+void heat(World& world, const std::vector<BodyId>& ids, double dT, int ramp = 4000, int settle = 30000) {
+  std::vector<double> start;
+  for (BodyId id : ids) start.push_back(world.temperature(id));
+  for (int s = 1; s <= ramp; ++s) {
+    for (std::size_t i = 0; i < ids.size(); ++i) world.set_temperature(ids[i], start[i] + dT * s / ramp);
+    world.step();
+  }
+  for (int s = 0; s < settle; ++s) world.step();
+}
+
+/// The largest contact force on any body (bonded pairs touch: their contacts count too).
+double largest_contact_force(const World& world) {
+  double most = 0.0;
+  for (const ContactRecord& c : world.contacts()) most = std::max(most, c.force.norm());
+  return most;
+}
+
+}  // namespace
+
+class FreeBar : public ::testing::TestWithParam<double> {};
+
+TEST_P(FreeBar, LengthensByAlphaLDeltaTAndCarriesNoForce) {
+  // Heated (dT > 0) or cooled (dT < 0): the free bar's length changes by alpha L dT and
+  // neither its bonds nor its contacts carry anything. Cooled, the grains' shapes (which
+  // keep their size) press into each other by alpha pitch |dT| per pair: the contacts must
+  // count from the thermal gap, or they hold the bar open.
+  const double alpha = 1e-5, dT = GetParam();
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, 5);
+  world.set_temperature(1500.0);
+  for (BodyId id : ids) world.set_expansion(id, alpha * Eigen::Matrix3d::Identity());
+  ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), 4u);
+  const double length = world.state(ids.back()).x.x() - world.state(ids.front()).x.x();
+  heat(world, ids, dT);
+  const double grown = world.state(ids.back()).x.x() - world.state(ids.front()).x.x() - length;
+  EXPECT_NEAR(grown, alpha * length * dT, 0.005 * std::abs(alpha * length * dT));
+  // Against the clamped force K_bn alpha pitch |dT|: at most 0.5 % of it is left.
+  const double clamped = kSpringN * alpha * kPitch * std::abs(dT);
+  for (const Bond& b : world.bonds()) EXPECT_LT(b.force.norm(), 0.005 * clamped);
+  EXPECT_LT(largest_contact_force(world), 0.005 * clamped);
+  for (BodyId id : ids) EXPECT_EQ(world.temperature(id), 1500.0 + dT);
+}
+
+INSTANTIATE_TEST_SUITE_P(HeatedAndCooled, FreeBar, ::testing::Values(100.0, -100.0));
+
+TEST(ClampedBar, CarriesMinusEAlphaDeltaTInEveryBond) {
+  // Both ends held: each bond's stress is -E_b alpha dT, E_b = k_bn l the bond's modulus
+  // (eq. 2.9's k_bn is stress per opening; over its length l = pitch, stress per strain).
+  const double alpha = 8e-6, dT = 200.0;
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, 4);
+  for (BodyId id : ids) world.set_expansion(id, alpha * Eigen::Matrix3d::Identity());
+  ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), 3u);
+  world.set_fixed(ids.front(), true);
+  world.set_fixed(ids.back(), true);
+  heat(world, ids, dT);
+  const double modulus = strong_bonds().kbn * kPitch;
+  for (const Bond& b : world.bonds()) {
+    const double stress = b.state.normal / kArea;  // positive in tension
+    EXPECT_NEAR(stress, -modulus * alpha * dT, 1e-3 * modulus * alpha * dT);
+  }
+  // The inner grains stay where they were: the bar cannot grow.
+  EXPECT_NEAR(world.state(ids[1]).x.x(), kPitch, 1e-9 * kPitch);
+}
+
+TEST(BimaterialPair, SeparatesAndStressesAsItsTwoExpansionsAdd) {
+  // A of alpha_1, B of alpha_2, the bond point midway: free, the centroids part by
+  // (alpha_1 + alpha_2) (pitch / 2) dT; held, the bond carries K_bn times that.
+  const double a1 = 4e-6, a2 = 12e-6, dT = 150.0;
+  const double opening = (a1 + a2) * 0.5 * kPitch * dT;
+  for (const bool held : {false, true}) {
+    World world = make_world();
+    const std::vector<BodyId> ids = row(world, 2);
+    world.set_expansion(ids[0], a1 * Eigen::Matrix3d::Identity());
+    world.set_expansion(ids[1], a2 * Eigen::Matrix3d::Identity());
+    ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), 1u);
+    if (held) {
+      world.set_fixed(ids[0], true);
+      world.set_fixed(ids[1], true);
+    }
+    heat(world, ids, dT);
+    const double gap = world.state(ids[1]).x.x() - world.state(ids[0]).x.x() - kPitch;
+    const Bond& b = world.bonds().front();
+    if (held) {
+      EXPECT_NEAR(gap, 0.0, 1e-15);
+      EXPECT_NEAR(b.state.normal, -kSpringN * opening, 1e-3 * kSpringN * opening);
+    } else {
+      EXPECT_NEAR(gap, opening, 0.005 * opening);
+      EXPECT_LT(std::abs(b.state.normal), 0.005 * kSpringN * opening);
+    }
+    // Its contact and bond both count from the gap the grains' growth closed.
+    EXPECT_NEAR(b.thermal_gap, -opening, 1e-3 * opening);
+  }
+}
+
+TEST(AnisotropicPair, BondStrainFollowsAlphaAlongTheBondAndTheBondEndsRelaxed) {
+  // Both grains with alpha_a across and alpha_c along a c-axis 35 degrees off the bond in
+  // the xy plane. Free, the pair's separation strain is n^T alpha n dT, and the bond ends
+  // unloaded: the part of alpha d dT across the bond is taken up by the centroids' motion
+  // and by both grains turning alike (a turn the bending spring does not resist), in a
+  // share the dynamics picks; the bond point's two material points must meet again.
+  const double aa = -2e-6, ac = 20e-6, dT = 120.0;
+  const double angle = 35.0 * M_PI / 180.0;
+  const Eigen::Vector3d c(std::cos(angle), std::sin(angle), 0.0);
+  const Eigen::Matrix3d alpha = World::crystal_expansion(c, aa, ac);
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, 2);
+  for (BodyId id : ids) world.set_expansion(id, alpha);
+  ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), 1u);
+  const Eigen::Vector3d d = world.state(ids[1]).x - world.state(ids[0]).x;
+  const Eigen::Quaterniond q0 = world.state(ids[0]).q;
+  heat(world, ids, dT, 4000, 60000);
+  const Eigen::Vector3d moved = world.state(ids[1]).x - world.state(ids[0]).x - d;
+  const Eigen::Vector3d n = d.normalized();
+  const double strain = n.dot(alpha * n) * dT;
+  EXPECT_NEAR(moved.dot(n) / d.norm(), strain, 0.005 * std::abs(strain));
+  // Unloaded: against the force of the whole misfit held, K_bs |alpha d dT|.
+  const Bond& b = world.bonds().front();
+  EXPECT_LT(b.force.norm(), 0.005 * kSpringS * (alpha * d * dT).norm());
+  // Misfit across the bond: without the thermal term the shear spring would hold it.
+  EXPECT_GT(std::abs(moved.y()), 0.1 * std::abs((alpha * d * dT).y()));
+  // The tensor turns with the grain: kept in its frame, read back in world axes.
+  const Eigen::Matrix3d turn = (world.state(ids[0]).q * q0.conjugate()).toRotationMatrix();
+  EXPECT_TRUE(world.expansion(ids[0]).isApprox(turn * alpha * turn.transpose(), 1e-9));
+  EXPECT_FALSE(turn.isIdentity(1e-6));  // it did turn
+}
+
+TEST(ThermalState, ASplitGrainsPiecesKeepItsTemperatureAndExpansion) {
+  const geometry::ExactPolyhedron prism = geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick);
+  World world = make_world();
+  const RigidShape parent_shape = make_rigid_shape(prism, kDilation);
+  const auto sh = world.add_shape(parent_shape);
+  std::vector<Fragment> pieces;
+  for (const auto& slab : prism.cleavage_slabs({geometry::CleavageFamily::m_10_10, 60})) {
+    const RigidShape piece = make_rigid_shape(slab, kDilation);
+    pieces.push_back(fragment_placement(parent_shape, piece, world.add_shape(piece)));
+  }
+  ASSERT_GE(pieces.size(), 2u);
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  const BodyId parent = world.add_body(sh, kRho, {0, 0, 0}, q);
+  const Eigen::Matrix3d alpha = World::crystal_expansion(Eigen::Vector3d(0.2, -0.5, 1.0), 3e-6, 9e-6);
+  world.set_expansion(parent, alpha);
+  world.set_temperature(parent, 900.0);
+  for (BodyId id : world.split_body(parent, pieces)) {
+    EXPECT_EQ(world.temperature(id), 900.0);
+    EXPECT_TRUE(world.expansion(id).isApprox(alpha, 1e-12)) << world.expansion(id);
+  }
+}
+
+TEST(ThermalState, ACheckpointMidRampCarriesOnBitForBit) {
+  auto setup = [](World& world) {
+    const std::vector<BodyId> ids = row(world, 3);
+    for (BodyId id : ids) world.set_expansion(id, World::crystal_expansion(Eigen::Vector3d(1, 1, 0), 1e-6, 2e-5));
+    world.initialise_bonds(strong_bonds(), 1e-6);
+    return ids;
+  };
+  auto ramp = [](World& world, int from, int to) {
+    for (int s = from; s < to; ++s) {
+      world.set_temperature(300.0 + 0.05 * s);
+      world.step();
+    }
+  };
+  World a = make_world();
+  setup(a);
+  ramp(a, 0, 500);
+  StateWriter w;
+  a.save_state(w);
+  World b = make_world();
+  StateReader r(w.bytes());
+  b.load_state(r);
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+  ramp(a, 500, 1000);
+  ramp(b, 500, 1000);
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+  EXPECT_TRUE(b.thermal());
+  EXPECT_EQ(a.bonds().front().thermal_gap, b.bonds().front().thermal_gap);
+  EXPECT_NE(a.bonds().front().thermal_gap, 0.0);
+  // The temperature is part of the hash when bodies expand.
+  const std::uint64_t before = b.state_hash();
+  b.set_temperature(b.temperature(b.body_ids().front()) + 1.0);
+  EXPECT_NE(b.state_hash(), before);
+}
+
+TEST(ThermalState, BadInputIsRefused) {
+  World world = make_world();
+  const BodyId id = row(world, 1).front();
+  EXPECT_THROW(world.set_temperature(id, std::nan("")), std::invalid_argument);
+  Eigen::Matrix3d skew = Eigen::Matrix3d::Zero();
+  skew(0, 1) = 1e-6;
+  EXPECT_THROW(world.set_expansion(id, skew), std::invalid_argument);
+  EXPECT_THROW(World::crystal_expansion(Eigen::Vector3d::Zero(), 1e-6, 1e-6), std::invalid_argument);
+  EXPECT_FALSE(world.thermal());
+  world.set_expansion(id, 1e-6 * Eigen::Matrix3d::Identity());
+  EXPECT_TRUE(world.thermal());
+}
