@@ -81,6 +81,13 @@
 ///   [fracture]                 # optional, chapter 3 (needs [dynamics]): sigma_f_hyd (Pa,
 ///                              # eq. 3.22), k_ic (Pa sqrt(m), > 0), c (> 0, default 0.816),
 ///                              # crack_length (length unit, > 0), check_every (>= 1, default 1)
+///   [thermal]                  # optional (needs [dynamics]), seed 003: temperature (K, > 0,
+///                              # default 293.15: every grain's at the start), alpha (1/K,
+///                              # isotropic) or alpha_a and alpha_c (1/K, across and along each
+///                              # grain's c-axis), c_axis = "prism" (default) | "random" (drawn
+///                              # per grain from seed, integer >= 0, default 1), conductivity
+///                              # (W/(m K), >= 0, default 0), heat_capacity (J/(kg K), > 0,
+///                              # required with a conductivity)
 ///   [[stage]]                  # any number, run in file order (needs [dynamics]):
 ///   name = "loading"           # required, unique
 ///   kind = "motion"            # optional: "motion" (default) | "bond"
@@ -92,6 +99,8 @@
 ///   #   ramp_time = 0 (s, >= 0: the velocities grow linearly from 0 over it);
 ///   #   rate_scale = 1 (> 0: velocities times it; time, steps and ramp_time over it: the
 ///   #   same test at another loading rate, e.g. --set stage[4].rate_scale=0.5)
+///   #   temperature_rate (K/s) and temperature_target (K, > 0), with [thermal]: every
+///   #   grain heats or cools at the rate until the target
 ///   # bond: distance = 0.02 (length unit, >= 0): bond initialisation
 ///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
@@ -676,7 +685,42 @@ void read_fracture_table(const TableReader& t, double unit, bool dynamics, Fract
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
                                                  "steps", "time",      "until",
                                                  "load_drop", "load_walls", "frames",
-                                                 "ramp_time", "rate_scale"};
+                                                 "ramp_time", "rate_scale", "temperature_rate",
+                                                 "temperature_target"};
+
+constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alpha_a",      "alpha_c",
+                                             "c_axis",      "seed",         "conductivity", "heat_capacity"};
+
+void read_thermal_table(const TableReader& t, bool dynamics, ThermalDef& th) {
+  t.reject_unknown(kThermalKeys);
+  if (t.table() == nullptr) return;
+  if (!dynamics) t.fail_table("[thermal] needs a [dynamics] table");
+  th.enabled = true;
+  th.temperature = t.number("temperature", Range::positive(), 293.15).value;
+  const Number alpha = t.number("alpha", Range{}, 0.0);
+  const Number aa = t.number("alpha_a", Range{}, alpha.value);
+  const Number ac = t.number("alpha_c", Range{}, alpha.value);
+  if (alpha.node != nullptr && (aa.node != nullptr || ac.node != nullptr)) {
+    const toml::node& other = aa.node != nullptr ? *aa.node : *ac.node;
+    t.fail(other, aa.node != nullptr ? "alpha_a" : "alpha_c",
+           "give alpha (isotropic) or alpha_a and alpha_c (per crystal axis), not both");
+  }
+  if ((aa.node == nullptr) != (ac.node == nullptr)) {
+    t.fail_absent(aa.node == nullptr ? "alpha_a" : "alpha_c", "alpha_a and alpha_c go together");
+  }
+  th.alpha_a = aa.value;
+  th.alpha_c = ac.value;
+  th.c_axis = t.choose<ThermalDef::Axis>("c_axis", {{"prism", ThermalDef::Axis::prism}, {"random", ThermalDef::Axis::random}},
+                                         ThermalDef::Axis::prism);
+  th.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
+  const Number conductivity = t.number("conductivity", Range::non_negative(), 0.0);
+  th.conductivity = conductivity.value;
+  if (th.conductivity > 0.0) {
+    th.heat_capacity = t.number("heat_capacity", Range::positive()).value;
+  } else if (const Number c = t.number("heat_capacity", Range::positive(), 0.0); c.node != nullptr) {
+    th.heat_capacity = c.value;
+  }
+}
 constexpr std::string_view kBondStageKeys[] = {"name", "kind", "distance"};
 
 /// The names in an array of strings at `key`, each one a wall of the scenario.
@@ -771,6 +815,16 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
   st.ramp_time = t.number("ramp_time", Range::non_negative(), 0.0).value;
   // The same test at another loading rate: faster walls over a shorter stage, or slower over
   // a longer one, folded in here (the as-run scenario holds the velocities and lengths run).
+  const Number t_rate = t.number("temperature_rate", Range{}, 0.0);
+  if (t_rate.node != nullptr && !s.thermal.enabled) {
+    t.fail(*t_rate.node, "temperature_rate", "a temperature stage needs a [thermal] table");
+  }
+  st.temperature_rate = t_rate.value;
+  if (st.temperature_rate != 0.0) {
+    st.temperature_target = t.number("temperature_target", Range::positive()).value;
+  } else if (const toml::node* target = t.find("temperature_target")) {
+    t.fail(*target, "temperature_target", "applies only with a temperature_rate");
+  }
   const double rate = t.number("rate_scale", Range::positive(), 1.0).value;
   if (rate != 1.0) {
     for (auto& wv : st.wall_velocity) wv.second *= rate;
@@ -786,7 +840,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
 constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
                                         "split",    "output",   "material", "contact",
                                         "dynamics", "wall",     "bond",     "stage",
-                                        "fracture", "mesh_grain"};
+                                        "fracture", "mesh_grain", "thermal"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -876,6 +930,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   }
   read_bond_table(reader("bond"), s.bond);
   read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
+  read_thermal_table(reader("thermal"), s.dynamics.enabled, s.thermal);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
       const toml::node& first = *stages->get(0);

@@ -120,6 +120,20 @@ struct FractureDef {
   int check_every = 1;             ///< steps between two checks
 };
 
+/// [thermal]: temperatures, thermal expansion and conduction (seed 003).
+struct ThermalDef {
+  bool enabled = false;
+  double temperature = 293.15;  ///< K: every grain's at the start (and so at bonding)
+  double alpha_a = 0.0;         ///< 1/K: expansion across the c-axis
+  double alpha_c = 0.0;         ///< 1/K: along it (= alpha_a: isotropic, `alpha`)
+  /// Each grain's c-axis: its prism axis (a honeycomb's grains all share it) or a direction
+  /// drawn uniformly on the sphere per grain from `seed` (a polycrystal's random texture).
+  enum class Axis { prism, random } c_axis = Axis::prism;
+  std::uint64_t seed = 1;
+  double conductivity = 0.0;   ///< W/(m K); 0: no conduction
+  double heat_capacity = 0.0;  ///< J/(kg K)
+};
+
 /// One [[stage]] of a staged run (sec. 2.5.2: compaction, bond initialisation, loading).
 struct StageDef {
   enum class Kind { motion, bond };
@@ -142,6 +156,10 @@ struct StageDef {
   /// stage's start (a smooth start sends no impact wave through the specimen); 0: at once.
   double ramp_time = 0.0;
   double bond_distance = 0.0;  ///< bond: the bonding distance, m
+  /// motion, with [thermal]: K/s every grain's temperature changes by over the stage (a
+  /// uniform field added to conduction's), stopping at `temperature_target` K.
+  double temperature_rate = 0.0;
+  double temperature_target = 0.0;
 };
 
 /// The name of an `until` event as written in scenario files.
@@ -164,6 +182,7 @@ struct Scenario {
   DynamicsDef dynamics;
   BondDef bond;
   FractureDef fracture;
+  ThermalDef thermal;
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
   /// Per wall: `gap` (m), a plane or platen placed this far from the specimen's nearest grain

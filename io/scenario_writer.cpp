@@ -189,6 +189,15 @@ std::string scenario_to_toml(const Scenario& s) {
                        s.fracture.check_every);
   }
 
+  if (s.thermal.enabled) {
+    const ThermalDef& t = s.thermal;
+    out += fmt::format("\n[thermal]\ntemperature = {}\nalpha_a = {}\nalpha_c = {}\nc_axis = \"{}\"\nseed = {}\n",
+                       num(t.temperature), num(t.alpha_a), num(t.alpha_c),
+                       t.c_axis == ThermalDef::Axis::prism ? "prism" : "random", t.seed);
+    out += fmt::format("conductivity = {}\n", num(t.conductivity));
+    if (t.heat_capacity > 0.0) out += fmt::format("heat_capacity = {}\n", num(t.heat_capacity));
+  }
+
   for (const StageDef& st : s.stages) {
     out += fmt::format("\n[[stage]]\nname = {}\n", str(st.name));
     if (st.kind == StageDef::Kind::bond) {
@@ -212,6 +221,10 @@ std::string scenario_to_toml(const Scenario& s) {
     for (const auto& name : st.load_walls) walls += (walls.empty() ? "" : ", ") + str(name);
     out += fmt::format("load_walls = [{}]\nframes = {}\n", walls, st.frames);
     if (st.ramp_time > 0.0) out += fmt::format("ramp_time = {}\n", num(st.ramp_time));
+    if (st.temperature_rate != 0.0) {
+      out += fmt::format("temperature_rate = {}\ntemperature_target = {}\n", num(st.temperature_rate),
+                         num(st.temperature_target));
+    }
   }
   return out;
 }
@@ -335,6 +348,15 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("fracture.crack_length", a.fracture.params.crack_length, b.fracture.params.crack_length);
   d.same("fracture.check_every", a.fracture.check_every, b.fracture.check_every);
 
+  d.same("thermal", a.thermal.enabled, b.thermal.enabled);
+  d.same("thermal.temperature", a.thermal.temperature, b.thermal.temperature);
+  d.same("thermal.alpha_a", a.thermal.alpha_a, b.thermal.alpha_a);
+  d.same("thermal.alpha_c", a.thermal.alpha_c, b.thermal.alpha_c);
+  d.same("thermal.c_axis", a.thermal.c_axis, b.thermal.c_axis);
+  d.same("thermal.seed", a.thermal.seed, b.thermal.seed);
+  d.same("thermal.conductivity", a.thermal.conductivity, b.thermal.conductivity);
+  d.same("thermal.heat_capacity", a.thermal.heat_capacity, b.thermal.heat_capacity);
+
   d.same("wall (count)", a.walls.size(), b.walls.size());
   for (std::size_t i = 0; i < std::min(a.walls.size(), b.walls.size()); ++i) {
     const physics::Wall &wa = a.walls[i], &wb = b.walls[i];
@@ -373,6 +395,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     d.same(k + "load_walls", ta.load_walls, tb.load_walls);
     d.same(k + "frames", ta.frames, tb.frames);
     d.same(k + "ramp_time", ta.ramp_time, tb.ramp_time);
+    d.same(k + "temperature_rate", ta.temperature_rate, tb.temperature_rate);
+    d.same(k + "temperature_target", ta.temperature_target, tb.temperature_target);
     d.same(k + "distance", ta.bond_distance, tb.bond_distance);
   }
   return d.keys;

@@ -92,6 +92,43 @@ void check_time_step(const Scenario& scenario, const geometry::Specimen& specime
   check_time_step(scenario, grain_shapes(scenario, specimen));
 }
 
+namespace {
+
+/// A uniform U in [0, 1) from the seed, the grain and a draw number (splitmix64).
+double unit_draw(std::uint64_t seed, int grain, int draw) {
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + (static_cast<std::uint64_t>(static_cast<std::uint32_t>(grain)) << 8) +
+                    static_cast<std::uint64_t>(draw);
+  for (int round = 0; round < 2; ++round) {
+    z += 0x9E3779B97F4A7C15ULL;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    z ^= z >> 31;
+  }
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
+Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id) {
+  if (thermal.c_axis == ThermalDef::Axis::prism) return Eigen::Vector3d::UnitZ();
+  // Uniform on the sphere (Archimedes): z uniform in [-1, 1], azimuth uniform.
+  const double z = 2.0 * unit_draw(thermal.seed, grain_id, 0) - 1.0;
+  const double phi = 2.0 * M_PI * unit_draw(thermal.seed, grain_id, 1);
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+void apply_thermal(const ThermalDef& thermal, physics::World& world) {
+  world.set_temperature(thermal.temperature);
+  if (thermal.alpha_a != 0.0 || thermal.alpha_c != 0.0) {
+    for (const physics::BodyId id : world.body_ids()) {
+      const Eigen::Vector3d c = grain_c_axis(thermal, world.info(id).grain_id);
+      world.set_expansion(id, physics::World::crystal_expansion(c, thermal.alpha_a, thermal.alpha_c));
+    }
+  }
+  world.set_conduction(thermal.conductivity, thermal.heat_capacity);
+}
+
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
   const std::vector<physics::RigidShape> shapes = grain_shapes(scenario, specimen);
   check_time_step(scenario, shapes);
@@ -125,6 +162,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
     world.add_body(ids.at(k), grain_density(scenario), g.site.centre + shapes[k].centroid + lift,
                    shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
   }
+  if (scenario.thermal.enabled) apply_thermal(scenario.thermal, world);
   for (std::size_t i = 0; i < scenario.walls.size(); ++i) {
     physics::Wall w = scenario.walls[i];
     if (i < scenario.wall_gaps.size() && !std::isnan(scenario.wall_gaps[i])) {

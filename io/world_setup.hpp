@@ -29,4 +29,12 @@ double stable_time_step(const Scenario& scenario, double mass, double inertia, d
 /// file order. Checks the time step first.
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen);
 
+/// A grain's c-axis under [thermal] c_axis: z (a honeycomb grain's prism axis) or a
+/// direction uniform on the sphere drawn from the seed and the grain's id.
+Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id);
+
+/// [thermal] on a world of grains (make_world calls it): every grain at the temperature, its
+/// expansion tensor alpha_a I + (alpha_c - alpha_a) c c^T about its c-axis, the conduction.
+void apply_thermal(const ThermalDef& thermal, physics::World& world);
+
 }  // namespace cleave::io

@@ -163,7 +163,7 @@ struct StageRun {
 };
 
 /// The layout of the run state in a checkpoint (Runner::encode_run_state).
-constexpr std::uint32_t kRunStateLayout = 1;
+constexpr std::uint32_t kRunStateLayout = 2;  // 2: thermal.csv
 
 void put_summary(physics::StateWriter& w, const StageSummary& st) {
   w.put(st.name);
@@ -228,6 +228,7 @@ class Dynamics::Runner {
     walls_ += "\n";
     loads_ += ",load_N,load_point_displacement_m\n";
     bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
+    if (scenario_.thermal.enabled) thermal_ = "time_s,stage,mean_K,min_K,max_K,bonds_intact,bonds_broken\n";
     if (resume) {
       // Everything else comes from the checkpoint (run()).
       if (scenario_.fracture.enabled != resume->book.has_value()) {
@@ -468,6 +469,19 @@ class Dynamics::Runner {
       const double f = std::min(1.0, t / stage.ramp_time);
       for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = f * v;
     }
+    if (stage.temperature_rate != 0.0) {
+      // The stage's uniform heating or cooling, this step's share, up to its target.
+      const double change = stage.temperature_rate * scenario_.dynamics.dt;
+      const double target = stage.temperature_target;
+      const auto& thermal = world_.slot_thermal();
+      for (const physics::BodyId id : world_.body_ids()) {
+        const physics::BodyThermal& t = thermal[id.index];
+        if (t.held) continue;
+        const double next = t.temperature + change;
+        world_.set_temperature(id, change > 0.0 ? std::min(next, std::max(target, t.temperature))
+                                                : std::max(next, std::min(target, t.temperature)));
+      }
+    }
     guard_.before_step(world_);
     bool completed = true;
     try {
@@ -618,7 +632,7 @@ class Dynamics::Runner {
     for (const auto& st : sum_.stages) put_summary(w, st);
     w.put(origin0_);
     w.put(pe0_);
-    for (const std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_}) w.put(*s);
+    for (const std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_}) w.put(*s);
     w.count(breaks_by_stage_.size());
     for (const auto& [end, name] : breaks_by_stage_) {
       w.put<std::uint64_t>(end);
@@ -668,7 +682,7 @@ class Dynamics::Runner {
       for (auto& st : sum_.stages) st = get_summary(r);
       origin0_ = r.vec3s();
       pe0_ = r.get<double>();
-      for (std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_}) *s = r.string();
+      for (std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_}) *s = r.string();
       breaks_by_stage_.resize(r.count(16));
       for (auto& [end, name] : breaks_by_stage_) {
         end = r.get<std::uint64_t>();
@@ -827,6 +841,20 @@ class Dynamics::Runner {
       bond_counts_ += fmt::format("{:.9g},{},{},{},{},{},{}\n", world_.time(), stage_, c.intact,
                                   c.tension, c.shear, c.bending, c.torsion);
     }
+    if (scenario_.thermal.enabled) {
+      double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      const auto ids = world_.body_ids();
+      for (const physics::BodyId id : ids) {
+        const double t = world_.temperature(id);
+        sum += t;
+        lo = std::min(lo, t);
+        hi = std::max(hi, t);
+      }
+      const physics::BondCounts c = world_.bond_counts();
+      thermal_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{}\n", world_.time(), stage_,
+                              ids.empty() ? 0.0 : sum / static_cast<double>(ids.size()), lo, hi, c.intact,
+                              c.tension + c.shear + c.bending + c.torsion);
+    }
   }
 
   void write_frame() {
@@ -881,6 +909,7 @@ class Dynamics::Runner {
     io::write_file_atomically(out_ / "walls.csv", walls_);
     io::write_file_atomically(out_ / "load_displacement.csv", loads_);
     if (book_) io::write_file_atomically(out_ / "splits.csv", splits_);
+    if (scenario_.thermal.enabled) io::write_file_atomically(out_ / "thermal.csv", thermal_);
     if (!scenario_.bond.enabled) return;
     io::write_file_atomically(out_ / "bonds.csv", bond_counts_);
     std::string breaks =
@@ -916,7 +945,7 @@ class Dynamics::Runner {
   io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_;
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;
-  std::string energy_, walls_, loads_, bond_counts_, splits_;
+  std::string energy_, walls_, loads_, bond_counts_, splits_, thermal_;
   std::optional<physics::FractureBook> book_;
   std::string stage_;
   std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)

@@ -319,6 +319,7 @@ RunReport Simulation::State::finish() {
       if (scenario.bond.enabled) files += ", bonds.pvd";
       files += ", energy.csv, walls.csv, load_displacement.csv";
       if (scenario.bond.enabled) files += ", bonds.csv, bond_breaks.csv";
+      if (scenario.thermal.enabled) files += ", thermal.csv";
       for (const auto& st : d.stages) {
         if (!st.plot.empty()) files += ", " + st.plot;
       }

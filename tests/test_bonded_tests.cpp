@@ -266,3 +266,33 @@ TEST_F(BondedTest, FallingGrainsFragmentOverGenerationsAndKeepEveryGrainsExactVo
     EXPECT_GE(std::stod(f.at("volume_m3")), std::pow(0.05, depth) * prism * (1 - 1e-9)) << path;
   }
 }
+
+TEST_F(BondedTest, CoolingCracksAPolycrystalOnlyWhereItsGrainsExpandUnlike) {
+  // scenarios/thermal_microcracking.toml as shipped: grains with seed 003's anisotropic
+  // expansion about random c-axes, bonded at 1773 K and cooled to 293 K, break bonds; the
+  // same grains with parallel c-axes, or with an isotropic expansion, shrink alike and
+  // break none (a uniform thermal strain of a free body is stress-free).
+  const fs::path cracked = run("thermal_microcracking", {}, "random");
+  const auto rows = read_csv(cracked / "thermal.csv");
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(std::stod(rows.front().at("mean_K")), 1773.0);
+  EXPECT_EQ(std::stod(rows.back().at("mean_K")), 293.0);
+  EXPECT_EQ(std::stod(rows.back().at("min_K")), std::stod(rows.back().at("max_K")));  // uniform
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_LE(std::stod(rows[i].at("mean_K")), std::stod(rows[i - 1].at("mean_K")));
+  }
+  const int broken = std::stoi(rows.back().at("bonds_broken"));
+  EXPECT_GT(broken, 0);
+  EXPECT_EQ(breaks(cracked).size(), static_cast<std::size_t>(broken));
+  // Cracks open on cooling: the first break comes after the specimen has cooled a while.
+  EXPECT_GT(breaks(cracked).front().time, 0.0);
+  for (const auto& [name, edit] :
+       std::vector<std::pair<std::string, std::pair<std::string, std::string>>>{
+           {"parallel", {"c_axis = \"random\"", "c_axis = \"prism\""}},
+           {"isotropic", {"alpha_a = -1.904e-6    # 1/K, across the c-axis\nalpha_c = 16.64e-6     # 1/K, along it",
+                          "alpha = 8e-6"}}}) {
+    const fs::path dir = run("thermal_microcracking", {edit}, name);
+    EXPECT_EQ(read_csv(dir / "thermal.csv").back().at("bonds_broken"), "0") << name;
+    EXPECT_EQ(std::stod(read_csv(dir / "thermal.csv").back().at("mean_K")), 293.0) << name;
+  }
+}

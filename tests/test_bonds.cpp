@@ -9,17 +9,13 @@
 
 #include "geometry/exact_polyhedron.hpp"
 #include "physics/dem/world.hpp"
+#include "prism_row.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
+using namespace cleave::test;
 
 namespace {
-
-constexpr double kSide = 0.5e-3;      // prism side, m
-constexpr double kThick = 1.0e-3;     // prism thickness, m
-constexpr double kDilation = 0.05e-3;  // m
-constexpr double kRho = 3100.0;
-const double kFlat = std::sqrt(3.0) * kSide;  // distance between opposite side faces
 
 /// Table 2.5 read as in scenarios/: bond springs of 5000 N/m and 2000 N/m on the section of
 /// the dilation radius (eq. 2.10), strengths 1000 Pa.
@@ -46,23 +42,6 @@ World make_world(double dt, double local_damping = 0.0) {
   ws.local_damping = local_damping;
   ws.threads = 1;
   return World(ws);
-}
-
-RigidShape prism() {
-  return make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick), kDilation);
-}
-
-/// n prisms in a row along x, side face to side face; neighbouring dilated surfaces
-/// overlap by `overlap` (negative: a gap).
-std::vector<BodyId> row(World& world, int n, double overlap) {
-  const RigidShape shape = prism();
-  const auto sh = world.add_shape(shape);
-  const double pitch = kFlat + 2.0 * kDilation - overlap;
-  std::vector<BodyId> ids;
-  for (int i = 0; i < n; ++i) {
-    ids.push_back(world.add_body(sh, kRho, {i * pitch, 0, 0}, shape.orientation_for()));
-  }
-  return ids;
 }
 
 }  // namespace

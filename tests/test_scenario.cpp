@@ -771,4 +771,49 @@ TEST(Scenario, ManifoldToleranceReadsBackAndIsRefusedOutsideItsRange) {
   }
 }
 
+TEST(Scenario, ThermalTableAndTemperatureStagesReadBackAndBadValuesNameTheirKey) {
+  const std::string thermal = std::string(kDropTest) +
+                              "[thermal]\ntemperature = 1773\nalpha_a = -2e-6\nalpha_c = 2e-5\nc_axis = \"random\"\n"
+                              "seed = 3\nconductivity = 20\nheat_capacity = 800\n";
+  auto with_stage = [](std::string text, const std::string& keys) {
+    text.replace(text.find("duration = 0.5\n"), 15, "");
+    return text + "[[stage]]\nname = \"cool\"\nwall_velocity = {}\ntime = 0.1\n" + keys;
+  };
+  const Scenario s = parse_scenario(with_stage(thermal, "temperature_rate = -100\ntemperature_target = 293\n"), "t.toml");
+  EXPECT_TRUE(s.thermal.enabled);
+  EXPECT_EQ(s.thermal.temperature, 1773.0);
+  EXPECT_EQ(s.thermal.alpha_a, -2e-6);
+  EXPECT_EQ(s.thermal.alpha_c, 2e-5);
+  EXPECT_EQ(s.thermal.c_axis, ThermalDef::Axis::random);
+  EXPECT_EQ(s.thermal.seed, 3u);
+  EXPECT_EQ(s.thermal.heat_capacity, 800.0);
+  EXPECT_EQ(s.stages.at(0).temperature_rate, -100.0);
+  EXPECT_EQ(s.stages.at(0).temperature_target, 293.0);
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  EXPECT_EQ(again.stages.at(0).temperature_rate, -100.0);
+  // Isotropic: alpha sets both.
+  const Scenario iso = parse_scenario(std::string(kDropTest) + "[thermal]\nalpha = 8e-6\n", "iso.toml");
+  EXPECT_EQ(iso.thermal.alpha_a, 8e-6);
+  EXPECT_EQ(iso.thermal.alpha_c, 8e-6);
+  EXPECT_EQ(iso.thermal.temperature, 293.15);
+  EXPECT_FALSE(parse_scenario(kDropTest, "plain.toml").thermal.enabled);
+
+  std::string both = std::string(kDropTest) + "[thermal]\nalpha = 8e-6\nalpha_c = 1e-5\n";
+  EXPECT_SCENARIO_ERROR(both, line_of_last(both, "alpha_c"), "thermal.alpha_c", "not both");
+  std::string half = std::string(kDropTest) + "[thermal]\nalpha_a = 8e-6\n";
+  EXPECT_SCENARIO_ERROR(half, line_of_last(half, "[thermal]"), "thermal.alpha_c", "go together");
+  std::string cold = std::string(kDropTest) + "[thermal]\ntemperature = -5\n";
+  EXPECT_SCENARIO_ERROR(cold, line_of_last(cold, "temperature"), "thermal.temperature", "must be > 0");
+  std::string no_capacity = std::string(kDropTest) + "[thermal]\nconductivity = 20\n";
+  EXPECT_SCENARIO_ERROR(no_capacity, line_of_last(no_capacity, "[thermal]"), "thermal.heat_capacity", "missing");
+  std::string axis = std::string(kDropTest) + "[thermal]\nc_axis = \"x\"\n";
+  EXPECT_SCENARIO_ERROR(axis, line_of_last(axis, "c_axis"), "thermal.c_axis", "prism");
+  const std::string no_thermal = with_stage(kDropTest, "temperature_rate = -100\ntemperature_target = 293\n");
+  EXPECT_SCENARIO_ERROR(no_thermal, line_of_last(no_thermal, "temperature_rate"), "stage[1].temperature_rate",
+                        "needs a [thermal] table");
+  const std::string no_target = with_stage(thermal, "temperature_rate = -100\n");
+  EXPECT_SCENARIO_ERROR(no_target, line_of_last(no_target, "[[stage]]"), "stage[1].temperature_target", "missing");
+}
+
 }  // namespace cleave::io

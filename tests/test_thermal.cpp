@@ -10,17 +10,14 @@
 #include "geometry/exact_polyhedron.hpp"
 #include "physics/dem/state_codec.hpp"
 #include "physics/dem/world.hpp"
+#include "prism_row.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
+using namespace cleave::test;
 
 namespace {
 
-constexpr double kSide = 0.5e-3;       // prism side, m
-constexpr double kThick = 1.0e-3;      // prism thickness, m
-constexpr double kDilation = 0.05e-3;  // m
-constexpr double kRho = 3100.0;
-const double kFlat = std::sqrt(3.0) * kSide;    // distance between opposite side faces
 const double kPitch = kFlat + 2.0 * kDilation;  // centroid spacing of touching neighbours
 const double kArea = M_PI * kDilation * kDilation;  // bond section (eq. 2.10)
 constexpr double kSpringN = 5000.0, kSpringS = 2000.0;  // bond springs K_bn, K_bs, N/m
@@ -41,15 +38,6 @@ World make_world() {
   ws.local_damping = 0.7;  // quasi-static: the answers are equilibria
   ws.threads = 1;
   return World(ws);
-}
-
-/// n prisms in a row along x, side face to side face, their dilated surfaces touching.
-std::vector<BodyId> row(World& world, int n) {
-  const RigidShape shape = make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick), kDilation);
-  const auto sh = world.add_shape(shape);
-  std::vector<BodyId> ids;
-  for (int i = 0; i < n; ++i) ids.push_back(world.add_body(sh, kRho, {i * kPitch, 0, 0}, shape.orientation_for()));
-  return ids;
 }
 
 /// Ramps every body from its temperature by dT over `ramp` steps, then lets it settle.
@@ -207,11 +195,15 @@ TEST(ThermalState, ACheckpointMidRampCarriesOnBitForBit) {
     const std::vector<BodyId> ids = row(world, 3);
     for (BodyId id : ids) world.set_expansion(id, World::crystal_expansion(Eigen::Vector3d(1, 1, 0), 1e-6, 2e-5));
     world.initialise_bonds(strong_bonds(), 1e-6);
+    world.set_conduction(100.0, 1.0);
+    world.set_temperature(300.0);
+    world.set_temperature_held(ids.front(), true);
     return ids;
   };
   auto ramp = [](World& world, int from, int to) {
+    const BodyId end = world.body_ids().front();
     for (int s = from; s < to; ++s) {
-      world.set_temperature(300.0 + 0.05 * s);
+      world.set_temperature(end, 300.0 + 0.05 * s);  // the rest follow by conduction
       world.step();
     }
   };
@@ -228,6 +220,9 @@ TEST(ThermalState, ACheckpointMidRampCarriesOnBitForBit) {
   ramp(b, 500, 1000);
   EXPECT_EQ(a.state_hash(), b.state_hash());
   EXPECT_TRUE(b.thermal());
+  EXPECT_EQ(b.conductivity(), 100.0);
+  EXPECT_EQ(a.temperature(a.body_ids().back()), b.temperature(b.body_ids().back()));
+  EXPECT_GT(b.temperature(b.body_ids().back()), 300.0);
   EXPECT_EQ(a.bonds().front().thermal_gap, b.bonds().front().thermal_gap);
   EXPECT_NE(a.bonds().front().thermal_gap, 0.0);
   // The temperature is part of the hash when bodies expand.
@@ -247,4 +242,101 @@ TEST(ThermalState, BadInputIsRefused) {
   EXPECT_FALSE(world.thermal());
   world.set_expansion(id, 1e-6 * Eigen::Matrix3d::Identity());
   EXPECT_TRUE(world.thermal());
+}
+
+TEST(Conduction, TwoBondedGrainsRelaxAsTheLumpedExponential) {
+  // Two grains of heat capacities C = m c_p joined by one bond of conductance
+  // G = lambda S_t / d: their difference decays as exp(-G (1/C_a + 1/C_b) t), and the
+  // heat they hold together stays what it was. S_t is the touching side faces' area.
+  const double lambda = 1.0, cp = 1.0;
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, 2);
+  ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), 1u);
+  world.set_conduction(lambda, cp);
+  EXPECT_NEAR(world.bonds().front().transmission, kSide * kThick, 1e-9 * kSide * kThick);
+  world.set_temperature(ids[0], 400.0);
+  world.set_temperature(ids[1], 300.0);
+  const double m = world.info(ids[0]).mass;
+  const double rate = lambda * kSide * kThick / kPitch * 2.0 / (m * cp);
+  const int steps = 20000;
+  for (int s = 0; s < steps; ++s) world.step();
+  const double t = steps * world.settings().dt;
+  const double diff = world.temperature(ids[0]) - world.temperature(ids[1]);
+  EXPECT_NEAR(diff, 100.0 * std::exp(-rate * t), 1e-3 * 100.0 * std::exp(-rate * t));
+  EXPECT_GT(rate * t, 0.5);  // it has decayed far enough to tell
+  EXPECT_NEAR(world.temperature(ids[0]) + world.temperature(ids[1]), 700.0, 1e-9);
+}
+
+TEST(Conduction, ABondedRodsFirstModeDecaysAsTheHeatEquationSays) {
+  // A rod of 16 grains face to face, insulated ends, starting in the first mode
+  // T = T0 + dT cos(pi x / L): the heat equation gives a decay rate kappa pi^2 / L^2 with
+  // the chain's diffusivity kappa = lambda S_t d / (rho c_p V) (its conductance per length
+  // over its heat capacity per length), L = N d. Within 2 % (the chain's discreteness).
+  const int n = 16;
+  const double lambda = 100.0, cp = 1.0;
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, n);
+  ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), static_cast<std::size_t>(n - 1));
+  world.set_conduction(lambda, cp);
+  auto mode = [&](int i) { return std::cos(M_PI * (i + 0.5) / n); };
+  for (int i = 0; i < n; ++i) world.set_temperature(ids[i], 500.0 + 50.0 * mode(i));
+  auto amplitude = [&] {
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < n; ++i) {
+      num += (world.temperature(ids[i]) - 500.0) * mode(i);
+      den += mode(i) * mode(i);
+    }
+    return num / den;
+  };
+  const double volume = world.shape(world.info(ids[0]).shape).volume;
+  const double kappa = lambda * kSide * kThick * kPitch / (kRho * cp * volume);
+  const double length = n * kPitch;
+  const double rate = kappa * M_PI * M_PI / (length * length);
+  const int steps = 20000;
+  for (int s = 0; s < steps; ++s) world.step();
+  const double t = steps * world.settings().dt;
+  const double measured = -std::log(amplitude() / 50.0) / t;
+  EXPECT_NEAR(measured, rate, 0.02 * rate);
+  EXPECT_GT(rate * t, 0.3);
+  // Insulated: the mean temperature stays.
+  double mean = 0.0;
+  for (BodyId id : ids) mean += world.temperature(id) / n;
+  EXPECT_NEAR(mean, 500.0, 1e-9);
+}
+
+TEST(Conduction, AHeldFaceQuenchesItsNeighboursAndABrokenBondStopsTheHeat) {
+  // Three grains: the first held at 300 K, the others at 800 K; the middle cools and the
+  // third follows. Then the third is pulled off (its bond, 1e-6 of the other's strength,
+  // breaks in tension): from then on its temperature stays, while the middle's falls on.
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, 3);
+  BondParams weak = strong_bonds();
+  weak.tbn = weak.tbs = 1e3;
+  ASSERT_EQ(world.initialise_bonds(weak, 1e-6), 2u);
+  world.set_bond_strength(0, 1e6);  // bonds sorted by pair: 0 joins grains 0 and 1
+  world.set_conduction(100.0, 1.0);
+  world.set_temperature(800.0);
+  world.set_temperature(ids[0], 300.0);
+  world.set_temperature_held(ids[0], true);
+  world.set_fixed(ids[0], true);
+  for (int s = 0; s < 1000; ++s) world.step();
+  EXPECT_EQ(world.temperature(ids[0]), 300.0);
+  EXPECT_LT(world.temperature(ids[1]), 700.0);
+  EXPECT_LT(world.temperature(ids[2]), 800.0);
+  EXPECT_GT(world.temperature(ids[2]), world.temperature(ids[1]));
+  world.set_fixed(ids[2], true);
+  world.state(ids[2]).v = Eigen::Vector3d(1e-3, 0, 0);
+  int steps = 0;
+  while (world.bonds()[1].intact() && steps < 1000) {
+    world.step();
+    ++steps;
+  }
+  ASSERT_FALSE(world.bonds()[1].intact());
+  ASSERT_TRUE(world.bonds()[0].intact());
+  const double third = world.temperature(ids[2]), middle = world.temperature(ids[1]);
+  for (int s = 0; s < 1000; ++s) world.step();
+  EXPECT_EQ(world.temperature(ids[2]), third);
+  EXPECT_LT(world.temperature(ids[1]), middle - 1.0);
+  EXPECT_THROW(world.set_conduction(-1.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(world.set_conduction(1.0, 0.0), std::invalid_argument);
 }

@@ -51,6 +51,7 @@ struct BodyThermal {
   /// r from the centroid moves by alpha r dT (symmetric; alpha_a I + (alpha_c - alpha_a) c c^T
   /// for a hexagonal or trigonal crystal with c-axis c).
   Eigen::Matrix3d alpha = Eigen::Matrix3d::Zero();
+  bool held = false;  ///< conduction leaves its temperature as set
 };
 
 /// What a body is (changes only when bodies are created, split or removed).

@@ -739,6 +739,7 @@ void World::step() {
     if (!infos_[i].alive || infos_[i].fixed) continue;
     kick(states_[i], infos_[i], 0.5 * h);
   }
+  if (conductivity_ > 0.0) conduct(h);
   time_ += h;
   ++steps_;
 }
@@ -844,6 +845,60 @@ double World::temperature(BodyId id) const {
   return thermal_[id.index].temperature;
 }
 
+namespace {
+/// The area of the polygon the contact points of two touching faces span (their overlap's
+/// corners), seen along `normal`; 0 when they span no area (an edge or corner contact).
+double contact_polygon_area(const std::vector<FeatureContact>& features, const Eigen::Vector3d& normal) {
+  if (features.size() < 3) return 0.0;
+  const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector2d> corners;
+  for (const FeatureContact& fc : features) corners.emplace_back(fc.contact.point.dot(u), fc.contact.point.dot(v));
+  for (const auto& c : corners) centre += c / static_cast<double>(corners.size());
+  std::sort(corners.begin(), corners.end(), [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    return std::atan2(p.y() - centre.y(), p.x() - centre.x()) < std::atan2(q.y() - centre.y(), q.x() - centre.x());
+  });
+  double twice = 0.0;  // shoelace
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const Eigen::Vector2d& p = corners[i];
+    const Eigen::Vector2d& q = corners[(i + 1) % corners.size()];
+    twice += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * std::abs(twice);
+}
+}  // namespace
+
+void World::set_conduction(double conductivity, double heat_capacity) {
+  if (!(conductivity >= 0.0) || !std::isfinite(conductivity))
+    throw std::invalid_argument("set_conduction: the conductivity must be finite and >= 0");
+  if (conductivity > 0.0 && !(heat_capacity > 0.0 && std::isfinite(heat_capacity)))
+    throw std::invalid_argument("set_conduction: the heat capacity must be finite and > 0");
+  conductivity_ = conductivity;
+  heat_capacity_ = heat_capacity;
+}
+
+void World::set_temperature_held(BodyId id, bool held) {
+  if (!contains(id)) throw std::out_of_range("set_temperature_held: stale or invalid body id");
+  thermal_[id.index].held = held;
+}
+
+void World::conduct(double h) {
+  // Explicit: each intact bond's heat over the step from the temperatures at its start,
+  // summed per body in bond order (the same for any thread count).
+  heat_.assign(states_.size(), 0.0);
+  for (const Bond& bd : bonds_) {
+    if (!bd.intact()) continue;
+    const double d = (states_[bd.b].x - states_[bd.a].x).norm();
+    const double q = conductivity_ * bd.transmission * (thermal_[bd.b].temperature - thermal_[bd.a].temperature) / d * h;
+    heat_[bd.a] += q;
+    heat_[bd.b] -= q;
+  }
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (!infos_[i].alive || thermal_[i].held || heat_[i] == 0.0) continue;
+    thermal_[i].temperature += heat_[i] / (infos_[i].mass * heat_capacity_);
+  }
+}
+
 std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
   if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
@@ -885,6 +940,7 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
     bd.section.radius = std::min(posed_[a].radius, posed_[b].radius);
     bd.point = point;
     bd.normal = normal;
+    bd.transmission = std::max(contact_polygon_area(features, normal), bd.section.area());
     bonds_.push_back(std::move(bd));
   }
   bond_params_ = params;

@@ -87,6 +87,10 @@ struct Bond {
   /// bonding (m; negative when they have grown into each other). The pair's contacts count
   /// their overlap from it as well, since the grains' shapes keep their reference size.
   double thermal_gap = 0.0;
+  /// Heat conduction's transmission surface S_t (m^2): the area of the two grains' touching
+  /// faces at bonding (the polygon of the contact points), the section's where they touch
+  /// at an edge or a corner.
+  double transmission = 0.0;
   // Last force evaluation (world): the bond point, normal, and the force and moment on B.
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
@@ -216,6 +220,17 @@ class World {
   [[nodiscard]] const std::vector<BodyThermal>& slot_thermal() const { return thermal_; }
   /// Whether some body has a non-zero expansion tensor (thermal terms are computed).
   [[nodiscard]] bool thermal() const { return thermal_on_; }
+  /// Heat conduction through the intact bonds (seed 003, after Terreros et al. 2013): each
+  /// step every bond passes Q = lambda S_t (T_b - T_a) / d_ab dt from the hotter grain to the
+  /// colder (S_t its transmission surface, d_ab the centroids' distance), and a grain's
+  /// temperature changes by its heat over m c_p. `conductivity` lambda in W/(m K),
+  /// `heat_capacity` c_p in J/(kg K); conductivity 0 turns it off (the default).
+  void set_conduction(double conductivity, double heat_capacity);
+  [[nodiscard]] double conductivity() const { return conductivity_; }
+  [[nodiscard]] double heat_capacity() const { return heat_capacity_; }
+  /// A held body keeps the temperature it is set to (a quenched or heated boundary):
+  /// conduction does not change it.
+  void set_temperature_held(BodyId id, bool held);
 
   /// Adds a wall; returns its index.
   std::size_t add_wall(Wall wall);
@@ -307,6 +322,9 @@ class World {
   std::vector<BodyInfo> infos_;    // cold, indexed by slot
   std::vector<BodyThermal> thermal_;  // by slot
   bool thermal_on_ = false;           // some body expands
+  double conductivity_ = 0.0, heat_capacity_ = 0.0;
+  std::vector<double> heat_;  // by slot: this step's conducted heat (J)
+  void conduct(double h);
   std::vector<std::uint32_t> free_slots_;
   std::size_t live_ = 0;
   std::vector<Wall> walls_;

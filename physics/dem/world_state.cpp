@@ -175,10 +175,13 @@ void World::save_state(StateWriter& w) const {
   w.put(free_slots_);
   w.put<std::uint64_t>(live_);
   w.put(thermal_on_);
+  w.put(conductivity_);
+  w.put(heat_capacity_);
   for (const BodyThermal& t : thermal_) {
     w.put(t.temperature);
     w.put(t.bonded_at);
     w.put(t.alpha);
+    w.put(t.held);
   }
 
   w.count(walls_.size());
@@ -253,6 +256,7 @@ void World::save_state(StateWriter& w) const {
     w.put(bd.section.radius);
     w.put(bd.strength);
     w.put(bd.thermal_gap);
+    w.put(bd.transmission);
     put_bond_state(w, bd.state);
     w.put(bd.failure);
     w.put(bd.broken_at);
@@ -336,11 +340,16 @@ void World::load_state(StateReader& r) {
   std::vector<std::uint32_t> free_slots = r.numbers<std::uint32_t>();
   const auto live = r.get<std::uint64_t>();
   const bool thermal_on = r.get_bool();
+  const double conductivity = r.get<double>(), heat_capacity = r.get<double>();
+  if (!(conductivity >= 0.0) || !std::isfinite(conductivity) || !std::isfinite(heat_capacity) ||
+      (conductivity > 0.0 && !(heat_capacity > 0.0)))
+    r.fail("the conductivity or heat capacity is out of range");
   std::vector<BodyThermal> thermal(slots);
   for (BodyThermal& t : thermal) {
     t.temperature = r.get<double>();
     t.bonded_at = r.get<double>();
     t.alpha = r.mat3();
+    t.held = r.get_bool();
     if (!std::isfinite(t.temperature) || !std::isfinite(t.bonded_at) || !t.alpha.allFinite())
       r.fail("a body's temperature or expansion is not finite");
   }
@@ -431,6 +440,7 @@ void World::load_state(StateReader& r) {
     bd.section.radius = r.get<double>();
     bd.strength = r.get<double>();
     bd.thermal_gap = r.get<double>();
+    bd.transmission = r.get<double>();
     if (!(bd.strength > 0.0)) r.fail("a bond's strength factor is not positive");
     bd.state = get_bond_state(r);
     bd.failure = r.get_enum(BondFailure::torsion);
@@ -477,6 +487,8 @@ void World::load_state(StateReader& r) {
   infos_ = std::move(infos);
   thermal_ = std::move(thermal);
   thermal_on_ = thermal_on;
+  conductivity_ = conductivity;
+  heat_capacity_ = heat_capacity;
   free_slots_ = std::move(free_slots);
   live_ = live;
   walls_ = std::move(walls);
@@ -554,7 +566,7 @@ std::uint64_t World::state_hash() const {
     h.add(o.b);
     h.add(o.overlap);
   }
-  if (thermal_on_) {  // (left out otherwise: a world without expansion hashes as before)
+  if (thermal_on_ || conductivity_ > 0.0) {  // (left out otherwise: hashes as before)
     for (std::uint32_t i = 0; i < thermal_.size(); ++i) {
       if (!infos_[i].alive) continue;
       h.add(thermal_[i].temperature);
