@@ -77,10 +77,13 @@
 ///   [bond]                     # optional, sec. 2.3.3: kbn, kbs (N/m^3, eq. 2.9; kbn > 0,
 ///                              # kbs >= 0), tbn, tbs (Pa, > 0, eq. 2.14); needs a bond stage;
 ///                              # law = "bonded_particle" (default) | "cohesive" (seed 002):
-///                              # cohesive takes sigma_c (Pa) and g_c (N/m) instead of tbn, tbs
+///                              # cohesive takes sigma_c (Pa) and g_c (N/m) instead of tbn, tbs;
+///                              # criterion = "limits" (default, eq. 2.16) | "rankine" |
+///                              # "hydrostatic" with sigma_f (Pa) instead of tbn, tbs
 ///   [fracture]                 # optional, chapter 3 (needs [dynamics]): sigma_f_hyd (Pa,
 ///                              # eq. 3.22), k_ic (Pa sqrt(m), > 0), c (> 0, default 0.816),
-///                              # crack_length (length unit, > 0), check_every (>= 1, default 1)
+///                              # crack_length (length unit, > 0), check_every (>= 1, default 1);
+///                              # or criterion = "rankine" | "hydrostatic" with sigma_f (Pa)
 ///   [thermal]                  # optional (needs [dynamics]), seed 003: temperature (K, > 0,
 ///                              # default 293.15: every grain's at the start), alpha (1/K,
 ///                              # isotropic) or alpha_a and alpha_c (1/K, across and along each
@@ -636,7 +639,7 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
 }
 
 constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "sigma_c", "g_c",
-                                          "strength_modulus"};
+                                          "strength_modulus", "criterion", "sigma_f"};
 
 void read_bond_table(const TableReader& t, BondDef& b) {
   t.reject_unknown(kBondKeys);
@@ -657,9 +660,30 @@ void read_bond_table(const TableReader& t, BondDef& b) {
              cohesive ? "the cohesive law has no bond strengths tbn/tbs; it takes sigma_c and g_c"
                       : "sigma_c and g_c belong to law = \"cohesive\"");
   }
+  b.params.criterion = t.choose<physics::BondCriterion>(
+      "criterion", {{"limits", physics::BondCriterion::limits},
+                    {"rankine", physics::BondCriterion::rankine},
+                    {"hydrostatic", physics::BondCriterion::hydrostatic}},
+      physics::BondCriterion::limits);
+  const bool stress = b.params.criterion != physics::BondCriterion::limits;
+  if (stress && cohesive) {
+    t.fail(*t.find("criterion"), "criterion", "a stress criterion goes with law = \"bonded_particle\"");
+  }
+  if (!stress && t.find("sigma_f") != nullptr) {
+    t.fail(*t.find("sigma_f"), "sigma_f", "applies only with criterion = \"rankine\" or \"hydrostatic\"");
+  }
+  if (stress) {
+    for (std::string_view key : {"tbn", "tbs"}) {
+      if (t.find(key) != nullptr)
+        t.fail(*t.find(key), key, "a stress criterion replaces the bond strengths tbn/tbs; give sigma_f");
+    }
+  }
   if (cohesive) {
     b.params.sigma_c = t.number("sigma_c", Range::positive()).value;
     b.params.g_c = t.number("g_c", Range::positive()).value;
+  } else if (stress) {
+    b.params.sigma_f = t.number("sigma_f", Range::positive()).value;
+    b.params.tbn = b.params.tbs = std::numeric_limits<double>::infinity();
   } else {
     b.params.tbn = t.number("tbn", Range::positive()).value;
     b.params.tbs = t.number("tbs", Range::positive()).value;
@@ -668,18 +692,34 @@ void read_bond_table(const TableReader& t, BondDef& b) {
 }
 
 constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",
-                                              "check_every"};
+                                              "check_every", "criterion", "sigma_f"};
 
 void read_fracture_table(const TableReader& t, double unit, bool dynamics, FractureDef& f) {
   t.reject_unknown(kFractureKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[fracture] needs a [dynamics] table");
   f.enabled = true;
+  f.params.criterion = t.choose<physics::GrainCriterion>(
+      "criterion", {{"lefm", physics::GrainCriterion::lefm},
+                    {"rankine", physics::GrainCriterion::rankine},
+                    {"hydrostatic", physics::GrainCriterion::hydrostatic}},
+      physics::GrainCriterion::lefm);
+  f.check_every = t.int_integer("check_every", 1, 1);
+  if (f.params.criterion != physics::GrainCriterion::lefm) {
+    for (std::string_view key : {"sigma_f_hyd", "k_ic", "c", "crack_length"}) {
+      if (t.find(key) != nullptr)
+        t.fail(*t.find(key), key, "belongs to criterion = \"lefm\" (sec. 3.4); a stress criterion takes sigma_f");
+    }
+    f.params.sigma_f = t.number("sigma_f", Range::positive()).value;
+    return;
+  }
+  if (t.find("sigma_f") != nullptr) {
+    t.fail(*t.find("sigma_f"), "sigma_f", "applies only with criterion = \"rankine\" or \"hydrostatic\"");
+  }
   f.params.sigma_f_hyd = t.number("sigma_f_hyd", Range{}).value;
   f.params.k_ic = t.number("k_ic", Range::positive()).value;
   f.params.c = t.number("c", Range::positive(), 0.816).value;
   f.params.crack_length = t.number("crack_length", Range::positive()).value * unit;
-  f.check_every = t.int_integer("check_every", 1, 1);
 }
 
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",

@@ -175,8 +175,11 @@ std::string scenario_to_toml(const Scenario& s) {
     out += fmt::format("\n[bond]\nkbn = {}\nkbs = {}\n", num(b.kbn), num(b.kbs));
     if (b.law == physics::BondLaw::cohesive) {
       out += fmt::format("law = \"cohesive\"\nsigma_c = {}\ng_c = {}\n", num(b.sigma_c), num(b.g_c));
-    } else {
+    } else if (b.criterion == physics::BondCriterion::limits) {
       out += fmt::format("law = \"bonded_particle\"\ntbn = {}\ntbs = {}\n", num(b.tbn), num(b.tbs));
+    } else {
+      out += fmt::format("law = \"bonded_particle\"\ncriterion = \"{}\"\nsigma_f = {}\n",
+                         b.criterion == physics::BondCriterion::rankine ? "rankine" : "hydrostatic", num(b.sigma_f));
     }
     if (s.bond.strength_modulus > 0.0)
       out += fmt::format("strength_modulus = {}\n", num(s.bond.strength_modulus));
@@ -184,9 +187,15 @@ std::string scenario_to_toml(const Scenario& s) {
 
   if (s.fracture.enabled) {
     const physics::FractureParams& f = s.fracture.params;
-    out += fmt::format("\n[fracture]\nsigma_f_hyd = {}\nk_ic = {}\nc = {}\ncrack_length = {}\ncheck_every = {}\n",
-                       num(f.sigma_f_hyd), num(f.k_ic), num(f.c), num(f.crack_length),
-                       s.fracture.check_every);
+    if (f.criterion == physics::GrainCriterion::lefm) {
+      out += fmt::format("\n[fracture]\nsigma_f_hyd = {}\nk_ic = {}\nc = {}\ncrack_length = {}\ncheck_every = {}\n",
+                         num(f.sigma_f_hyd), num(f.k_ic), num(f.c), num(f.crack_length),
+                         s.fracture.check_every);
+    } else {
+      out += fmt::format("\n[fracture]\ncriterion = \"{}\"\nsigma_f = {}\ncheck_every = {}\n",
+                         f.criterion == physics::GrainCriterion::rankine ? "rankine" : "hydrostatic", num(f.sigma_f),
+                         s.fracture.check_every);
+    }
   }
 
   if (s.thermal.enabled) {
@@ -340,6 +349,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("bond.law", a.bond.params.law, b.bond.params.law);
   d.same("bond.sigma_c", a.bond.params.sigma_c, b.bond.params.sigma_c);
   d.same("bond.g_c", a.bond.params.g_c, b.bond.params.g_c);
+  d.same("bond.criterion", a.bond.params.criterion, b.bond.params.criterion);
+  d.same("bond.sigma_f", a.bond.params.sigma_f, b.bond.params.sigma_f);
 
   d.same("fracture", a.fracture.enabled, b.fracture.enabled);
   d.same("fracture.sigma_f_hyd", a.fracture.params.sigma_f_hyd, b.fracture.params.sigma_f_hyd);
@@ -347,6 +358,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("fracture.c", a.fracture.params.c, b.fracture.params.c);
   d.same("fracture.crack_length", a.fracture.params.crack_length, b.fracture.params.crack_length);
   d.same("fracture.check_every", a.fracture.check_every, b.fracture.check_every);
+  d.same("fracture.criterion", a.fracture.params.criterion, b.fracture.params.criterion);
+  d.same("fracture.sigma_f", a.fracture.params.sigma_f, b.fracture.params.sigma_f);
 
   d.same("thermal", a.thermal.enabled, b.thermal.enabled);
   d.same("thermal.temperature", a.thermal.temperature, b.thermal.temperature);

@@ -270,6 +270,9 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
   if (setup.targets.tensile_strength) {
     const io::Scenario sc = io::load_scenario(setup.brazilian);
     if (!sc.bond.enabled) throw std::runtime_error(setup.brazilian.string() + ": no [bond] to calibrate");
+    if (sc.bond.params.criterion != physics::BondCriterion::limits)
+      throw std::runtime_error(setup.brazilian.string() +
+                               ": [bond] criterion: the strength calibration fits tbn and tbs (criterion = \"limits\")");
     strength_start = {{"bond.tbn", sc.bond.params.tbn}, {"bond.tbs", sc.bond.params.tbs}};
   }
   for (const auto& [key, value] : setup.start) {
@@ -309,6 +312,10 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
       throw io::ScenarioError(sc.source, 1, 1, "fracture",
                               "a K_Ic target is fitted through the transgranular criterion's crack "
                               "length: the SENB scenario needs a [fracture] table");
+    }
+    if (sc.fracture.params.criterion != physics::GrainCriterion::lefm) {
+      throw io::ScenarioError(sc.source, 1, 1, "fracture.criterion",
+                              "a K_Ic target is fitted through the crack length of criterion = \"lefm\"");
     }
     double a = sc.fracture.params.crack_length / io::length_unit_metres(sc.length_unit);
     if (const auto it = setup.start.find("fracture.crack_length"); it != setup.start.end()) a = it->second;

@@ -409,3 +409,46 @@ TEST(CohesiveGrainBond, StopsShortOfDecohesionIntactAndSoftened) {
   const double A = BondSection{kDilation}.area();
   EXPECT_NEAR(-b.force.x(), 0.5 * p.sigma_c * A, 1e-3 * p.sigma_c * A);
 }
+
+class StressCriterion : public ::testing::TestWithParam<BondCriterion> {};
+
+TEST_P(StressCriterion, AChainPulledApartBreaksWhereItsGrainsStressReachesSigmaF) {
+  // Four prisms in a row, the first held, the last pulled slowly along x. Each inner grain
+  // carries the chain's force F on both sides, so its Love-Weber stress (eq. 2.17) is
+  // sigma_xx = 2 (pitch / 2) F / V and nothing else; the end grains carry half of it. The
+  // bond between the two inner grains breaks first, when sigma_xx reaches sigma_f
+  // (Rankine: the largest principal stress) or 3 sigma_f (hydrostatic: sigma_xx / 3).
+  const BondCriterion criterion = GetParam();
+  World world = make_world(5e-7, 0.7);
+  const auto ids = row(world, 4, 0.0);
+  BondParams params = table_2_5();
+  params.criterion = criterion;
+  params.sigma_f = 1e4;
+  ASSERT_EQ(world.initialise_bonds(params, 1e-6), 3u);
+  world.set_fixed(ids[0], true);
+  world.set_fixed(ids[3], true);
+  world.state(ids[3]).v = Eigen::Vector3d(1e-3, 0, 0);
+  const double pitch = kFlat + 2.0 * kDilation;
+  const double volume = world.shape(world.info(ids[1]).shape).volume;
+  double force = 0.0;  // the middle bond's tension on the step before the first break
+  int steps = 0;
+  while (world.bond_breaks().empty() && steps < 40000) {
+    force = world.bonds()[1].state.normal;
+    world.step();
+    ++steps;
+  }
+  ASSERT_EQ(world.bond_breaks().size(), 1u) << "after " << steps << " steps";
+  EXPECT_EQ(world.bond_breaks().front().bond, 1u);  // the inner one
+  EXPECT_EQ(world.bond_breaks().front().mode, BondFailure::tension);
+  const double factor = criterion == BondCriterion::rankine ? 1.0 : 3.0;
+  const double expected = factor * params.sigma_f * volume / pitch;
+  EXPECT_NEAR(force, expected, 0.01 * expected);
+  // With the stress criterion, eq. 2.15's limits (1000 Pa on the bond's tiny section, far
+  // below this force) do not break anything.
+  EXPECT_GT(force, params.tbn * M_PI * kDilation * kDilation);
+  EXPECT_FALSE(world.bonds()[1].intact());
+  EXPECT_TRUE(world.bonds()[0].intact());
+}
+
+INSTANTIATE_TEST_SUITE_P(RankineAndHydrostatic, StressCriterion,
+                         ::testing::Values(BondCriterion::rankine, BondCriterion::hydrostatic));

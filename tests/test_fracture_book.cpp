@@ -256,3 +256,55 @@ TEST(Transgranular, GrainSqueezedBetweenPlatensSplitsOnThePredictedPlaneNotBefor
   }
   EXPECT_EQ(splits, 2);
 }
+
+class GrainStressCriterion : public ::testing::TestWithParam<GrainCriterion> {};
+
+TEST_P(GrainStressCriterion, AChainPulledApartSplitsAnInnerGrainWhenItsStressReachesSigmaF) {
+  // Four bonded prisms in a row along x, unbreakable bonds, the first held and the last
+  // pulled slowly: an inner grain's Love-Weber stress is sigma_xx = pitch F / V (F the
+  // chain's force). With the Rankine criterion an inner grain splits when that reaches
+  // sigma_f, with the hydrostatic one when sigma_xx / 3 does; it cleaves on the candidate
+  // plane whose normal is nearest x (<10-10> at angle 0: its plane's normal is x itself).
+  const GrainCriterion criterion = GetParam();
+  WorldSettings ws = Rig::settings();
+  ws.dt = 5e-7;
+  ws.local_damping = 0.7;
+  Rig s;
+  s.world = World(ws);
+  s.shape = s.world.add_shape(make_rigid_shape(*s.prism, kDilation));
+  const double pitch = std::sqrt(3.0) * kSide + 2.0 * kDilation;
+  std::vector<BodyId> ids;
+  for (int i = 0; i < 4; ++i) {
+    ids.push_back(s.world.add_body(s.shape, kRho, {i * pitch, 0, 0}, s.world.shape(s.shape).orientation_for(),
+                                   Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), i));
+    s.book.add_grain(s.world, ids.back(), i, {geometry::CleavageFamily::m_10_10, 0});
+  }
+  const double area = M_PI * kDilation * kDilation;
+  ASSERT_EQ(s.world.initialise_bonds({5000.0 / area, 2000.0 / area, 1e12, 1e12}, 1e-6), 3u);
+  s.world.set_fixed(ids[0], true);
+  s.world.set_fixed(ids[3], true);
+  s.world.state(ids[3]).v = Eigen::Vector3d(1e-3, 0, 0);
+  FractureParams p;
+  p.criterion = criterion;
+  p.sigma_f = 1e4;
+  const double volume = s.world.shape(s.shape).volume;
+  double force = 0.0;
+  std::vector<TransgranularEvent> events;
+  for (int step = 0; step < 40000 && events.empty(); ++step) {
+    force = s.world.bonds()[1].state.normal;
+    s.world.step();
+    events = transgranular_step(s.world, s.book, p);
+  }
+  ASSERT_FALSE(events.empty());
+  const BodyId split = events.front().cause.id;
+  EXPECT_TRUE(split == ids[1] || split == ids[2]) << split.index;
+  const double factor = criterion == GrainCriterion::rankine ? 1.0 : 3.0;
+  const double expected = factor * p.sigma_f * volume / pitch;
+  EXPECT_NEAR(force, expected, 0.01 * expected);
+  // The plane chosen is the one across the pull.
+  const Eigen::Vector3d n = events.front().split.normal;
+  EXPECT_GT(std::abs(n.x()), 0.99) << n.transpose();
+}
+
+INSTANTIATE_TEST_SUITE_P(RankineAndHydrostatic, GrainStressCriterion,
+                         ::testing::Values(GrainCriterion::rankine, GrainCriterion::hydrostatic));

@@ -816,4 +816,47 @@ TEST(Scenario, ThermalTableAndTemperatureStagesReadBackAndBadValuesNameTheirKey)
   EXPECT_SCENARIO_ERROR(no_target, line_of_last(no_target, "[[stage]]"), "stage[1].temperature_target", "missing");
 }
 
+TEST(Scenario, BondStressCriteriaReadBackAndReplaceTheBondStrengths) {
+  auto bonded = [](const std::string& keys) {
+    std::string text = kDropTest;
+    text.replace(text.find("duration = 0.5\n"), 15, "");
+    return text + "[bond]\nkbn = 1e9\nkbs = 4e8\n" + keys + "[[stage]]\nname = \"bond\"\nkind = \"bond\"\n";
+  };
+  const Scenario s = parse_scenario(bonded("criterion = \"rankine\"\nsigma_f = 2e6\n"), "r.toml");
+  EXPECT_EQ(s.bond.params.criterion, physics::BondCriterion::rankine);
+  EXPECT_EQ(s.bond.params.sigma_f, 2e6);
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  EXPECT_EQ(again.bond.params.criterion, physics::BondCriterion::rankine);
+  EXPECT_EQ(parse_scenario(bonded("criterion = \"hydrostatic\"\nsigma_f = 1e6\n"), "h.toml").bond.params.criterion,
+            physics::BondCriterion::hydrostatic);
+  EXPECT_EQ(parse_scenario(bonded("tbn = 1\ntbs = 1\n"), "l.toml").bond.params.criterion,
+            physics::BondCriterion::limits);
+  const std::string both = bonded("criterion = \"rankine\"\nsigma_f = 2e6\ntbn = 5\n");
+  EXPECT_SCENARIO_ERROR(both, line_of_last(both, "tbn"), "bond.tbn", "replaces the bond strengths");
+  const std::string lone = bonded("tbn = 1\ntbs = 1\nsigma_f = 2e6\n");
+  EXPECT_SCENARIO_ERROR(lone, line_of_last(lone, "sigma_f"), "bond.sigma_f", "applies only with criterion");
+  const std::string none = bonded("criterion = \"rankine\"\n");
+  EXPECT_SCENARIO_ERROR(none, line_of_last(none, "[bond]"), "bond.sigma_f", "missing");
+  const std::string odd = bonded("criterion = \"tresca\"\nsigma_f = 1\n");
+  EXPECT_SCENARIO_ERROR(odd, line_of_last(odd, "criterion"), "bond.criterion", "rankine");
+  const std::string cohesive = bonded("law = \"cohesive\"\nsigma_c = 1e6\ng_c = 10\ncriterion = \"rankine\"\n");
+  EXPECT_SCENARIO_ERROR(cohesive, line_of_last(cohesive, "criterion"), "bond.criterion", "bonded_particle");
+}
+
+TEST(Scenario, GrainStressCriteriaReadBackAndLeaveOutTheToughness) {
+  const std::string base = kDropTest;
+  const Scenario s = parse_scenario(base + "[fracture]\ncriterion = \"hydrostatic\"\nsigma_f = 3e6\n", "f.toml");
+  EXPECT_EQ(s.fracture.params.criterion, physics::GrainCriterion::hydrostatic);
+  EXPECT_EQ(s.fracture.params.sigma_f, 3e6);
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  const std::string mixed = base + "[fracture]\ncriterion = \"rankine\"\nsigma_f = 3e6\nk_ic = 1e6\n";
+  EXPECT_SCENARIO_ERROR(mixed, line_of_last(mixed, "k_ic"), "fracture.k_ic", "belongs to criterion = \"lefm\"");
+  const std::string lefm = base + "[fracture]\nsigma_f_hyd = 0\nk_ic = 1e6\ncrack_length = 0.1\nsigma_f = 3e6\n";
+  EXPECT_SCENARIO_ERROR(lefm, line_of_last(lefm, "sigma_f ="), "fracture.sigma_f", "applies only with criterion");
+  const std::string none = base + "[fracture]\ncriterion = \"rankine\"\n";
+  EXPECT_SCENARIO_ERROR(none, line_of_last(none, "[fracture]"), "fracture.sigma_f", "missing");
+}
+
 }  // namespace cleave::io

@@ -32,6 +32,19 @@ enum class BondLaw {
   cohesive,
 };
 
+/// What breaks a bond (of the bonded-particle law).
+enum class BondCriterion {
+  /// Eqs 2.15-2.16 of the dissertation: its normal force, shear force, bending or torsion
+  /// moment past its limit.
+  limits,
+  /// Rankine: the largest principal stress of its two grains' mean Love-Weber stress (eq.
+  /// 2.17) above sigma_f (seed 003's "maximal normal stress" criterion, GranOO).
+  rankine,
+  /// Andre's hydrostatic criterion: the mean stress tr(sigma) / 3 of that tensor above
+  /// sigma_f (GranOO, seed 003).
+  hydrostatic,
+};
+
 /// Eqs 2.9 and 2.14: continuum stiffnesses (N/m^3: stress per opening) and strengths (Pa).
 struct BondParams {
   double kbn = 0.0;  ///< bond normal stiffness k_bn
@@ -41,6 +54,10 @@ struct BondParams {
   BondLaw law = BondLaw::bonded_particle;
   double sigma_c = 0.0;  ///< cohesive law: strength (Pa), T_n0 = T_s0 = sigma_c
   double g_c = 0.0;      ///< cohesive law: critical energy release rate (N/m), eq. 18
+  /// What breaks a bond; with a stress criterion the limits of eq. 2.15 are not used (the
+  /// world applies it, as it needs the grains' stresses), breaks are logged as tension.
+  BondCriterion criterion = BondCriterion::limits;
+  double sigma_f = 0.0;  ///< Pa: the stress criteria's strength
 };
 
 /// The bond's section (eqs 2.10, 2.11, 2.15): radius r, A = pi r^2, I = pi r^4 / 4, J = 2 I.

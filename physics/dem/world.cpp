@@ -343,6 +343,7 @@ void World::compute_forces() {
   join_pending();
   evaluate_and_apply(nt);
   bond_forces(nt);
+  if (bond_params_.criterion != BondCriterion::limits && !bonds_.empty()) break_by_stress();
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
   forces_current_ = true;
 }
@@ -968,6 +969,9 @@ void World::bond_forces(int nt) {
   // joined in thread order are in bond order).
   bond_failures_.resize(static_cast<std::size_t>(std::max(nt, 1)));
   for (auto& list : bond_failures_) list.clear();
+  // A stress criterion replaces eq. 2.15's limits (break_by_stress applies it).
+  BondParams base = bond_params_;
+  if (base.criterion != BondCriterion::limits) base.tbn = base.tbs = std::numeric_limits<double>::infinity();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(n);
@@ -1004,7 +1008,7 @@ void World::bond_forces(int nt) {
         velocity += free / settings_.dt;
         bd.thermal_gap += bd.normal.dot(free);
       }
-      BondParams own = bond_params_;
+      BondParams own = base;
       if (bd.strength != 1.0) {
         own.tbn *= bd.strength;
         own.tbs *= bd.strength;
@@ -1053,6 +1057,31 @@ void World::bond_forces(int nt) {
         sa.tau -= (bd.point - sa.x).cross(bd.force) + bd.moment;
       }
     }
+  }
+}
+
+void World::break_by_stress() {
+  const std::vector<Eigen::Matrix3d> stress = body_stresses();
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    Bond& bd = bonds_[k];
+    if (!bd.intact()) continue;
+    const Eigen::Matrix3d mean = 0.5 * (stress[bd.a] + stress[bd.b]);
+    double value = mean.trace() / 3.0;
+    if (bond_params_.criterion == BondCriterion::rankine) {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+      solver.computeDirect(mean, Eigen::EigenvaluesOnly);
+      value = solver.eigenvalues().maxCoeff();
+    }
+    if (!(value > bond_params_.sigma_f * bd.strength)) continue;
+    const BondState at = bd.state;
+    bd.state = BondState{};
+    bd.state.broken = true;
+    bd.failure = BondFailure::tension;
+    bd.broken_at = time_;
+    bd.force.setZero();
+    bd.moment.setZero();
+    breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id, bd.point,
+                       bd.normal, BondFailure::tension, at});
   }
 }
 

@@ -287,6 +287,9 @@ class World {
   void sum_forces(int threads);
   void bond_forces(int threads);
   void apply_local_damping(int threads);
+  /// BondCriterion::rankine or hydrostatic: breaks the intact bonds whose grains' mean stress
+  /// passes sigma_f (times the bond's strength factor), after this evaluation's forces.
+  void break_by_stress();
   /// The overlap stored at bonding for features (fa, fb) of bonded pair (a, b), or 0;
   /// `cursor` walks forward through bonds_ (sorted by pair) as keys ascend.
   double initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa, std::uint32_t fb,

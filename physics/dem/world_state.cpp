@@ -278,6 +278,8 @@ void World::save_state(StateWriter& w) const {
     w.put(v);
   }
   w.put(bond_params_.law);
+  w.put(bond_params_.criterion);
+  w.put(bond_params_.sigma_f);
   w.count(breaks_.size());
   for (const BondBreak& b : breaks_) {
     w.put(b.time);
@@ -461,6 +463,8 @@ void World::load_state(StateReader& r) {
   BondParams bp;
   for (double* v : {&bp.kbn, &bp.kbs, &bp.tbn, &bp.tbs, &bp.sigma_c, &bp.g_c}) *v = r.get<double>();
   bp.law = r.get_enum(BondLaw::cohesive);
+  bp.criterion = r.get_enum(BondCriterion::hydrostatic);
+  bp.sigma_f = r.get<double>();
   std::vector<BondBreak> breaks(r.count(8));
   for (BondBreak& b : breaks) {
     b.time = r.get<double>();

@@ -41,12 +41,25 @@
 
 namespace cleave::physics {
 
+/// What splits a grain.
+enum class GrainCriterion {
+  /// Sec. 3.4: the gate of eq. 3.22, then eqs 3.23-3.25 on each cleavage plane.
+  lefm,
+  /// Rankine: the largest principal stress of the grain's Love-Weber stress (eq. 2.17) above
+  /// sigma_f; the grain cleaves on its candidate plane with the largest normal stress.
+  rankine,
+  /// Andre's hydrostatic criterion: the mean stress tr(sigma) / 3 above sigma_f; the same plane.
+  hydrostatic,
+};
+
 /// Material constants of sec. 3.4.
 struct FractureParams {
   double sigma_f_hyd = 0.0;   ///< hydrostatic threshold sigma_f^hyd of eq. 3.22, Pa (tension > 0)
   double k_ic = 0.0;          ///< mode I fracture toughness K_Ic, Pa sqrt(m)
   double c = 0.816;           ///< mode II / mode I toughness ratio C of eq. 3.25
   double crack_length = 0.0;  ///< crack length a of eq. 3.23, m
+  GrainCriterion criterion = GrainCriterion::lefm;
+  double sigma_f = 0.0;  ///< Pa: the stress criteria's strength
 };
 
 /// Eq. 3.24's stresses on a crack section and the beam terms behind them.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <omp.h>
+#include <limits>
 #include <optional>
 #include <span>
 #include <cmath>
@@ -175,6 +176,36 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
                                          std::span<const PointForce> acting) {
   std::vector<CrackAssessment> out;
   if (!book.knows(id)) return out;
+  if (params.criterion != GrainCriterion::lefm) {
+    // A stress criterion: the grain's stress alone decides; it cleaves on the candidate
+    // plane that carries the largest normal stress n^T sigma n.
+    double value = sigma.trace() / 3.0;
+    if (params.criterion == GrainCriterion::rankine) {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+      solver.computeDirect(sigma, Eigen::EigenvaluesOnly);
+      value = solver.eigenvalues().maxCoeff();
+    }
+    if (!(value > params.sigma_f)) return out;
+    CrackAssessment best;
+    double most = -std::numeric_limits<double>::infinity();
+    for (const int k : book.candidates(id)) {
+      const Eigen::Vector3d n = book.world_plane(world, id, k).first;
+      const double normal = n.dot(sigma * n);
+      if (normal > most) {
+        most = normal;
+        best.plane = k;
+      }
+    }
+    if (best.plane < 0) return out;
+    best.id = id;
+    best.result.mean_stress = sigma.trace() / 3.0;
+    best.result.gate = true;
+    best.result.criterion = value / params.sigma_f;
+    best.result.fails = true;
+    best.stresses.sigma = most;
+    out.push_back(best);
+    return out;
+  }
   // Eq. 3.22 first: below the hydrostatic gate no plane is worth the work.
   if (!(sigma.trace() / 3.0 >= params.sigma_f_hyd)) return out;
   const std::vector<int>& candidates = book.candidates(id);
