@@ -103,7 +103,9 @@
 ///   #   rate_scale = 1 (> 0: velocities times it; time, steps and ramp_time over it: the
 ///   #   same test at another loading rate, e.g. --set stage[4].rate_scale=0.5)
 ///   #   temperature_rate (K/s) and temperature_target (K, > 0), with [thermal]: every
-///   #   grain heats or cools at the rate until the target
+///   #   grain heats or cools at the rate until the target; quench_wall (a wall's name),
+///   #   quench_temperature (K, > 0) and quench_depth (length unit, > 0): the grains within
+///   #   the depth of that wall's plane are held at the temperature for the stage
 ///   # bond: distance = 0.02 (length unit, >= 0): bond initialisation
 ///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
@@ -726,7 +728,8 @@ constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_vel
                                                  "steps", "time",      "until",
                                                  "load_drop", "load_walls", "frames",
                                                  "ramp_time", "rate_scale", "temperature_rate",
-                                                 "temperature_target"};
+                                                 "temperature_target", "quench_wall", "quench_temperature",
+                                                 "quench_depth"};
 
 constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alpha_a",      "alpha_c",
                                              "c_axis",      "seed",         "conductivity", "heat_capacity"};
@@ -864,6 +867,19 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     st.temperature_target = t.number("temperature_target", Range::positive()).value;
   } else if (const toml::node* target = t.find("temperature_target")) {
     t.fail(*target, "temperature_target", "applies only with a temperature_rate");
+  }
+  if (const toml::node* quench = t.find("quench_wall")) {
+    if (!s.thermal.enabled) t.fail(*quench, "quench_wall", "a thermal shock needs a [thermal] table");
+    st.quench_wall = t.string("quench_wall");
+    if (std::none_of(s.walls.begin(), s.walls.end(), [&](const auto& w) { return w.name == st.quench_wall; })) {
+      t.fail(*quench, "quench_wall", fmt::format("no [[wall]] is named '{}'", st.quench_wall));
+    }
+    st.quench_temperature = t.number("quench_temperature", Range::positive()).value;
+    st.quench_depth = t.number("quench_depth", Range::positive()).value * unit;
+  } else {
+    for (std::string_view key : {"quench_temperature", "quench_depth"}) {
+      if (t.find(key) != nullptr) t.fail(*t.find(key), key, "applies only with a quench_wall");
+    }
   }
   const double rate = t.number("rate_scale", Range::positive(), 1.0).value;
   if (rate != 1.0) {

@@ -160,6 +160,12 @@ struct StageDef {
   /// uniform field added to conduction's), stopping at `temperature_target` K.
   double temperature_rate = 0.0;
   double temperature_target = 0.0;
+  /// motion, with [thermal]: a thermal shock. The grains whose centroid lies within
+  /// `quench_depth` (m) of wall `quench_wall`'s plane are held at `quench_temperature` (K)
+  /// for the stage (conduction carries the shock inwards); empty: none.
+  std::string quench_wall;
+  double quench_temperature = 0.0;
+  double quench_depth = 0.0;
 };
 
 /// The name of an `until` event as written in scenario files.

@@ -234,6 +234,10 @@ std::string scenario_to_toml(const Scenario& s) {
       out += fmt::format("temperature_rate = {}\ntemperature_target = {}\n", num(st.temperature_rate),
                          num(st.temperature_target));
     }
+    if (!st.quench_wall.empty()) {
+      out += fmt::format("quench_wall = {}\nquench_temperature = {}\nquench_depth = {}\n", str(st.quench_wall),
+                         num(st.quench_temperature), num(st.quench_depth));
+    }
   }
   return out;
 }
@@ -410,6 +414,9 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     d.same(k + "ramp_time", ta.ramp_time, tb.ramp_time);
     d.same(k + "temperature_rate", ta.temperature_rate, tb.temperature_rate);
     d.same(k + "temperature_target", ta.temperature_target, tb.temperature_target);
+    d.same(k + "quench_wall", ta.quench_wall, tb.quench_wall);
+    d.same(k + "quench_temperature", ta.quench_temperature, tb.quench_temperature);
+    d.same(k + "quench_depth", ta.quench_depth, tb.quench_depth);
     d.same(k + "distance", ta.bond_distance, tb.bond_distance);
   }
   return d.keys;

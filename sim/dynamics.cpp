@@ -426,6 +426,7 @@ class Dynamics::Runner {
     if (!resume) {
       for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
       for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = v;
+      if (scenario_.thermal.enabled) quench(stage);
     }
     for (const auto& name : stage.load_walls) r.load_walls.push_back(wall_index(name));
     if (!resume) {
@@ -820,6 +821,21 @@ class Dynamics::Runner {
     throw std::logic_error("no wall named " + name);  // the scenario reader checked names
   }
   physics::Wall& wall(const std::string& name) { return world_.wall(wall_index(name)); }
+
+  /// A stage's thermal shock: the grains within quench_depth of the wall's plane held at
+  /// quench_temperature; those a previous stage held are let go first. (The held flags are
+  /// part of the world's state, so a resumed stage has them already.)
+  void quench(const StageDef& stage) {
+    for (const physics::BodyId id : world_.body_ids()) world_.set_temperature_held(id, false);
+    if (stage.quench_wall.empty()) return;
+    const physics::Wall& w = wall(stage.quench_wall);
+    const Eigen::Vector3d n = w.normal.normalized();
+    for (const physics::BodyId id : world_.body_ids()) {
+      if (std::abs((world_.state(id).x - w.origin).dot(n)) > stage.quench_depth) continue;
+      world_.set_temperature(id, stage.quench_temperature);
+      world_.set_temperature_held(id, true);
+    }
+  }
 
   /// One row of every history; `reading` is the stage's (load, load-point displacement)
   /// when it has load walls.

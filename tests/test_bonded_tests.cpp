@@ -296,3 +296,33 @@ TEST_F(BondedTest, CoolingCracksAPolycrystalOnlyWhereItsGrainsExpandUnlike) {
     EXPECT_EQ(std::stod(read_csv(dir / "thermal.csv").back().at("mean_K")), 293.0) << name;
   }
 }
+
+TEST_F(BondedTest, AThermalShockHoldsTheQuenchedFaceAndConductionCoolsTheRestFromIt) {
+  // scenarios/thermal_microcracking.toml turned into a thermal shock: conduction on, and
+  // the cooling stage replaced by one that holds the grains within 0.6 mm of a plane at
+  // y = 0 (the specimen's lower face) at 293 K. The quenched grains stay at 293 K, the
+  // rest cool from 1773 K through the bonds: the hottest grain cools, the mean falls step
+  // by step, and at the end the specimen still has a gradient.
+  const fs::path dir = run("thermal_microcracking",
+                           {{"seed = 7\n", "seed = 7\nconductivity = 100.0\nheat_capacity = 160.0\n"},
+                            {"temperature_rate = -2960.0   # K/s: 1773 K to 293 K over the stage\n"
+                             "temperature_target = 293.0\n",
+                             "quench_wall = \"face\"\nquench_temperature = 293.0\nquench_depth = 0.6\n"},
+                            {"[[stage]]\nname = \"bond\"",
+                             "[[wall]]\nname = \"face\"\nkind = \"plane\"\npoint = [0.0, 0.0, 0.0]\n"
+                             "normal = [0.0, 1.0, 0.0]\n\n[[stage]]\nname = \"bond\""}},
+                           "shock");
+  const auto rows = read_csv(dir / "thermal.csv");
+  ASSERT_GE(rows.size(), 3u);
+  double mean = 1773.0;
+  for (const auto& r : rows) {
+    if (r.at("stage") != "cool") continue;
+    EXPECT_EQ(std::stod(r.at("min_K")), 293.0);
+    EXPECT_LE(std::stod(r.at("mean_K")), mean);
+    mean = std::stod(r.at("mean_K"));
+  }
+  const double hottest = std::stod(rows.back().at("max_K"));
+  EXPECT_LT(hottest, 1773.0 - 1.0);  // heat reached the far end
+  EXPECT_GT(hottest, 293.0 + 100.0);  // not yet uniform
+  EXPECT_LT(mean, 1773.0 - 100.0);
+}

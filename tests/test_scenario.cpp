@@ -812,6 +812,15 @@ TEST(Scenario, ThermalTableAndTemperatureStagesReadBackAndBadValuesNameTheirKey)
   const std::string no_thermal = with_stage(kDropTest, "temperature_rate = -100\ntemperature_target = 293\n");
   EXPECT_SCENARIO_ERROR(no_thermal, line_of_last(no_thermal, "temperature_rate"), "stage[1].temperature_rate",
                         "needs a [thermal] table");
+  const Scenario shock = parse_scenario(
+      with_stage(thermal, "quench_wall = \"top\"\nquench_temperature = 293\nquench_depth = 2\n"), "q.toml");
+  EXPECT_EQ(shock.stages.at(0).quench_wall, "top");
+  EXPECT_EQ(shock.stages.at(0).quench_depth, 2e-3);  // mm
+  EXPECT_TRUE(scenario_differences(shock, parse_scenario(scenario_to_toml(shock), "q2.toml")).empty());
+  const std::string nowall = with_stage(thermal, "quench_wall = \"side\"\nquench_temperature = 293\nquench_depth = 2\n");
+  EXPECT_SCENARIO_ERROR(nowall, line_of_last(nowall, "quench_wall"), "stage[1].quench_wall", "no [[wall]] is named 'side'");
+  const std::string stray = with_stage(thermal, "quench_depth = 2\n");
+  EXPECT_SCENARIO_ERROR(stray, line_of_last(stray, "quench_depth"), "stage[1].quench_depth", "only with a quench_wall");
   const std::string no_target = with_stage(thermal, "temperature_rate = -100\n");
   EXPECT_SCENARIO_ERROR(no_target, line_of_last(no_target, "[[stage]]"), "stage[1].temperature_target", "missing");
 }
