@@ -338,3 +338,47 @@ TEST_F(Checkpoint, AWriteKeepsTheLastGoodCheckpointUntilTheNewOneIsComplete) {
   EXPECT_EQ(slurp(file), first);
   EXPECT_EQ(read_error(file), "");
 }
+
+TEST_F(Checkpoint, ACoolingPolycrystalRestartedMidCoolingEndsWithTheSameHashAndThermalHistory) {
+  // scenarios/thermal_microcracking.toml stopped once bonds have cracked on cooling and
+  // continued from its checkpoint: temperatures, expansion tensors, thermal gaps and the
+  // thermal.csv history carry over bit for bit.
+  const fs::path source = fs::path(CLEAVE_SOURCE_DIR) / "scenarios" / "thermal_microcracking.toml";
+  const io::Scenario scenario = io::load_scenario(source);
+  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
+  const fs::path whole = dir_ / "whole";
+  const sim::DynamicsSummary reference = sim::run_dynamics(scenario, specimen, whole, true);
+  ASSERT_EQ(reference.ending, sim::RunEnding::completed);
+  ASSERT_GT(reference.bond_counts.broken(), 0u);
+
+  const fs::path part = dir_ / "part";
+  io::CheckpointMeta meta;
+  meta.cleave_version = "test";
+  meta.scenario_source = source.string();
+  meta.scenario_text = slurp(source);
+  bool stop = false;
+  std::uint64_t stopped_at = 0;
+  sim::RunHooks hooks;
+  hooks.checkpoint_every = 1;
+  hooks.on_checkpoint = [&](const sim::RunPoint& p) {
+    if (stop || p.stage != "cool" || p.world.bond_breaks().empty()) return;
+    stopped_at = p.world.steps();
+    io::write_checkpoint_file(part / io::kCheckpointName, io::encode_checkpoint(meta, p.world, p.book, p.run_state()));
+    stop = true;
+  };
+  hooks.stop_requested = [&] { return stop; };
+  ASSERT_EQ(sim::run_dynamics(scenario, specimen, part, true, 0, hooks).ending, sim::RunEnding::interrupted);
+  ASSERT_GT(stopped_at, 0u);
+  EXPECT_LT(stopped_at + 100, reference.steps);
+
+  io::Checkpoint ck = io::read_checkpoint(part);
+  EXPECT_TRUE(ck.world.thermal());
+  sim::RunResume resume{std::move(ck.world), std::move(ck.book), std::move(ck.run_state)};
+  const sim::DynamicsSummary restarted = sim::run_dynamics(scenario, specimen, part, true, 0, {}, &resume);
+  EXPECT_EQ(restarted.ending, sim::RunEnding::completed);
+  EXPECT_EQ(restarted.state_hash, reference.state_hash);
+  EXPECT_EQ(restarted.bond_counts.broken(), reference.bond_counts.broken());
+  for (const char* f : {"thermal.csv", "bonds.csv", "bond_breaks.csv", "energy.csv"}) {
+    EXPECT_TRUE(slurp(part / f) == slurp(whole / f)) << f << " differs after the restart";
+  }
+}
