@@ -85,7 +85,9 @@
 ///                              # crack_length (length unit, > 0), check_every (>= 1, default 1);
 ///                              # or criterion = "rankine" | "hydrostatic" with sigma_f (Pa)
 ///   [thermal]                  # optional (needs [dynamics]), seed 003: temperature (K, > 0,
-///                              # default 293.15: every grain's at the start), alpha (1/K,
+///                              # default 293.15: every grain's at the start), gradient (K per
+///                              # length unit, 3 numbers: a linear field about the grains' mean
+///                              # centroid; default 0), alpha (1/K,
 ///                              # isotropic) or alpha_a and alpha_c (1/K, across and along each
 ///                              # grain's c-axis), c_axis = "prism" (default) | "random" (drawn
 ///                              # per grain from seed, integer >= 0, default 1), conductivity
@@ -732,14 +734,20 @@ constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_vel
                                                  "quench_depth"};
 
 constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alpha_a",      "alpha_c",
-                                             "c_axis",      "seed",         "conductivity", "heat_capacity"};
+                                             "c_axis",      "seed",         "conductivity", "heat_capacity",
+                                             "gradient"};
 
-void read_thermal_table(const TableReader& t, bool dynamics, ThermalDef& th) {
+void read_thermal_table(const TableReader& t, double unit, bool dynamics, ThermalDef& th) {
   t.reject_unknown(kThermalKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[thermal] needs a [dynamics] table");
   th.enabled = true;
   th.temperature = t.number("temperature", Range::positive(), 293.15).value;
+  if (const toml::node* node = t.find("gradient")) {
+    th.gradient_at = {line_of(node->source()), column_of(node->source())};
+    const auto g = t.numbers("gradient", 3, Range{});
+    th.gradient = Eigen::Vector3d(g[0], g[1], g[2]) / unit;  // K per length unit -> K/m
+  }
   const Number alpha = t.number("alpha", Range{}, 0.0);
   const Number aa = t.number("alpha_a", Range{}, alpha.value);
   const Number ac = t.number("alpha_c", Range{}, alpha.value);
@@ -986,7 +994,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   }
   read_bond_table(reader("bond"), s.bond);
   read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
-  read_thermal_table(reader("thermal"), s.dynamics.enabled, s.thermal);
+  read_thermal_table(reader("thermal"), unit, s.dynamics.enabled, s.thermal);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
       const toml::node& first = *stages->get(0);

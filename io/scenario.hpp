@@ -124,6 +124,10 @@ struct FractureDef {
 struct ThermalDef {
   bool enabled = false;
   double temperature = 293.15;  ///< K: every grain's at the start (and so at bonding)
+  /// K/m: a linear field at the start, T = temperature + gradient . (x - the grains' mean
+  /// centroid); zero: uniform.
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+  SourcePosition gradient_at;  ///< where the file gives it, for messages
   double alpha_a = 0.0;         ///< 1/K: expansion across the c-axis
   double alpha_c = 0.0;         ///< 1/K: along it (= alpha_a: isotropic, `alpha`)
   /// Each grain's c-axis: its prism axis (a honeycomb's grains all share it) or a direction

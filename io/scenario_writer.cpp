@@ -203,6 +203,7 @@ std::string scenario_to_toml(const Scenario& s) {
     out += fmt::format("\n[thermal]\ntemperature = {}\nalpha_a = {}\nalpha_c = {}\nc_axis = \"{}\"\nseed = {}\n",
                        num(t.temperature), num(t.alpha_a), num(t.alpha_c),
                        t.c_axis == ThermalDef::Axis::prism ? "prism" : "random", t.seed);
+    if (!t.gradient.isZero(0.0)) out += fmt::format("gradient = {}\n", vec(t.gradient));
     out += fmt::format("conductivity = {}\n", num(t.conductivity));
     if (t.heat_capacity > 0.0) out += fmt::format("heat_capacity = {}\n", num(t.heat_capacity));
   }
@@ -367,6 +368,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
 
   d.same("thermal", a.thermal.enabled, b.thermal.enabled);
   d.same("thermal.temperature", a.thermal.temperature, b.thermal.temperature);
+  d.same("thermal.gradient", a.thermal.gradient, b.thermal.gradient);
   d.same("thermal.alpha_a", a.thermal.alpha_a, b.thermal.alpha_a);
   d.same("thermal.alpha_c", a.thermal.alpha_c, b.thermal.alpha_c);
   d.same("thermal.c_axis", a.thermal.c_axis, b.thermal.c_axis);

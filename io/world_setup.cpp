@@ -118,8 +118,24 @@ Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
-void apply_thermal(const ThermalDef& thermal, physics::World& world) {
+void apply_thermal(const Scenario& scenario, physics::World& world) {
+  const ThermalDef& thermal = scenario.thermal;
   world.set_temperature(thermal.temperature);
+  if (!thermal.gradient.isZero(0.0)) {
+    // A linear field about the grains' mean centroid.
+    const std::vector<physics::BodyId> ids = world.body_ids();
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const physics::BodyId id : ids) mean += world.state(id).x / static_cast<double>(ids.size());
+    for (const physics::BodyId id : ids) {
+      const double t = thermal.temperature + thermal.gradient.dot(world.state(id).x - mean);
+      if (!(t > 0.0)) {
+        throw ScenarioError(scenario.source, thermal.gradient_at.line, thermal.gradient_at.column, "thermal.gradient",
+                            "the field falls to " + std::to_string(t) +
+                                " K at a grain; every grain's temperature must stay above 0 K");
+      }
+      world.set_temperature(id, t);
+    }
+  }
   if (thermal.alpha_a != 0.0 || thermal.alpha_c != 0.0) {
     for (const physics::BodyId id : world.body_ids()) {
       const Eigen::Vector3d c = grain_c_axis(thermal, world.info(id).grain_id);
@@ -162,7 +178,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
     world.add_body(ids.at(k), grain_density(scenario), g.site.centre + shapes[k].centroid + lift,
                    shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
   }
-  if (scenario.thermal.enabled) apply_thermal(scenario.thermal, world);
+  if (scenario.thermal.enabled) apply_thermal(scenario, world);
   for (std::size_t i = 0; i < scenario.walls.size(); ++i) {
     physics::Wall w = scenario.walls[i];
     if (i < scenario.wall_gaps.size() && !std::isnan(scenario.wall_gaps[i])) {

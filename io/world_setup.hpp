@@ -33,8 +33,9 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
 /// direction uniform on the sphere drawn from the seed and the grain's id.
 Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id);
 
-/// [thermal] on a world of grains (make_world calls it): every grain at the temperature, its
+/// [thermal] on a world of grains (make_world calls it): every grain at the temperature (and
+/// the gradient's linear field; a field below 0 K is a ScenarioError at thermal.gradient), its
 /// expansion tensor alpha_a I + (alpha_c - alpha_a) c c^T about its c-axis, the conduction.
-void apply_thermal(const ThermalDef& thermal, physics::World& world);
+void apply_thermal(const Scenario& scenario, physics::World& world);
 
 }  // namespace cleave::io

@@ -792,6 +792,10 @@ TEST(Scenario, ThermalTableAndTemperatureStagesReadBackAndBadValuesNameTheirKey)
   const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
   EXPECT_TRUE(scenario_differences(s, again).empty());
   EXPECT_EQ(again.stages.at(0).temperature_rate, -100.0);
+  // A linear field: K per length unit in the file, K/m read.
+  const Scenario field = parse_scenario(std::string(kDropTest) + "[thermal]\ngradient = [0, 10, 0]\n", "g.toml");
+  EXPECT_EQ(field.thermal.gradient, Eigen::Vector3d(0, 1e4, 0));
+  EXPECT_TRUE(scenario_differences(field, parse_scenario(scenario_to_toml(field), "g2.toml")).empty());
   // Isotropic: alpha sets both.
   const Scenario iso = parse_scenario(std::string(kDropTest) + "[thermal]\nalpha = 8e-6\n", "iso.toml");
   EXPECT_EQ(iso.thermal.alpha_a, 8e-6);

@@ -340,3 +340,47 @@ TEST(Conduction, AHeldFaceQuenchesItsNeighboursAndABrokenBondStopsTheHeat) {
   EXPECT_THROW(world.set_conduction(-1.0, 1.0), std::invalid_argument);
   EXPECT_THROW(world.set_conduction(1.0, 0.0), std::invalid_argument);
 }
+
+TEST(ThermalField, ALinearFieldLeavesAFreeBlockUnstressedAndAQuadraticOneDoesNot) {
+  // A free honeycomb block of 5 x 4 bonded prisms, alpha isotropic: a temperature linear in
+  // x and y is a compatible thermal strain (a free body takes it without stress), a
+  // quadratic one is not. Against the force a clamped bond would carry at the largest
+  // temperature change, K_bn alpha pitch dT: the linear field leaves under 0.2 % of it in
+  // any bond, the quadratic one (its Laplacian is not zero: incompatible in the plane) over
+  // 2 % in some (the control that shows the test can fail).
+  const double alpha = 1e-5, swing = 200.0;
+  auto largest_bond_force = [&](bool quadratic) {
+    World world = make_world();
+    const RigidShape shape = prism();
+    const auto sh = world.add_shape(shape);
+    std::vector<BodyId> ids;
+    std::vector<Eigen::Vector2d> at;
+    for (int j = 0; j < 4; ++j) {
+      for (int i = 0; i < 5; ++i) {
+        const Eigen::Vector3d x((i + 0.5 * (j % 2)) * kPitch, j * kPitch * std::sqrt(3.0) / 2.0, 0);
+        ids.push_back(world.add_body(sh, kRho, x, shape.orientation_for()));
+        at.emplace_back(x.x() / (5 * kPitch), x.y() / (4 * kPitch));  // about 0..1 across the block
+      }
+    }
+    for (BodyId id : ids) world.set_expansion(id, alpha * Eigen::Matrix3d::Identity());
+    world.set_temperature(1000.0);
+    EXPECT_GT(world.initialise_bonds(strong_bonds(), 1e-6), 30u);
+    const int ramp = 4000;
+    for (int s = 1; s <= ramp + 40000; ++s) {
+      const double f = std::min(1.0, static_cast<double>(s) / ramp);
+      for (std::size_t k = 0; k < ids.size(); ++k) {
+        const Eigen::Vector2d p = at[k];
+        const double shape_of_field = quadratic ? p.x() * p.x() + p.y() * p.y() : 0.6 * p.x() + 0.4 * p.y();
+        world.set_temperature(ids[k], 1000.0 + f * swing * shape_of_field);
+      }
+      world.step();
+    }
+    double most = 0.0;
+    for (const Bond& b : world.bonds()) most = std::max(most, b.force.norm());
+    return most;
+  };
+  const double clamped = kSpringN * alpha * kPitch * swing;
+  const double linear = largest_bond_force(false), quadratic = largest_bond_force(true);
+  EXPECT_LT(linear, 0.002 * clamped);  // measured: 0.03 %
+  EXPECT_GT(quadratic, 0.02 * clamped);  // measured: 6.7 %
+}
