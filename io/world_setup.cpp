@@ -1,5 +1,7 @@
 #include "io/world_setup.hpp"
 
+#include "geometry/rng.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -92,28 +94,13 @@ void check_time_step(const Scenario& scenario, const geometry::Specimen& specime
   check_time_step(scenario, grain_shapes(scenario, specimen));
 }
 
-namespace {
-
-/// A uniform U in [0, 1) from the seed, the grain and a draw number (splitmix64).
-double unit_draw(std::uint64_t seed, int grain, int draw) {
-  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + (static_cast<std::uint64_t>(static_cast<std::uint32_t>(grain)) << 8) +
-                    static_cast<std::uint64_t>(draw);
-  for (int round = 0; round < 2; ++round) {
-    z += 0x9E3779B97F4A7C15ULL;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    z ^= z >> 31;
-  }
-  return static_cast<double>(z >> 11) * 0x1.0p-53;
-}
-
-}  // namespace
-
 Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id) {
   if (thermal.c_axis == ThermalDef::Axis::prism) return Eigen::Vector3d::UnitZ();
-  // Uniform on the sphere (Archimedes): z uniform in [-1, 1], azimuth uniform.
-  const double z = 2.0 * unit_draw(thermal.seed, grain_id, 0) - 1.0;
-  const double phi = 2.0 * M_PI * unit_draw(thermal.seed, grain_id, 1);
+  // Uniform on the sphere (Archimedes): z uniform in [-1, 1], azimuth uniform; the grain's
+  // own stream, as its orientation and Voronoi site have.
+  geometry::SplitMix64 rng = geometry::stream_for(thermal.seed, static_cast<std::uint64_t>(grain_id));
+  const double z = 2.0 * rng.uniform() - 1.0;
+  const double phi = 2.0 * M_PI * rng.uniform();
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
   return {r * std::cos(phi), r * std::sin(phi), z};
 }

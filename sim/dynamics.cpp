@@ -472,16 +472,7 @@ class Dynamics::Runner {
     }
     if (stage.temperature_rate != 0.0) {
       // The stage's uniform heating or cooling, this step's share, up to its target.
-      const double change = stage.temperature_rate * scenario_.dynamics.dt;
-      const double target = stage.temperature_target;
-      const auto& thermal = world_.slot_thermal();
-      for (const physics::BodyId id : world_.body_ids()) {
-        const physics::BodyThermal& t = thermal[id.index];
-        if (t.held) continue;
-        const double next = t.temperature + change;
-        world_.set_temperature(id, change > 0.0 ? std::min(next, std::max(target, t.temperature))
-                                                : std::max(next, std::min(target, t.temperature)));
-      }
+      world_.ramp_temperature(stage.temperature_rate * scenario_.dynamics.dt, stage.temperature_target);
     }
     guard_.before_step(world_);
     bool completed = true;

@@ -841,6 +841,18 @@ void World::set_temperature(double kelvin) {
   }
 }
 
+void World::ramp_temperature(double change, double target) {
+  if (!std::isfinite(change) || !std::isfinite(target))
+    throw std::invalid_argument("ramp_temperature: not a finite change or target");
+  for (std::size_t i = 0; i < thermal_.size(); ++i) {
+    BodyThermal& t = thermal_[i];
+    if (!infos_[i].alive || t.held) continue;
+    const double next = t.temperature + change;
+    t.temperature = change > 0.0 ? std::min(next, std::max(target, t.temperature))
+                                 : std::max(next, std::min(target, t.temperature));
+  }
+}
+
 double World::temperature(BodyId id) const {
   if (!contains(id)) throw std::out_of_range("temperature: stale or invalid body id");
   return thermal_[id.index].temperature;
@@ -1008,13 +1020,16 @@ void World::bond_forces(int nt) {
         velocity += free / settings_.dt;
         bd.thermal_gap += bd.normal.dot(free);
       }
-      BondParams own = base;
-      if (bd.strength != 1.0) {
+      const BondParams* params = &base;
+      BondParams own;
+      if (bd.strength != 1.0) {  // this bond's own strengths
+        own = base;
         own.tbn *= bd.strength;
         own.tbs *= bd.strength;
         own.sigma_c *= bd.strength;
+        params = &own;
       }
-      const BondResult r = bond_force(own, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+      const BondResult r = bond_force(*params, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
       bd.force = r.force;
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});

@@ -215,6 +215,9 @@ class World {
   /// Sets one body's temperature (K), or every live body's.
   void set_temperature(BodyId id, double kelvin);
   void set_temperature(double kelvin);
+  /// Changes every live, not held body's temperature by `change` (K), stopping at `target`
+  /// (a body already past it stays where it is): one step of a uniform heating or cooling.
+  void ramp_temperature(double change, double target);
   [[nodiscard]] double temperature(BodyId id) const;
   /// Every slot's temperature and expansion (free slots included).
   [[nodiscard]] const std::vector<BodyThermal>& slot_thermal() const { return thermal_; }
