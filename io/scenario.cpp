@@ -79,7 +79,11 @@
 ///                              # law = "bonded_particle" (default) | "cohesive" (seed 002):
 ///                              # cohesive takes sigma_c (Pa) and g_c (N/m) instead of tbn, tbs;
 ///                              # criterion = "limits" (default, eq. 2.16) | "rankine" |
-///                              # "hydrostatic" with sigma_f (Pa) instead of tbn, tbs
+///                              # "hydrostatic" with sigma_f (Pa) instead of tbn, tbs;
+///                              # law = "beam" (seed 003, Andre 2012): young (Pa), poisson
+///                              # ((-1, 0.5]), radius (length unit), sigma_f (Pa, optional:
+///                              # the beam's outer-fibre stress that breaks it) or criterion
+///                              # "rankine" | "hydrostatic" with sigma_f; no kbn, kbs, tbn, tbs
 ///   [fracture]                 # optional, chapter 3 (needs [dynamics]): sigma_f_hyd (Pa,
 ///                              # eq. 3.22), k_ic (Pa sqrt(m), > 0), c (> 0, default 0.816),
 ///                              # crack_length (length unit, > 0), check_every (>= 1, default 1);
@@ -643,18 +647,51 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
 }
 
 constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "sigma_c", "g_c",
-                                          "strength_modulus", "criterion", "sigma_f"};
+                                          "strength_modulus", "criterion", "sigma_f",
+                                          "young", "poisson", "radius"};
 
-void read_bond_table(const TableReader& t, BondDef& b) {
+/// law = "beam" (seed 003, Andre et al. 2012): the beam's E_m, nu_m and R_m, and what breaks
+/// it: its own outer-fibre stress against sigma_f (criterion "limits", the default; no
+/// sigma_f: it never breaks) or a grain-stress criterion with sigma_f.
+void read_beam_bond(const TableReader& t, BondDef& b, double unit) {
+  for (std::string_view key : {"kbn", "kbs", "tbn", "tbs", "sigma_c", "g_c"}) {
+    if (t.find(key) != nullptr)
+      t.fail(*t.find(key), key, "the beam law takes young, poisson and radius (and sigma_f), not springs or bond strengths");
+  }
+  b.params.beam_young = t.number("young", Range::positive()).value;
+  b.params.beam_poisson = t.number("poisson", Range{-1.0, 0.5, true, false}).value;
+  b.params.beam_radius = t.number("radius", Range::positive()).value * unit;
+  b.params.criterion = t.choose<physics::BondCriterion>(
+      "criterion", {{"limits", physics::BondCriterion::limits},
+                    {"rankine", physics::BondCriterion::rankine},
+                    {"hydrostatic", physics::BondCriterion::hydrostatic}},
+      physics::BondCriterion::limits);
+  if (b.params.criterion == physics::BondCriterion::limits) {
+    b.params.sigma_f = t.number("sigma_f", Range::positive(), std::numeric_limits<double>::infinity()).value;
+  } else {
+    b.params.sigma_f = t.number("sigma_f", Range::positive()).value;
+  }
+  b.strength_modulus = t.number("strength_modulus", Range::positive(), 0.0).value;
+}
+
+void read_bond_table(const TableReader& t, BondDef& b, double unit) {
   t.reject_unknown(kBondKeys);
   if (t.table() == nullptr) return;
   b.enabled = true;
-  b.params.kbn = t.number("kbn", Range::positive()).value;
-  b.params.kbs = t.number("kbs", Range::non_negative()).value;
   b.params.law = t.choose<physics::BondLaw>(
       "law", {{"bonded_particle", physics::BondLaw::bonded_particle},
-              {"cohesive", physics::BondLaw::cohesive}},
+              {"cohesive", physics::BondLaw::cohesive},
+              {"beam", physics::BondLaw::beam}},
       physics::BondLaw::bonded_particle);
+  if (b.params.law == physics::BondLaw::beam) {
+    read_beam_bond(t, b, unit);
+    return;
+  }
+  for (std::string_view key : {"young", "poisson", "radius"}) {
+    if (t.find(key) != nullptr) t.fail(*t.find(key), key, "belongs to law = \"beam\"");
+  }
+  b.params.kbn = t.number("kbn", Range::positive()).value;
+  b.params.kbs = t.number("kbs", Range::non_negative()).value;
   // Each law's own keys; those of the other law are errors.
   const bool cohesive = b.params.law == physics::BondLaw::cohesive;
   for (std::string_view key : {"tbn", "tbs", "sigma_c", "g_c"}) {
@@ -992,7 +1029,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
       }
     }
   }
-  read_bond_table(reader("bond"), s.bond);
+  read_bond_table(reader("bond"), s.bond, unit);
   read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
   read_thermal_table(reader("thermal"), unit, s.dynamics.enabled, s.thermal);
   if (stages != nullptr) {

@@ -172,14 +172,22 @@ std::string scenario_to_toml(const Scenario& s) {
 
   if (s.bond.enabled) {
     const physics::BondParams& b = s.bond.params;
-    out += fmt::format("\n[bond]\nkbn = {}\nkbs = {}\n", num(b.kbn), num(b.kbs));
-    if (b.law == physics::BondLaw::cohesive) {
-      out += fmt::format("law = \"cohesive\"\nsigma_c = {}\ng_c = {}\n", num(b.sigma_c), num(b.g_c));
-    } else if (b.criterion == physics::BondCriterion::limits) {
-      out += fmt::format("law = \"bonded_particle\"\ntbn = {}\ntbs = {}\n", num(b.tbn), num(b.tbs));
+    if (b.law == physics::BondLaw::beam) {
+      out += fmt::format("\n[bond]\nlaw = \"beam\"\nyoung = {}\npoisson = {}\nradius = {}\n", num(b.beam_young),
+                         num(b.beam_poisson), num(b.beam_radius));
+      if (b.criterion != physics::BondCriterion::limits)
+        out += fmt::format("criterion = \"{}\"\n", b.criterion == physics::BondCriterion::rankine ? "rankine" : "hydrostatic");
+      if (std::isfinite(b.sigma_f)) out += fmt::format("sigma_f = {}\n", num(b.sigma_f));
     } else {
-      out += fmt::format("law = \"bonded_particle\"\ncriterion = \"{}\"\nsigma_f = {}\n",
-                         b.criterion == physics::BondCriterion::rankine ? "rankine" : "hydrostatic", num(b.sigma_f));
+      out += fmt::format("\n[bond]\nkbn = {}\nkbs = {}\n", num(b.kbn), num(b.kbs));
+      if (b.law == physics::BondLaw::cohesive) {
+        out += fmt::format("law = \"cohesive\"\nsigma_c = {}\ng_c = {}\n", num(b.sigma_c), num(b.g_c));
+      } else if (b.criterion == physics::BondCriterion::limits) {
+        out += fmt::format("law = \"bonded_particle\"\ntbn = {}\ntbs = {}\n", num(b.tbn), num(b.tbs));
+      } else {
+        out += fmt::format("law = \"bonded_particle\"\ncriterion = \"{}\"\nsigma_f = {}\n",
+                           b.criterion == physics::BondCriterion::rankine ? "rankine" : "hydrostatic", num(b.sigma_f));
+      }
     }
     if (s.bond.strength_modulus > 0.0)
       out += fmt::format("strength_modulus = {}\n", num(s.bond.strength_modulus));
@@ -356,6 +364,9 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("bond.g_c", a.bond.params.g_c, b.bond.params.g_c);
   d.same("bond.criterion", a.bond.params.criterion, b.bond.params.criterion);
   d.same("bond.sigma_f", a.bond.params.sigma_f, b.bond.params.sigma_f);
+  d.same("bond.young", a.bond.params.beam_young, b.bond.params.beam_young);
+  d.same("bond.poisson", a.bond.params.beam_poisson, b.bond.params.beam_poisson);
+  d.same("bond.radius", a.bond.params.beam_radius, b.bond.params.beam_radius);
 
   d.same("fracture", a.fracture.enabled, b.fracture.enabled);
   d.same("fracture.sigma_f_hyd", a.fracture.params.sigma_f_hyd, b.fracture.params.sigma_f_hyd);

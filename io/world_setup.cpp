@@ -30,15 +30,25 @@ struct StableStep {
   double dt = 0.0, mass = 0.0, inertia = 0.0, stiffness = 0.0;
 };
 
-StableStep stable_step(const Scenario& scenario, double mass, double inertia, double arm) {
+/// `spacing`: the shortest centroid distance of two bonded grains (a beam's length).
+StableStep stable_step(const Scenario& scenario, double mass, double inertia, double arm, double spacing) {
   StableStep s;
   s.mass = mass;
   s.inertia = inertia;
   // A bond (eq. 2.10: K = k A_b with the dilation radius) acts in parallel with the
   // particle-particle spring.
   const physics::BondSection section{scenario.contact.dilation_radius};
-  const double bond_normal = scenario.bond.enabled ? scenario.bond.params.kbn * section.area() : 0.0;
-  const double bond_rolling = scenario.bond.enabled ? scenario.bond.params.kbn * section.inertia() : 0.0;
+  double bond_normal = scenario.bond.enabled ? scenario.bond.params.kbn * section.area() : 0.0;
+  double bond_rolling = scenario.bond.enabled ? scenario.bond.params.kbn * section.inertia() : 0.0;
+  if (scenario.bond.enabled && scenario.bond.params.law == physics::BondLaw::beam) {
+    // A beam of length L: E A / L along it, 12 E I / L^3 across it, 6 E I / L against an end
+    // turned with the other (beam_force's element).
+    const physics::BondParams& b = scenario.bond.params;
+    const physics::BondSection beam{b.beam_radius};
+    const double l = spacing;
+    bond_normal = std::max(b.beam_young * beam.area() / l, 12.0 * b.beam_young * beam.inertia() / (l * l * l));
+    bond_rolling = 6.0 * b.beam_young * beam.inertia() / l;
+  }
   s.stiffness = std::max(scenario.contact.particle_particle.c_res * scenario.contact.particle_particle.kn + bond_normal,
                          scenario.contact.particle_wall.c_res * scenario.contact.particle_wall.kn);
   const double translation = physics::critical_time_step(s.mass, s.stiffness);
@@ -50,13 +60,17 @@ StableStep stable_step(const Scenario& scenario, double mass, double inertia, do
 
 StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shape) {
   const double rho = grain_density(scenario);
+  // Two grains face to face: their centroids at least twice the nearest face apart.
+  double inner = std::numeric_limits<double>::infinity();
+  for (const auto& face : shape.primitives.faces) inner = std::min(inner, face.offset);
+  const double spacing = 2.0 * (inner + shape.primitives.dilation_radius);
   return stable_step(scenario, rho * shape.volume, rho * shape.principal_moments.minCoeff(),
-                     shape.bounding_radius());
+                     shape.bounding_radius(), spacing);
 }
 }  // namespace
 
 double stable_time_step(const Scenario& scenario, double mass, double inertia, double bounding_radius) {
-  return stable_step(scenario, mass, inertia, bounding_radius).dt;
+  return stable_step(scenario, mass, inertia, bounding_radius, bounding_radius).dt;
 }
 
 namespace {

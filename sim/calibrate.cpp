@@ -254,6 +254,9 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
   if (setup.targets.young) {
     const io::Scenario sc = io::load_scenario(setup.elastic);
     if (!sc.bond.enabled) throw std::runtime_error(setup.elastic.string() + ": no [bond] to calibrate");
+    if (sc.bond.params.law == physics::BondLaw::beam)
+      throw std::runtime_error(setup.elastic.string() +
+                               ": [bond] law: the elastic calibration fits kbn and kbs; a beam bond has none");
     const double ab = M_PI * sc.contact.dilation_radius * sc.contact.dilation_radius;
     sh.dt0 = sc.dynamics.dt;
     sh.kbn0 = sc.bond.params.kbn;
@@ -270,7 +273,7 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
   if (setup.targets.tensile_strength) {
     const io::Scenario sc = io::load_scenario(setup.brazilian);
     if (!sc.bond.enabled) throw std::runtime_error(setup.brazilian.string() + ": no [bond] to calibrate");
-    if (sc.bond.params.criterion != physics::BondCriterion::limits)
+    if (sc.bond.params.criterion != physics::BondCriterion::limits || sc.bond.params.law == physics::BondLaw::beam)
       throw std::runtime_error(setup.brazilian.string() +
                                ": [bond] criterion: the strength calibration fits tbn and tbs (criterion = \"limits\")");
     strength_start = {{"bond.tbn", sc.bond.params.tbn}, {"bond.tbs", sc.bond.params.tbs}};

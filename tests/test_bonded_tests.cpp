@@ -297,6 +297,23 @@ TEST_F(BondedTest, CoolingCracksAPolycrystalOnlyWhereItsGrainsExpandUnlike) {
   }
 }
 
+TEST_F(BondedTest, CoolingCracksBeamBondedGrainsOnlyWhereTheyExpandUnlike) {
+  // scenarios/thermal_microcracking_beams.toml: the same polycrystal joined by cohesive
+  // beams (seed 003). With random c-axes, beams break, in tension and in bending (their
+  // outer fibre's stress); with parallel ones the specimen shrinks alike and none do.
+  const fs::path cracked = run("thermal_microcracking_beams", {}, "beams");
+  const auto rows = read_csv(cracked / "thermal.csv");
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(std::stod(rows.back().at("mean_K")), 293.0);
+  const int broken = std::stoi(rows.back().at("bonds_broken"));
+  EXPECT_GT(broken, 0);
+  const auto logged = breaks(cracked);
+  ASSERT_EQ(logged.size(), static_cast<std::size_t>(broken));
+  for (const auto& b : logged) EXPECT_TRUE(b.mode == "tension" || b.mode == "bending") << b.mode;
+  const fs::path parallel = run("thermal_microcracking_beams", {{"c_axis = \"random\"", "c_axis = \"prism\""}}, "beams_parallel");
+  EXPECT_EQ(read_csv(parallel / "thermal.csv").back().at("bonds_broken"), "0");
+}
+
 TEST_F(BondedTest, AThermalShockHoldsTheQuenchedFaceAndConductionCoolsTheRestFromIt) {
   // scenarios/thermal_microcracking.toml turned into a thermal shock: conduction on, and
   // the cooling stage replaced by one that holds the grains within 0.6 mm of a plane at

@@ -857,6 +857,43 @@ TEST(Scenario, BondStressCriteriaReadBackAndReplaceTheBondStrengths) {
   EXPECT_SCENARIO_ERROR(cohesive, line_of_last(cohesive, "criterion"), "bond.criterion", "bonded_particle");
 }
 
+TEST(Scenario, BeamBondsReadBackInMetresAndRefuseTheSpringKeys) {
+  auto bonded = [](const std::string& keys) {
+    std::string text = kDropTest;
+    text.replace(text.find("duration = 0.5\n"), 15, "");
+    return text + "[bond]\nlaw = \"beam\"\n" + keys + "[[stage]]\nname = \"bond\"\nkind = \"bond\"\n";
+  };
+  // The drop test's lengths are in mm: radius 0.08 mm is 8e-5 m.
+  const Scenario s = parse_scenario(bonded("young = 2e10\npoisson = 0.2\nradius = 0.08\nsigma_f = 5e7\n"), "b.toml");
+  EXPECT_EQ(s.bond.params.law, physics::BondLaw::beam);
+  EXPECT_EQ(s.bond.params.beam_young, 2e10);
+  EXPECT_EQ(s.bond.params.beam_poisson, 0.2);
+  EXPECT_DOUBLE_EQ(s.bond.params.beam_radius, 8e-5);
+  EXPECT_EQ(s.bond.params.sigma_f, 5e7);
+  EXPECT_EQ(s.bond.params.criterion, physics::BondCriterion::limits);
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  // Without sigma_f a beam does not break; with a stress criterion sigma_f is required.
+  const Scenario strong = parse_scenario(bonded("young = 2e10\npoisson = 0.2\nradius = 0.08\n"), "u.toml");
+  EXPECT_TRUE(std::isinf(strong.bond.params.sigma_f));
+  EXPECT_TRUE(scenario_differences(strong, parse_scenario(scenario_to_toml(strong), "u2.toml")).empty());
+  const Scenario rankine =
+      parse_scenario(bonded("young = 2e10\npoisson = 0.2\nradius = 0.08\ncriterion = \"rankine\"\nsigma_f = 1e6\n"), "k.toml");
+  EXPECT_EQ(rankine.bond.params.criterion, physics::BondCriterion::rankine);
+  EXPECT_TRUE(scenario_differences(rankine, parse_scenario(scenario_to_toml(rankine), "k2.toml")).empty());
+  const std::string springs = bonded("young = 2e10\npoisson = 0.2\nradius = 0.08\nkbn = 1e9\n");
+  EXPECT_SCENARIO_ERROR(springs, line_of_last(springs, "kbn"), "bond.kbn", "the beam law takes young");
+  const std::string no_radius = bonded("young = 2e10\npoisson = 0.2\n");
+  EXPECT_SCENARIO_ERROR(no_radius, line_of_last(no_radius, "[bond]"), "bond.radius", "missing");
+  const std::string odd_nu = bonded("young = 2e10\npoisson = 0.7\nradius = 0.08\n");
+  EXPECT_SCENARIO_ERROR(odd_nu, line_of_last(odd_nu, "poisson"), "bond.poisson", "0.5");
+  const std::string stray = "[bond]\nkbn = 1e9\nkbs = 4e8\ntbn = 1\ntbs = 1\nyoung = 2e10\n";
+  std::string plain = kDropTest;
+  plain.replace(plain.find("duration = 0.5\n"), 15, "");
+  plain += stray + "[[stage]]\nname = \"bond\"\nkind = \"bond\"\n";
+  EXPECT_SCENARIO_ERROR(plain, line_of_last(plain, "young"), "bond.young", "belongs to law = \"beam\"");
+}
+
 TEST(Scenario, GrainStressCriteriaReadBackAndLeaveOutTheToughness) {
   const std::string base = kDropTest;
   const Scenario s = parse_scenario(base + "[fracture]\ncriterion = \"hydrostatic\"\nsigma_f = 3e6\n", "f.toml");

@@ -74,6 +74,41 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
   return out;
 }
 
+BeamResult beam_force(const BondParams& p, const BeamPose& pose) {
+  /// The cohesive beam of seed 003 (Andre et al. 2012): four parameters L_m, R_m, E_m, nu_m.
+  BeamResult out;
+  const double r = p.beam_radius, l0 = pose.rest_length;
+  const double area = M_PI * r * r, inertia = 0.25 * M_PI * r * r * r * r, polar = 2.0 * inertia;
+  const double young = p.beam_young, shear_modulus = young / (2.0 * (1.0 + p.beam_poisson));
+  const Eigen::Vector3d chord = pose.end_b - pose.end_a;
+  const double length = chord.norm();
+  if (!(length > 0.0) || !(l0 > 0.0)) return out;
+  const Eigen::Vector3d e = chord / length;
+  // Axial: tension positive, pulls B back towards A.
+  out.axial = young * area * (length - l0) / l0;
+  // Bending: each end's turn from the chord (rotation taking e to its axis, first order).
+  const Eigen::Vector3d theta_a = e.cross(pose.axis_a), theta_b = e.cross(pose.axis_b);
+  const double k = 2.0 * young * inertia / l0;
+  out.moment_a = -k * (2.0 * theta_a + theta_b);
+  out.moment_b = -k * (theta_a + 2.0 * theta_b);
+  const Eigen::Vector3d shear = e.cross(out.moment_a + out.moment_b) / length;
+  // Torsion: B's across-direction against A's, both seen across e.
+  const Eigen::Vector3d ua = pose.across_a - pose.across_a.dot(e) * e;
+  const Eigen::Vector3d ub = pose.across_b - pose.across_b.dot(e) * e;
+  const double twist = std::atan2(e.dot(ua.cross(ub)), ua.dot(ub));
+  const double torque = shear_modulus * polar * twist / l0;
+  out.moment_b -= torque * e;
+  out.moment_a += torque * e;
+  out.force_b = -out.axial * e + shear;
+  out.shear = shear.norm();
+  const double bend_a = (out.moment_a - out.moment_a.dot(e) * e).norm();
+  const double bend_b = (out.moment_b - out.moment_b.dot(e) * e).norm();
+  out.bending = std::max(bend_a, bend_b);
+  out.torsion = std::abs(torque);
+  out.peak_stress = out.axial / area + out.bending * r / inertia;
+  return out;
+}
+
 const char* to_string(BondFailure mode) {
   switch (mode) {
     case BondFailure::none: return "none";

@@ -30,6 +30,12 @@ enum class BondLaw {
   /// the circular initiation criterion (eq. 32), then linear softening that dissipates G_c per
   /// unit bond area before the bond lets go (lambda = 1, eq. 16).
   cohesive,
+  /// The cohesive beam of Andre et al. 2012 (seed 003, GranOO): an Euler-Bernoulli beam of
+  /// radius R_m and Young's modulus E_m (Poisson's ratio nu_m for its shear modulus) from
+  /// one grain's centroid to the other's, in tension, bending, shear and torsion; its
+  /// forces follow from where its ends and their material frames are now (beam_force), not
+  /// from increments.
+  beam,
 };
 
 /// What breaks a bond (of the bonded-particle law).
@@ -57,7 +63,10 @@ struct BondParams {
   /// What breaks a bond; with a stress criterion the limits of eq. 2.15 are not used (the
   /// world applies it, as it needs the grains' stresses), breaks are logged as tension.
   BondCriterion criterion = BondCriterion::limits;
-  double sigma_f = 0.0;  ///< Pa: the stress criteria's strength
+  double sigma_f = 0.0;  ///< Pa: the stress criteria's strength (and the beam's: see beam_force)
+  double beam_young = 0.0;    ///< beam law: E_m (Pa)
+  double beam_poisson = 0.0;  ///< beam law: nu_m; G_m = E_m / (2 (1 + nu_m))
+  double beam_radius = 0.0;   ///< beam law: R_m (m)
 };
 
 /// The bond's section (eqs 2.10, 2.11, 2.15): radius r, A = pi r^2, I = pi r^4 / 4, J = 2 I.
@@ -113,5 +122,43 @@ double bond_strength_factor(std::uint64_t seed, int grain_a, int grain_b, double
 BondResult bond_force(const BondParams& p, const BondSection& section, const Eigen::Vector3d& n,
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
                       BondState& state, double dt);
+
+/// Where a beam bond (BondLaw::beam) is now, in world axes: its two ends (material points of
+/// A and B, their centroids at bonding) and, at each end, the beam's axis and a direction
+/// across it as that body's material directions (equal at both ends at bonding, when the
+/// axis runs from end A to end B).
+struct BeamPose {
+  Eigen::Vector3d end_a = Eigen::Vector3d::Zero(), end_b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis_a = Eigen::Vector3d::UnitX(), axis_b = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d across_a = Eigen::Vector3d::UnitY(), across_b = Eigen::Vector3d::UnitY();
+  double rest_length = 0.0;  ///< L_m: the ends' distance at bonding (plus thermal growth)
+};
+
+/// The beam's loads: on B (force at end_b, moment) and on A (the opposite force at end_a,
+/// its moment), and the section loads the stress check and the break log read.
+struct BeamResult {
+  Eigen::Vector3d force_b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d moment_a = Eigen::Vector3d::Zero(), moment_b = Eigen::Vector3d::Zero();
+  double axial = 0.0;    ///< N, positive in tension
+  double shear = 0.0;    ///< |V|
+  double bending = 0.0;  ///< the larger end moment |M|
+  double torsion = 0.0;  ///< |T|
+  /// The largest normal stress in the beam, N/A + |M| R_m / I at the more bent end (Pa):
+  /// its outer fibre, what the beam's own strength sigma_f is held against.
+  double peak_stress = 0.0;
+};
+
+/// The Euler-Bernoulli beam of Andre et al. 2012 between two grains, co-rotational (small
+/// strain, large rigid motion): with chord c = end_b - end_a, L = |c|, e = c / L,
+///   axial       N = E A (L - L_m) / L_m, on B: -N e;
+///   bending     each end's turn from the chord, theta = e x axis (first order); the
+///               element's end moments M_A = -(2 E I / L_m)(2 theta_A + theta_B), M_B =
+///               -(2 E I / L_m)(theta_A + 2 theta_B), and the shear that balances them, on B:
+///               e x (M_A + M_B) / L;
+///   torsion     the twist psi of B's across-direction against A's about e, on B:
+///               -(G J / L_m) psi e, on A the opposite;
+/// A = pi R^2, I = pi R^4 / 4, J = 2 I. These are the stiffness matrix of a two-node
+/// Hermite beam element, which is nodally exact for a beam loaded at its nodes.
+BeamResult beam_force(const BondParams& p, const BeamPose& pose);
 
 }  // namespace cleave::physics

@@ -64,7 +64,10 @@ std::optional<BlowUp> StepGuard::check(const World& world, bool step_completed) 
     const Pose& before = poses_[k];
     const double radius = world.shape(world.info(id).shape).bounding_radius();
     const double turn = before.q.angularDistance(s.q);
-    const double moved = (s.x - before.x).norm() + turn * radius;
+    Eigen::Vector3d dx = s.x - before.x;
+    // In a periodic cell a body that left through a face came back through the other.
+    if (const PeriodicCell* cell = world.cell()) dx += cell->shift(cell->nearest_image(before.x, s.x));
+    const double moved = dx.norm() + turn * radius;
     const double limit = fraction_ * radius;
     if (moved > limit) {
       BlowUp b = blow_up(id);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <tuple>
 #include <stdexcept>
@@ -155,14 +156,24 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     const std::uint32_t slot = ids[best].index;
     const Eigen::Vector3d new_arm = s.q.conjugate() * (point - s.x);
     const Eigen::Vector3d new_normal = s.q.conjugate() * (ps.q * normal);
+    // A beam's end stays the material point it was (the parent's centroid at bonding),
+    // now of the piece; its directions turn into the piece's frame.
+    auto into_piece = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d { return s.q.conjugate() * (ps.q * v); };
+    Bond::Beam& beam = bd.beam;
     if (parent_is_a) {
       bd.a = slot;
       bd.arm_a = new_arm;
       bd.normal_a = new_normal;
+      beam.end_a = s.q.conjugate() * (ps.x + ps.q * beam.end_a - s.x);
+      beam.axis_a = into_piece(beam.axis_a);
+      beam.across_a = into_piece(beam.across_a);
     } else {
       bd.b = slot;
       bd.arm_b = new_arm;
       bd.normal_b = new_normal;
+      beam.end_b = s.q.conjugate() * (ps.x + ps.q * beam.end_b - s.x);
+      beam.axis_b = into_piece(beam.axis_b);
+      beam.across_b = into_piece(beam.across_b);
     }
     if (bd.a > bd.b) {
       // A and B trade places: the normal turns round, and the loads on B become those on A.
@@ -176,6 +187,16 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
       bd.state.bending = -bd.state.bending;
       bd.force = -bd.force;
       bd.moment = -bd.moment;
+      // In a periodic cell A's image is now the one joined: the other way round.
+      bd.image = -bd.image;
+      bd.shift = -bd.shift;
+      bd.point += bd.shift;  // the same place, seen from the new A
+      // The beam's axis runs from A to B: it turns round too (the twist reads the same).
+      std::swap(beam.end_a, beam.end_b);
+      std::swap(beam.axis_a, beam.axis_b);
+      std::swap(beam.across_a, beam.across_b);
+      beam.axis_a = -beam.axis_a;
+      beam.axis_b = -beam.axis_b;
     }
     // The new piece's features are numbered anew: the largest stored overlap stands for all.
     double stored = 0.0;
@@ -313,7 +334,11 @@ void World::compute_forces() {
   // with the body): the bodies that have are counted here, with the poses.
   const bool searched = pairs_current_ && searched_at_.size() == live_slots_.size() &&
                         searched_q_.size() == live_slots_.size();
-  const double limit = 0.5 * skin_;
+  double limit = 0.5 * skin_;
+  if (cell_on_) {
+    // A pair's image moves with the cell vectors (by at most the sum of their changes).
+    limit -= 0.5 * (cell_.vectors() - cell_at_search_).colwise().norm().sum();
+  }
   const bool lazy = settings_.manifold_tolerance > 0.0;
   std::size_t moved = 0;
 #pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin) reduction(+ : moved)
@@ -338,7 +363,7 @@ void World::compute_forces() {
     }
   }
   for (auto& w : walls_) w.reaction.setZero();
-  body_contacts(nt, !searched || moved > 0);
+  body_contacts(nt, !searched || moved > 0 || !(limit > 0.0));
   wall_contacts(nt);
   join_pending();
   evaluate_and_apply(nt);
@@ -367,19 +392,37 @@ void World::body_contacts(int nt, bool stale) {
       old_pairs = pairs_;
       old_manifolds = std::move(manifolds_);
     }
-    search_.find_pairs(spheres_, skin_, pairs_);
+    find_body_pairs(search_, spheres_, skin_, pairs_);
+    if (cell_on_) {
+      pair_image_.resize(pairs_.size());
+      for (std::size_t p = 0; p < pairs_.size(); ++p)
+        pair_image_[p] = cell_.nearest_image(states_[live_slots_[pairs_[p].first]].x,
+                                             states_[live_slots_[pairs_[p].second]].x);
+      cell_at_search_ = cell_.vectors();
+    }
     // Bounding spheres are loose around thick or long prisms (a 5 mm thick grain of 0.6 mm
     // side reaches 2.6 mm round): the pairs whose dilated boxes are a skin apart along some
     // axis are dropped; until the next search no point moves half the skin, so they cannot
     // meet. The contacts are the same, in the same order (pairs stay sorted).
     if (settings_.manifold_tolerance > 0.0)
       for (std::uint32_t slot : live_slots_) posed_[slot].update_geometry();  // boxes of all
-    std::erase_if(pairs_, [&](const BodyPair& pr) {
-      const PosedShape& a = posed_[live_slots_[pr.first]];
-      const PosedShape& b = posed_[live_slots_[pr.second]];
+    std::size_t kept = 0;
+    for (std::size_t p = 0; p < pairs_.size(); ++p) {
+      const PosedShape& a = posed_[live_slots_[pairs_[p].first]];
+      const PosedShape& b = posed_[live_slots_[pairs_[p].second]];
       const double reach = a.radius + b.radius + skin_;
-      return ((a.lo.array() - reach > b.hi.array()) || (b.lo.array() - reach > a.hi.array())).any();
-    });
+      Eigen::Vector3d b_lo = b.lo, b_hi = b.hi;
+      if (cell_on_ && !pair_image_[p].isZero()) {
+        const Eigen::Vector3d t = cell_.shift(pair_image_[p]);
+        b_lo += t;
+        b_hi += t;
+      }
+      if (((a.lo.array() - reach > b_hi.array()) || (b_lo.array() - reach > a.hi.array())).any()) continue;
+      if (cell_on_) pair_image_[kept] = pair_image_[p];
+      pairs_[kept++] = pairs_[p];
+    }
+    pairs_.resize(kept);
+    if (cell_on_) pair_image_.resize(kept);
     manifolds_.clear();
     if (settings_.manifold_tolerance > 0.0) {
       manifolds_.resize(pairs_.size());
@@ -408,6 +451,7 @@ void World::body_contacts(int nt, bool stale) {
   constexpr std::size_t kChunk = 256;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   if (chunk_pending_.size() < chunks) chunk_pending_.resize(chunks);
+  if (cell_on_ && chunk_shift_.size() < chunks) chunk_shift_.resize(chunks);
   parts_.clear();
   for (std::size_t chunk = 0; chunk < chunks; ++chunk) parts_.push_back(&chunk_pending_[chunk]);
   // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
@@ -424,14 +468,34 @@ void World::body_contacts(int nt, bool stale) {
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     std::vector<FeatureContact> features;
+    PosedShape image;  // B's image across a periodic face
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
       auto& out = chunk_pending_[chunk];
       out.clear();
+      if (cell_on_) chunk_shift_[chunk].clear();
       const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
       for (std::size_t p = begin; p < end; ++p) {
         const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
         features.clear();
+        if (cell_on_) {
+          // Every contact of the pair, in the pair's order, against B's image (searched in
+          // full: the feature cache and manifolds follow B itself, not its image).
+          const bool shifted = !pair_image_[p].isZero();
+          const Eigen::Vector3d t = shifted ? cell_.shift(pair_image_[p]) : Eigen::Vector3d::Zero();
+          if (shifted) shifted_copy(posed_[b], t, image);
+          polyhedron_contacts(posed_[a], shifted ? image : posed_[b], 0.0, features);
+          std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
+            return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
+          });
+          for (const auto& fc : features) {
+            if (fc.contact.penetration > 0.0) {
+              out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
+              chunk_shift_[chunk].push_back(t);
+            }
+          }
+          continue;
+        }
         const double radii = posed_[a].radius + posed_[b].radius;
         if (manifolds && plan_[p] == kCarried) {
           // Straight into the list: held in feature order, overlapping only.
@@ -562,6 +626,14 @@ void World::wall_contacts(int nt) {
 void World::join_pending() {
   part_start_.assign(parts_.size() + 1, 0);
   for (std::size_t k = 0; k < parts_.size(); ++k) part_start_[k + 1] = part_start_[k] + parts_[k]->size();
+  contact_shift_.clear();
+  if (cell_on_) {
+    // The pairs' chunks come first, in order, then the walls' lists (no shift).
+    contact_shift_.assign(part_start_.back(), Eigen::Vector3d::Zero());
+    const std::size_t chunks = (pairs_.size() + 255) / 256;
+    for (std::size_t c = 0; c < chunks && c < parts_.size(); ++c)
+      std::copy(chunk_shift_[c].begin(), chunk_shift_[c].end(), contact_shift_.begin() + static_cast<std::ptrdiff_t>(part_start_[c]));
+  }
 }
 
 template <class F>
@@ -644,7 +716,14 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
     kin.i_crit = i1 * i2 / (i1 + i2);
   }
-  kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
+  if (!contact_shift_.empty()) {
+    // Periodic cell: B acts from its image; a straining cell moves the two apart at L d.
+    const Eigen::Vector3d xb = sb.x + contact_shift_[k];
+    kin.velocity = sb.v + sb.w.cross(c.point - xb) - va_point;
+    if (!wall && cell_.straining()) kin.velocity += cell_.velocity_gradient() * (xb - states_[a].x);
+  } else {
+    kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
+  }
   kin.spin = sb.w - wa;
   kin.lever = posed_[b].radius;
   if (!wall && (!bonds_.empty() || !offsets_.empty())) {
@@ -688,7 +767,11 @@ void World::sum_forces(int nt) {
       if (b >= lo && b < hi) {
         BodyState& sb = states_[b];
         sb.f += f.force;
-        sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
+        if (contact_shift_.empty()) {
+          sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
+        } else {
+          sb.tau += (p.contact.point - contact_shift_[k] - sb.x).cross(f.force) + f.moment;
+        }
       }
       if (wall) {
         if (t == 0) walls_[a].reaction -= f.force;
@@ -714,7 +797,8 @@ const std::vector<ContactRecord>& World::contacts() const {
       for_pending(block.begin, block.end, [&](std::size_t k, const Pending& p) {
         const bool wall = (p.key.a & kWallFlag) != 0;
         records_[k] = {p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
-                       forces_[k].force};
+                       forces_[k].force,
+                       contact_shift_.empty() ? Eigen::Vector3d::Zero() : contact_shift_[k]};
       });
     }
     records_current_ = true;
@@ -733,6 +817,17 @@ void World::step() {
     if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
     drift(states_[i], infos_[i], h);  // sets w
   }
+  if (cell_on_) {
+    if (cell_.straining()) {
+      // The homogeneous deformation: centroids ride the affine field, the cell with them.
+      const Eigen::Matrix3d step = h * cell_.velocity_gradient();
+      for (std::ptrdiff_t i = 0; i < slots; ++i) {
+        if (infos_[i].alive) states_[i].x += step * (states_[i].x - cell_.origin());
+      }
+      cell_.deform(h);
+    }
+    wrap_bodies();
+  }
   for (auto& w : walls_) w.origin += h * w.velocity;
   compute_forces();
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
@@ -750,12 +845,12 @@ std::vector<Eigen::Matrix3d> World::body_stresses() const {
   // symmetrise and divide by 2V (eq. 2.17).
   std::vector<Eigen::Matrix3d> sum(states_.size(), Eigen::Matrix3d::Zero());
   for (const ContactRecord& c : contacts()) {
-    sum[c.b] += (c.point - states_[c.b].x) * c.force.transpose();
+    sum[c.b] += (c.point - c.shift - states_[c.b].x) * c.force.transpose();
     if (!c.wall) sum[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
   }
   for (const Bond& bd : bonds_) {  // bond forces are contact forces too
     if (!bd.intact()) continue;
-    sum[bd.b] += (bd.point - states_[bd.b].x) * bd.force.transpose();
+    sum[bd.b] += (bd.point - bd.shift - states_[bd.b].x) * bd.force.transpose();
     sum[bd.a] -= (bd.point - states_[bd.a].x) * bd.force.transpose();
   }
   for (std::size_t i = 0; i < sum.size(); ++i) {
@@ -901,7 +996,7 @@ void World::conduct(double h) {
   heat_.assign(states_.size(), 0.0);
   for (const Bond& bd : bonds_) {
     if (!bd.intact()) continue;
-    const double d = (states_[bd.b].x - states_[bd.a].x).norm();
+    const double d = (states_[bd.b].x + bd.shift - states_[bd.a].x).norm();
     const double q = conductivity_ * bd.transmission * (thermal_[bd.b].temperature - thermal_[bd.a].temperature) / d * h;
     heat_[bd.a] += q;
     heat_[bd.b] -= q;
@@ -923,16 +1018,23 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   }
   std::vector<BodyPair> pairs;
   NeighbourSearch search(settings_.search);
-  search.find_pairs(spheres, distance, pairs);
+  find_body_pairs(search, spheres, distance, pairs);
   std::vector<FeatureContact> features;
+  PosedShape image;
   for (const auto& [i, j] : pairs) {
     const std::uint32_t a = live_slots_[i], b = live_slots_[j];
     features.clear();
-    polyhedron_contacts(posed_[a], posed_[b], distance, features);
+    // In a periodic cell the pair meets through B's nearest image.
+    const Eigen::Vector3i n = cell_on_ ? cell_.nearest_image(states_[a].x, states_[b].x) : Eigen::Vector3i::Zero();
+    const Eigen::Vector3d t = cell_on_ ? cell_.shift(n) : Eigen::Vector3d::Zero();
+    if (!n.isZero()) shifted_copy(posed_[b], t, image);
+    polyhedron_contacts(posed_[a], n.isZero() ? posed_[b] : image, distance, features);
     if (features.empty()) continue;
     Bond bd;
     bd.a = a;
     bd.b = b;
+    bd.image = n;
+    bd.shift = t;
     Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
     for (const FeatureContact& fc : features) {
       point += fc.contact.point;
@@ -946,10 +1048,19 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
     normal.normalize();
     const BodyState& sa = states_[a];
     const BodyState& sb = states_[b];
+    const Eigen::Vector3d xb = sb.x + t;
     bd.arm_a = sa.q.conjugate() * (point - sa.x);
-    bd.arm_b = sb.q.conjugate() * (point - sb.x);
+    bd.arm_b = sb.q.conjugate() * (point - xb);
     bd.normal_a = sa.q.conjugate() * normal;
     bd.normal_b = sb.q.conjugate() * normal;
+    // The beam (BondLaw::beam) from centroid to centroid, with a direction across it.
+    const Eigen::Vector3d chord = xb - sa.x;
+    const Eigen::Vector3d axis = chord.normalized(), across = axis.unitOrthogonal();
+    bd.beam.axis_a = sa.q.conjugate() * axis;
+    bd.beam.axis_b = sb.q.conjugate() * axis;
+    bd.beam.across_a = sa.q.conjugate() * across;
+    bd.beam.across_b = sb.q.conjugate() * across;
+    bd.beam.rest_length = chord.norm();
     bd.section.radius = std::min(posed_[a].radius, posed_[b].radius);
     bd.point = point;
     bd.normal = normal;
@@ -983,7 +1094,11 @@ void World::bond_forces(int nt) {
   for (auto& list : bond_failures_) list.clear();
   // A stress criterion replaces eq. 2.15's limits (break_by_stress applies it).
   BondParams base = bond_params_;
-  if (base.criterion != BondCriterion::limits) base.tbn = base.tbs = std::numeric_limits<double>::infinity();
+  if (base.criterion != BondCriterion::limits) {
+    base.tbn = base.tbs = std::numeric_limits<double>::infinity();
+    if (base.law == BondLaw::beam) base.sigma_f = std::numeric_limits<double>::infinity();
+  }
+  const bool beams = base.law == BondLaw::beam;
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(n);
@@ -1011,14 +1126,29 @@ void World::bond_forces(int nt) {
         }
         continue;
       }
-      const Eigen::Vector3d pa = sa.x + rotated(sa.q, bd.arm_a), pb = sb.x + rotated(sb.q, bd.arm_b);
+      // B's centroid, or its image's in a periodic cell (shift zero without one).
+      if (cell_on_) bd.shift = cell_.shift(bd.image);
+      const Eigen::Vector3d xb = sb.x + bd.shift;
+      const Eigen::Vector3d pa = sa.x + rotated(sa.q, bd.arm_a), pb = xb + rotated(sb.q, bd.arm_b);
       bd.point = 0.5 * (pa + pb);
       bd.normal = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
-      Eigen::Vector3d velocity = sb.v + sb.w.cross(bd.point - sb.x) - (sa.v + sa.w.cross(bd.point - sa.x));
+      Eigen::Vector3d velocity = sb.v + sb.w.cross(bd.point - xb) - (sa.v + sa.w.cross(bd.point - sa.x));
+      if (cell_on_ && cell_.straining()) velocity += cell_.velocity_gradient() * (xb - sa.x);
       if (thermal_on_) {
         const Eigen::Vector3d free = thermal_free(bd, sa, sb);
         velocity += free / settings_.dt;
         bd.thermal_gap += bd.normal.dot(free);
+        if (beams) {
+          // The beam's chord grows as the grains it crosses do: from its end in A to the
+          // bond point by A's expansion, from there to its end in B by B's.
+          const BodyThermal& ta = thermal_[bd.a];
+          const BodyThermal& tb = thermal_[bd.b];
+          const Eigen::Vector3d growth =
+              rotated(sa.q, ta.alpha * (bd.arm_a - bd.beam.end_a)) * (ta.temperature - ta.bonded_at) +
+              rotated(sb.q, tb.alpha * (bd.beam.end_b - bd.arm_b)) * (tb.temperature - tb.bonded_at);
+          const Eigen::Vector3d chord = xb + rotated(sb.q, bd.beam.end_b) - sa.x - rotated(sa.q, bd.beam.end_a);
+          bd.beam.rest_length += chord.normalized().dot(growth);
+        }
       }
       const BondParams* params = &base;
       BondParams own;
@@ -1028,6 +1158,10 @@ void World::bond_forces(int nt) {
         own.tbs *= bd.strength;
         own.sigma_c *= bd.strength;
         params = &own;
+      }
+      if (beams) {
+        beam_bond(bd, sa, sb, *params, failed, k);
+        continue;
       }
       const BondResult r = bond_force(*params, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
       bd.force = r.force;
@@ -1064,7 +1198,7 @@ void World::bond_forces(int nt) {
       if (in_b) {
         BodyState& sb = states_[bd.b];
         sb.f += bd.force;
-        sb.tau += (bd.point - sb.x).cross(bd.force) + bd.moment;
+        sb.tau += (bd.point - bd.shift - sb.x).cross(bd.force) + bd.moment;
       }
       if (in_a) {
         BodyState& sa = states_[bd.a];
@@ -1073,6 +1207,161 @@ void World::bond_forces(int nt) {
       }
     }
   }
+}
+
+void World::set_cell(const PeriodicCell& cell) {
+  if (!cell.vectors().allFinite() || !(cell.volume() > 0.0) || !cell.origin().allFinite())
+    throw std::invalid_argument("set_cell: the cell vectors must be finite and span a volume");
+  if (!cell.any_periodic()) throw std::invalid_argument("set_cell: no axis is periodic");
+  if (settings_.manifold_tolerance > 0.0)
+    throw std::invalid_argument("set_cell: a periodic cell uses the exact search (manifold_tolerance 0)");
+  if (!bonds_.empty()) throw std::logic_error("set_cell: set the cell before the bonds are made");
+  cell_ = cell;
+  cell_on_ = true;
+  wrap_bodies();
+  pairs_current_ = false;
+  forces_current_ = false;
+}
+
+void World::set_velocity_gradient(const Eigen::Matrix3d& l) {
+  if (!cell_on_) throw std::logic_error("set_velocity_gradient: there is no periodic cell");
+  if (!l.allFinite()) throw std::invalid_argument("set_velocity_gradient: not finite");
+  cell_.set_velocity_gradient(l);
+}
+
+Eigen::Matrix3d World::cell_stress() const {
+  if (!cell_on_) throw std::logic_error("cell_stress: there is no periodic cell");
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (const ContactRecord& c : contacts()) {
+    if (c.wall) {
+      sum += (c.point - states_[c.b].x) * c.force.transpose();
+    } else {
+      sum -= (states_[c.b].x + c.shift - states_[c.a].x) * c.force.transpose();
+    }
+  }
+  for (const Bond& bd : bonds_) {
+    if (bd.intact()) sum -= (states_[bd.b].x + bd.shift - states_[bd.a].x) * bd.force.transpose();
+  }
+  return 0.5 * (sum + sum.transpose()) / cell_.volume();
+}
+
+void World::find_body_pairs(NeighbourSearch& search, const std::vector<BoundingSphere>& spheres, double margin,
+                            std::vector<BodyPair>& pairs) const {
+  if (!cell_on_) {
+    search.find_pairs(spheres, margin, pairs);
+    return;
+  }
+  // The bodies in the master cell and, near its periodic faces, their images across them:
+  // every pair within reach appears once as some pair of these, each named by its owners.
+  double largest = 0.0;
+  for (const BoundingSphere& s : spheres) largest = std::max(largest, s.radius);
+  const double reach = 2.0 * largest + margin;
+  for (int k = 0; k < 3; ++k) {
+    if (cell_.periodic(k) && !(cell_.width(k) > 2.0 * reach)) {
+      throw std::runtime_error("periodic cell too small: " + std::to_string(cell_.width(k)) + " m across axis " +
+                               std::to_string(k) + ", a pair reaches " + std::to_string(reach) +
+                               " m (2 x the largest bounding radius + the skin); the cell must be over twice that");
+    }
+  }
+  std::vector<BoundingSphere> all(spheres.begin(), spheres.end());
+  std::vector<std::uint32_t> owner(spheres.size());
+  for (std::uint32_t i = 0; i < owner.size(); ++i) owner[i] = i;
+  const Eigen::Vector3i lo(cell_.periodic(0) ? -1 : 0, cell_.periodic(1) ? -1 : 0, cell_.periodic(2) ? -1 : 0);
+  const Eigen::Vector3i hi = -lo;
+  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
+    const Eigen::Vector3d home = spheres[i].centre - cell_.shift(cell_.outside(spheres[i].centre));
+    all[i].centre = home;
+    for (int x = lo[0]; x <= hi[0]; ++x) {
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        for (int z = lo[2]; z <= hi[2]; ++z) {
+          if (x == 0 && y == 0 && z == 0) continue;
+          const Eigen::Vector3d ghost = home + cell_.shift({x, y, z});
+          const Eigen::Vector3d s = cell_.reduced(ghost);
+          bool near = true;
+          for (int k = 0; k < 3 && near; ++k) {
+            const double band = reach / cell_.width(k);
+            if (cell_.periodic(k)) near = s[k] > -band && s[k] < 1.0 + band;
+          }
+          if (!near) continue;
+          all.push_back({ghost, spheres[i].radius});
+          owner.push_back(i);
+        }
+      }
+    }
+  }
+  std::vector<BodyPair> found;
+  search.find_pairs(all, margin, found);
+  pairs.clear();
+  for (const auto& [p, q] : found) {
+    const std::uint32_t i = owner[p], j = owner[q];
+    if (i != j) pairs.emplace_back(std::min(i, j), std::max(i, j));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+void World::wrap_bodies() {
+  // Which bodies leave, by how many cells; then every bond re-joins the same two images.
+  std::vector<Eigen::Vector3i> moved;
+  bool any = false;
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (!infos_[i].alive) continue;
+    const Eigen::Vector3i m = cell_.outside(states_[i].x);
+    if (m.isZero()) continue;
+    if (!any) moved.assign(states_.size(), Eigen::Vector3i::Zero());
+    any = true;
+    moved[i] = m;
+    states_[i].x -= cell_.shift(m);
+  }
+  if (!any) return;
+  for (Bond& bd : bonds_) {
+    // B's image x_B + H n stays where it was: n gains B's wrap and loses A's.
+    bd.image += moved[bd.b] - moved[bd.a];
+    bd.shift = cell_.shift(bd.image);
+  }
+}
+
+void World::shifted_copy(const PosedShape& posed, const Eigen::Vector3d& shift, PosedShape& out) {
+  out = posed;
+  out.centre += shift;
+  for (Eigen::Vector3d& v : out.vertices) v += shift;
+  out.lo += shift;
+  out.hi += shift;
+  const std::size_t stride = out.plane_stride();
+  for (std::size_t f = 0; f < out.faces; ++f) out.planes[3 * stride + f] += out.face_normal(f).dot(shift);
+}
+
+void World::beam_bond(Bond& bd, const BodyState& sa, const BodyState& sb, const BondParams& params,
+                      std::vector<BondFailureAt>& failed, std::size_t k) {
+  BeamPose pose;
+  pose.end_a = sa.x + rotated(sa.q, bd.beam.end_a);
+  pose.end_b = sb.x + bd.shift + rotated(sb.q, bd.beam.end_b);
+  pose.axis_a = rotated(sa.q, bd.beam.axis_a);
+  pose.axis_b = rotated(sb.q, bd.beam.axis_b);
+  pose.across_a = rotated(sa.q, bd.beam.across_a);
+  pose.across_b = rotated(sb.q, bd.beam.across_b);
+  pose.rest_length = bd.beam.rest_length;
+  const BeamResult r = beam_force(params, pose);
+  // What the bond table and the break log show: the section's loads on B.
+  const Eigen::Vector3d e = (pose.end_b - pose.end_a).normalized();
+  bd.state.normal = r.axial;
+  bd.state.shear = r.force_b + r.axial * e;
+  bd.state.torsion = r.moment_b.dot(e);
+  bd.state.bending = r.moment_b - bd.state.torsion * e;
+  // The beam's own strength (criterion "limits"): its outer fibre's stress.
+  if (r.peak_stress > params.sigma_f * bd.strength) {
+    // Named by the larger part of that stress: the pull or the bending.
+    const double pull = r.axial / (M_PI * params.beam_radius * params.beam_radius);
+    const BondFailure mode = pull >= r.peak_stress - pull ? BondFailure::tension : BondFailure::bending;
+    BondState at = bd.state;
+    bd.state = BondState{};
+    bd.state.broken = true;
+    failed.push_back({k, mode, at});
+    return;
+  }
+  // Force at B's end and B's moment, moved to the bond point (the convention of the sums).
+  bd.force = r.force_b;
+  bd.moment = r.moment_b + (pose.end_b - bd.point).cross(r.force_b);
 }
 
 void World::break_by_stress() {

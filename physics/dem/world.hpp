@@ -14,6 +14,7 @@
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/narrow_phase.hpp"
 #include "physics/dem/neighbour_search.hpp"
+#include "physics/dem/periodic_cell.hpp"
 #include "physics/dem/rigid_shape.hpp"
 #include "physics/dem/wall.hpp"
 
@@ -68,6 +69,10 @@ struct Bond {
   Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
   Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
   BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
+  /// In a periodic cell, the image of B the bond joins A to: B acts from x_B + H image
+  /// (World::cell), `shift` = H image as of the last evaluation. Zero without a cell.
+  Eigen::Vector3i image = Eigen::Vector3i::Zero();
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
   /// 1 unless the scenario scatters them (bond_strength_factor).
   double strength = 1.0;
@@ -91,6 +96,17 @@ struct Bond {
   /// faces at bonding (the polygon of the contact points), the section's where they touch
   /// at an edge or a corner.
   double transmission = 0.0;
+  /// The beam law's beam (BondLaw::beam): its ends (the centroids at bonding, moved to a
+  /// piece's frame when a grain splits), its axis (A towards B) and a direction across it,
+  /// each in A's and in B's principal frame, and its rest length L_m (which follows the
+  /// grains' thermal expansion). Unused by the other laws.
+  struct Beam {
+    Eigen::Vector3d end_a = Eigen::Vector3d::Zero(), end_b = Eigen::Vector3d::Zero();
+    Eigen::Vector3d axis_a = Eigen::Vector3d::UnitX(), axis_b = Eigen::Vector3d::UnitX();
+    Eigen::Vector3d across_a = Eigen::Vector3d::UnitY(), across_b = Eigen::Vector3d::UnitY();
+    double rest_length = 0.0;
+  };
+  Beam beam;
   // Last force evaluation (world): the bond point, normal, and the force and moment on B.
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
@@ -139,6 +155,9 @@ struct ContactRecord {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< from A towards B
   double overlap = 0.0;  ///< beyond the overlap stored at bonding or a split (raw otherwise)
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B
+  /// In a periodic cell, where B's image sits: B acts from x_B + shift, so its lever arm is
+  /// point - shift - x_B (zero without a cell, and for walls).
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
 };
 
 class World {
@@ -235,6 +254,26 @@ class World {
   /// conduction does not change it.
   void set_temperature_held(BodyId id, bool held);
 
+  /// Periodic boundaries (periodic_cell.hpp): from now on every body interacts with the
+  /// nearest image of every other across the periodic faces (search, contacts, bonds made
+  /// after this), and a body whose centroid leaves the cell across a periodic face enters
+  /// it at the opposite one, velocities unchanged. The bodies are wrapped into the cell now.
+  /// The cell must be wider along each periodic axis than twice a pair's reach (2 x the
+  /// largest bounding radius plus the search skin, twice): the next step throws
+  /// std::runtime_error otherwise. Walls do not take part in the periodicity.
+  void set_cell(const PeriodicCell& cell);
+  /// The cell, or null without one.
+  [[nodiscard]] const PeriodicCell* cell() const { return cell_on_ ? &cell_ : nullptr; }
+  /// The cell's velocity gradient L (1/s; PeriodicCell): from the next step on the cell and
+  /// the bodies' centroids follow dH/dt = L H. Throws std::logic_error without a cell.
+  void set_velocity_gradient(const Eigen::Matrix3d& l);
+  /// The average stress in the cell from the last force evaluation (Pa, tension positive):
+  /// (1/V) sum over body contacts and intact bonds of -(x_B + shift - x_A) (x) F_B, plus
+  /// (point - x_B) (x) F_B for wall contacts, symmetrised; V the cell's volume. It is the
+  /// sum of the bodies' Love-Weber stresses (eq. 2.17) times their volumes, over V.
+  /// Throws std::logic_error without a cell.
+  [[nodiscard]] Eigen::Matrix3d cell_stress() const;
+
   /// Adds a wall; returns its index.
   std::size_t add_wall(Wall wall);
   [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
@@ -282,6 +321,15 @@ class World {
 
  private:
   void compute_forces();
+  /// Every pair of `spheres` within `margin` of each other, as NeighbourSearch::find_pairs
+  /// gives them; in a periodic cell through the faces too (each pair once, whichever image).
+  void find_body_pairs(NeighbourSearch& search, const std::vector<BoundingSphere>& spheres, double margin,
+                       std::vector<BodyPair>& pairs) const;
+  /// Periodic cell: the centroids that left the cell go back in by a cell vector; bonds
+  /// follow (their images change).
+  void wrap_bodies();
+  /// `shape` placed as `posed`, moved by `shift` (B's image in a periodic cell).
+  static void shifted_copy(const PosedShape& posed, const Eigen::Vector3d& shift, PosedShape& out);
   /// `stale`: the pairs of the last neighbour search may miss some (a body has moved half
   /// the search skin since, or bodies came or went).
   void body_contacts(int threads, bool stale);
@@ -290,6 +338,10 @@ class World {
   void sum_forces(int threads);
   void bond_forces(int threads);
   void apply_local_damping(int threads);
+  struct BondFailureAt;
+  /// BondLaw::beam: bond k's beam (bond_law.hpp, beam_force) from its bodies' poses.
+  void beam_bond(Bond& bd, const BodyState& sa, const BodyState& sb, const BondParams& params,
+                 std::vector<BondFailureAt>& failed, std::size_t k);
   /// BondCriterion::rankine or hydrostatic: breaks the intact bonds whose grains' mean stress
   /// passes sigma_f (times the bond's strength factor), after this evaluation's forces.
   void break_by_stress();
@@ -338,6 +390,12 @@ class World {
   std::vector<std::uint32_t> live_slots_;
   std::vector<BoundingSphere> spheres_;
   std::vector<BodyPair> pairs_;
+  PeriodicCell cell_;
+  bool cell_on_ = false;
+  Eigen::Matrix3d cell_at_search_ = Eigen::Matrix3d::Zero();  // the cell vectors at the last search
+  std::vector<Eigen::Vector3i> pair_image_;  // by pair, in a cell: B's nearest image (fixed between searches)
+  std::vector<std::vector<Eigen::Vector3d>> chunk_shift_;  // in a cell: per chunk_pending_ entry, B's shift
+  std::vector<Eigen::Vector3d> contact_shift_;             // in a cell: per pending contact (walls: zero)
   std::vector<NearFeatures> near_;  // by pair; cleared with each new pair list and on load
   std::vector<ContactManifold> manifolds_;  // by pair (manifold_tolerance > 0); follow the pairs
   std::vector<std::uint32_t> manifold_slots_;  // live slots when the pairs were listed

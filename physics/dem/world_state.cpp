@@ -13,7 +13,8 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 4;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures
+constexpr std::uint32_t kWorldLayout = 6;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures;
+                                           // 5: beam bonds; 6: periodic cells
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -206,6 +207,20 @@ void World::save_state(StateWriter& w) const {
     w.put(i);
     w.put(j);
   }
+  // The periodic cell: its vectors, origin, axes, velocity gradient, the vectors at the last
+  // search and each searched pair's image.
+  w.put(cell_on_);
+  if (cell_on_) {
+    for (const Eigen::Matrix3d* m : {&cell_.vectors(), &cell_.velocity_gradient(), &cell_at_search_}) {
+      for (int c = 0; c < 3; ++c) w.put(Eigen::Vector3d(m->col(c)));
+    }
+    w.put(cell_.origin());
+    for (bool periodic : cell_.periodic()) w.put(periodic);
+    w.count(pair_image_.size());
+    for (const Eigen::Vector3i& n : pair_image_) {
+      for (int c = 0; c < 3; ++c) w.put<std::int32_t>(n[c]);
+    }
+  }
   // The pairs' contact manifolds (manifold_tolerance > 0), so that a restart carries the
   // same contacts as the run it continues.
   w.put(manifold_slots_);
@@ -243,12 +258,24 @@ void World::save_state(StateWriter& w) const {
     w.put(c.normal);
     w.put(c.overlap);
     w.put(c.force);
+    if (cell_on_) w.put(c.shift);
   }
 
+  const bool beams = bond_params_.law == BondLaw::beam;
+  w.put(beams);
   w.count(bonds_.size());
   for (const Bond& bd : bonds_) {
+    if (beams) {
+      for (const Eigen::Vector3d* v : {&bd.beam.end_a, &bd.beam.end_b, &bd.beam.axis_a, &bd.beam.axis_b,
+                                       &bd.beam.across_a, &bd.beam.across_b})
+        w.put(*v);
+      w.put(bd.beam.rest_length);
+    }
     w.put(bd.a);
     w.put(bd.b);
+    if (cell_on_) {
+      for (int c = 0; c < 3; ++c) w.put<std::int32_t>(bd.image[c]);
+    }
     for (const Eigen::Vector3d* v : {&bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.point, &bd.normal,
                                      &bd.force, &bd.moment}) {
       w.put(*v);
@@ -280,6 +307,7 @@ void World::save_state(StateWriter& w) const {
   w.put(bond_params_.law);
   w.put(bond_params_.criterion);
   w.put(bond_params_.sigma_f);
+  for (double v : {bond_params_.beam_young, bond_params_.beam_poisson, bond_params_.beam_radius}) w.put(v);
   w.count(breaks_.size());
   for (const BondBreak& b : breaks_) {
     w.put(b.time);
@@ -389,6 +417,28 @@ void World::load_state(StateReader& r) {
     j = r.get<std::uint32_t>();
     if (i >= searched_at.size() || j >= searched_at.size()) r.fail("a searched pair is out of range");
   }
+  const bool cell_on = r.get_bool();
+  PeriodicCell cell;
+  Eigen::Matrix3d cell_at_search = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Vector3i> pair_image;
+  if (cell_on) {
+    Eigen::Matrix3d h, l;
+    for (Eigen::Matrix3d* m : {&h, &l, &cell_at_search}) {
+      for (int c = 0; c < 3; ++c) m->col(c) = r.vec3();
+    }
+    const Eigen::Vector3d origin = r.vec3();
+    std::array<bool, 3> periodic{};
+    for (bool& p : periodic) p = r.get_bool();
+    if (!h.allFinite() || !(std::abs(h.determinant()) > 0.0) || !l.allFinite() || !origin.allFinite())
+      r.fail("the periodic cell is not a finite cell with a volume");
+    cell = PeriodicCell(h, origin, periodic);
+    cell.set_velocity_gradient(l);
+    pair_image.resize(r.count(12));
+    if (pair_image.size() != pairs.size()) r.fail("the pairs' images are not one per pair");
+    for (Eigen::Vector3i& n : pair_image) {
+      for (int c = 0; c < 3; ++c) n[c] = r.get<std::int32_t>();
+    }
+  }
   std::vector<std::uint32_t> manifold_slots = r.numbers<std::uint32_t>();
   std::vector<ContactManifold> manifolds(r.count(8));
   if (!manifolds.empty() && manifolds.size() != pairs.size()) r.fail("the contact manifolds are not one per pair");
@@ -429,12 +479,25 @@ void World::load_state(StateReader& r) {
     c.normal = r.vec3();
     c.overlap = r.get<double>();
     c.force = r.vec3();
+    if (cell_on) c.shift = r.vec3();
   }
 
+  const bool beams = r.get_bool();
   std::vector<Bond> bonds(r.count(8));
   for (Bond& bd : bonds) {
+    if (beams) {
+      for (Eigen::Vector3d* v : {&bd.beam.end_a, &bd.beam.end_b, &bd.beam.axis_a, &bd.beam.axis_b,
+                                 &bd.beam.across_a, &bd.beam.across_b})
+        *v = r.vec3();
+      bd.beam.rest_length = r.get<double>();
+      if (!(bd.beam.rest_length > 0.0)) r.fail("a beam's rest length is not positive");
+    }
     bd.a = slot(r.get<std::uint32_t>());
     bd.b = slot(r.get<std::uint32_t>());
+    if (cell_on) {
+      for (int c = 0; c < 3; ++c) bd.image[c] = r.get<std::int32_t>();
+      bd.shift = cell.shift(bd.image);
+    }
     for (Eigen::Vector3d* v : {&bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.point, &bd.normal,
                                &bd.force, &bd.moment}) {
       *v = r.vec3();
@@ -462,9 +525,11 @@ void World::load_state(StateReader& r) {
   }
   BondParams bp;
   for (double* v : {&bp.kbn, &bp.kbs, &bp.tbn, &bp.tbs, &bp.sigma_c, &bp.g_c}) *v = r.get<double>();
-  bp.law = r.get_enum(BondLaw::cohesive);
+  bp.law = r.get_enum(BondLaw::beam);
   bp.criterion = r.get_enum(BondCriterion::hydrostatic);
   bp.sigma_f = r.get<double>();
+  for (double* v : {&bp.beam_young, &bp.beam_poisson, &bp.beam_radius}) *v = r.get<double>();
+  if (beams != (bp.law == BondLaw::beam)) r.fail("the bonds' beams and the bond law disagree");
   std::vector<BondBreak> breaks(r.count(8));
   for (BondBreak& b : breaks) {
     b.time = r.get<double>();
@@ -501,6 +566,10 @@ void World::load_state(StateReader& r) {
   searched_at_ = std::move(searched_at);
   searched_q_ = std::move(searched_q);
   pairs_ = std::move(pairs);
+  cell_ = cell;
+  cell_on_ = cell_on;
+  cell_at_search_ = cell_at_search;
+  pair_image_ = std::move(pair_image);
   near_.clear();
   manifolds_ = std::move(manifolds);
   manifold_slots_ = std::move(manifold_slots);
@@ -577,6 +646,13 @@ std::uint64_t World::state_hash() const {
       h.add(thermal_[i].bonded_at);
     }
     for (const Bond& bd : bonds_) h.add(bd.thermal_gap);
+  }
+  if (bond_params_.law == BondLaw::beam) {
+    for (const Bond& bd : bonds_) h.add(bd.beam.rest_length);
+  }
+  if (cell_on_) {
+    for (int c = 0; c < 3; ++c) h.add(Eigen::Vector3d(cell_.vectors().col(c)));
+    for (const Bond& bd : bonds_) h.add(bd.shift);
   }
   return h.h;
 }

@@ -117,13 +117,13 @@ ForcesByBody forces_by_body(const World& world) {
   auto each = [&](std::size_t begin, std::size_t end, auto&& put) {
     for (std::size_t k = begin; k < std::min(end, nc); ++k) {
       const ContactRecord& c = contacts[k];
-      put(c.b, c.point, c.force);
+      put(c.b, Eigen::Vector3d(c.point - c.shift), c.force);  // (shift: B's image in a periodic cell)
       if (!c.wall) put(c.a, c.point, Eigen::Vector3d(-c.force));
     }
     for (std::size_t k = std::max(begin, nc); k < end; ++k) {
       const Bond& b = bonds[k - nc];
       if (!b.intact()) continue;
-      put(b.b, b.point, b.force);
+      put(b.b, Eigen::Vector3d(b.point - b.shift), b.force);
       put(b.a, b.point, Eigen::Vector3d(-b.force));
     }
   };
