@@ -147,6 +147,12 @@ ExactPlane ExactPlane::bisector(const Eigen::Vector3d& p, const Eigen::Vector3d&
   return make_plane(CGAL::bisector(a, b));
 }
 
+ExactPlane ExactPlane::bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& shift) {
+  const Point3 a = to_point(p), b = to_point(q) + (to_point(shift) - CGAL::ORIGIN);
+  if (a == b) throw GeometryError("bisector of a point with itself");
+  return make_plane(CGAL::bisector(a, b));
+}
+
 ExactPlane ExactPlane::opposite() const { return make_plane(impl_->plane.opposite()); }
 
 Eigen::Vector3d ExactPlane::normal_approx() const {

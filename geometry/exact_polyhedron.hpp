@@ -73,6 +73,9 @@ class ExactPlane {
   /// The perpendicular bisector of `p` and `q` (taken exactly): the points equally far from
   /// both, exactly. `p` lies on its positive side. Throws if p == q.
   static ExactPlane bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q);
+  /// The bisector of `p` and `q + shift`, the sum taken exactly (an image of q in a
+  /// periodic box: the bisectors of images match their translates exactly).
+  static ExactPlane bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& shift);
 
   [[nodiscard]] ExactPlane opposite() const;
   /// Approximate unit normal and offset (n . x = offset) in doubles.

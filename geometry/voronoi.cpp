@@ -54,22 +54,55 @@ std::vector<ExactPolyhedron> voronoi_cells(const VoronoiDef& def) {
       }
     }
   }
+  // Along periodic axes the neighbours are the points and their images one box over, and a
+  // cell starts from the box widened by a box each way (it cannot reach farther).
+  std::vector<Eigen::Vector3d> others = points;
+  std::vector<std::size_t> owner(n);
+  std::vector<Eigen::Vector3d> shift(n, Eigen::Vector3d::Zero());  // others[k] = points[owner[k]] + shift[k]
+  std::iota(owner.begin(), owner.end(), 0);
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = def.size;
+  const bool periodic = def.periodic[0] || def.periodic[1] || def.periodic[2];
+  if (periodic) {
+    for (int d = 0; d < 3; ++d) {
+      if (!def.periodic[static_cast<std::size_t>(d)]) continue;
+      lo[d] = -def.size[d];
+      hi[d] = 2.0 * def.size[d];
+      if (!(def.size[d] > def.gap)) throw std::invalid_argument("a periodic Voronoi box must be wider than the gap");
+    }
+    for (int x = -1; x <= 1; ++x) {
+      for (int y = -1; y <= 1; ++y) {
+        for (int z = -1; z <= 1; ++z) {
+          const Eigen::Vector3i k(x, y, z);
+          bool skip = k.isZero();
+          for (int d = 0; d < 3; ++d) skip = skip || (k[d] != 0 && !def.periodic[static_cast<std::size_t>(d)]);
+          if (skip) continue;
+          for (std::size_t i = 0; i < n; ++i) {
+            const Eigen::Vector3d t = def.size.cwiseProduct(k.cast<double>());
+            others.push_back(points[i] + t);
+            owner.push_back(i);
+            shift.push_back(t);
+          }
+        }
+      }
+    }
+  }
+  const ExactPolyhedron start = periodic ? exact_box(lo, hi) : box;
   std::vector<ExactPolyhedron> cells;
   cells.reserve(n);
-  std::vector<std::size_t> order(n);
+  std::vector<std::size_t> order(others.size());
   for (std::size_t i = 0; i < n; ++i) {
     // The other points nearest first; once a bisector lies beyond the cell's farthest
     // corner, so do all later ones, and they cannot cut it.
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      const double da = (points[a] - points[i]).squaredNorm(), db = (points[b] - points[i]).squaredNorm();
+      const double da = (others[a] - points[i]).squaredNorm(), db = (others[b] - points[i]).squaredNorm();
       return da != db ? da < db : a < b;
     });
-    ExactPolyhedron cell = box;
+    ExactPolyhedron cell = start;
     for (std::size_t j : order) {
-      if (j == i) continue;
+      if (j == i) continue;  // (its images are other points: they bound it)
       const Eigen::Vector3d& p = points[i];
-      const Eigen::Vector3d& q = points[j];
+      const Eigen::Vector3d& q = others[j];
       const double distance = (q - p).norm();
       double reach = 0.0;
       for (const auto& v : cell.vertices_approx()) reach = std::max(reach, (v - p).norm());
@@ -78,7 +111,8 @@ std::vector<ExactPolyhedron> voronoi_cells(const VoronoiDef& def) {
       // bisector moved gap/2 towards p (its offset rounded, then taken exactly).
       const ExactPlane plane =
           def.gap == 0.0
-              ? ExactPlane::bisector(p, q)
+              ? (shift[j].isZero() ? ExactPlane::bisector(p, q)
+                                   : ExactPlane::bisector(p, points[owner[j]], shift[j]))  // the image's sum exact
               : ExactPlane::from_normal_offset(p - q, (p - q).dot(0.5 * (p + q)) +
                                                           0.5 * def.gap * distance);
       // p lies strictly on the kept side and inside the cell, so a plane that misses the

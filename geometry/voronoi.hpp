@@ -6,6 +6,7 @@
 /// ExactPolyhedron::split): with no gap the cells tile the box and their exact volumes sum
 /// to the box's exactly. No CGAL in this header or its source.
 
+#include <array>
 #include <Eigen/Dense>
 #include <cstdint>
 #include <vector>
@@ -22,6 +23,11 @@ struct VoronoiDef {
   /// each cell (faces on the box stay where they are). 0: the cells tile the box.
   double gap = 0.0;
   std::uint64_t seed = 1;  ///< seed of the points (SplitMix64, one stream per point)
+  /// Periodic along each axis: the points' images across the box's faces count as
+  /// neighbours, so the cells tile the box as a periodic cell (a cell near a periodic face
+  /// reaches across it, matching its neighbours' images there); along the other axes the
+  /// cells are cut by the box.
+  std::array<bool, 3> periodic{false, false, false};
 };
 
 /// The seed points: point i is uniform in the box, drawn from its own stream of `seed`.

@@ -97,6 +97,9 @@
 ///                              # per grain from seed, integer >= 0, default 1), conductivity
 ///                              # (W/(m K), >= 0, default 0), heat_capacity (J/(kg K), > 0,
 ///                              # required with a conductivity)
+///   [periodic]                 # optional (needs [dynamics], shape = "voronoi"): axes = ["x",
+///                              # "y", "z"] (any non-empty set): the specimen's box is a
+///                              # periodic cell along them, its Voronoi cells tile it so
 ///   [[stage]]                  # any number, run in file order (needs [dynamics]):
 ///   name = "loading"           # required, unique
 ///   kind = "motion"            # optional: "motion" (default) | "bond"
@@ -111,7 +114,11 @@
 ///   #   temperature_rate (K/s) and temperature_target (K, > 0), with [thermal]: every
 ///   #   grain heats or cools at the rate until the target; quench_wall (a wall's name),
 ///   #   quench_temperature (K, > 0) and quench_depth (length unit, > 0): the grains within
-///   #   the depth of that wall's plane are held at the temperature for the stage
+///   #   the depth of that wall's plane are held at the temperature for the stage;
+///   #   cell_strain_rate = [ex, ey, ez] (1/s, with [periodic], non-zero on periodic axes
+///   #   only): the cell stretches at these rates, the grains' centroids with it;
+///   #   measure_modulus = true (one non-zero rate): E and nu from the cell's stress against
+///   #   its strain over the stage, a row of modulus.csv
 ///   # bond: distance = 0.02 (length unit, >= 0): bond initialisation
 ///
 /// Integers are accepted wherever a number is expected (`r = 1`); numbers must be finite.
@@ -768,7 +775,36 @@ constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_vel
                                                  "load_drop", "load_walls", "frames",
                                                  "ramp_time", "rate_scale", "temperature_rate",
                                                  "temperature_target", "quench_wall", "quench_temperature",
-                                                 "quench_depth"};
+                                                 "quench_depth", "cell_strain_rate", "measure_modulus"};
+
+constexpr std::string_view kPeriodicKeys[] = {"axes"};
+
+/// [periodic] axes = ["x", "y", "z"] (any non-empty set): the Voronoi specimen's box is a
+/// periodic cell along those axes (its cells tile it periodically there).
+void read_periodic_table(const TableReader& t, Scenario& s) {
+  t.reject_unknown(kPeriodicKeys);
+  if (t.table() == nullptr) return;
+  if (!s.dynamics.enabled) t.fail_table("[periodic] needs a [dynamics] table");
+  const toml::node* node = t.find("axes");
+  if (node == nullptr) t.fail_absent("axes", "missing required key: the periodic axes, e.g. [\"x\", \"y\", \"z\"]");
+  const auto* array = node->as_array();
+  if (array == nullptr || array->empty())
+    t.fail(*node, "axes", "expected a non-empty array of axis names \"x\", \"y\", \"z\"");
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const auto* name = array->get(i)->as_string();
+    const std::string text = name != nullptr ? name->get() : std::string();
+    if (text != "x" && text != "y" && text != "z")
+      t.fail(*array->get(i), "axes", fmt::format("element {}: expected \"x\", \"y\" or \"z\"", i + 1));
+    const auto k = static_cast<std::size_t>(text[0] - 'x');
+    if (s.periodic.axes[k]) t.fail(*array->get(i), "axes", fmt::format("axis \"{}\" is named twice", text));
+    s.periodic.axes[k] = true;
+  }
+  if (s.specimen.kind != geometry::SpecimenKind::voronoi)
+    t.fail(*node, "axes", "a periodic cell is the box of a Voronoi specimen: [specimen] shape = \"voronoi\"");
+  s.periodic.enabled = true;
+  s.periodic.position = {line_of(node->source()), column_of(node->source())};
+  s.specimen.voronoi.periodic = s.periodic.axes;
+}
 
 constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alpha_a",      "alpha_c",
                                              "c_axis",      "seed",         "conductivity", "heat_capacity",
@@ -926,8 +962,25 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       if (t.find(key) != nullptr) t.fail(*t.find(key), key, "applies only with a quench_wall");
     }
   }
+  if (const toml::node* cell = t.find("cell_strain_rate")) {
+    if (!s.periodic.enabled) t.fail(*cell, "cell_strain_rate", "straining a cell needs a [periodic] table");
+    const auto r = t.numbers("cell_strain_rate", 3, Range{});
+    st.cell_strain_rate = Eigen::Vector3d(r[0], r[1], r[2]);
+    for (int k = 0; k < 3; ++k) {
+      if (r[static_cast<std::size_t>(k)] != 0.0 && !s.periodic.axes[static_cast<std::size_t>(k)])
+        t.fail(*cell, "cell_strain_rate",
+               fmt::format("element {}: the cell is not periodic along {}; only its periodic axes stretch", k + 1,
+                           "xyz"[k]));
+    }
+  }
+  st.measure_modulus = t.boolean("measure_modulus", false);
+  if (st.measure_modulus && (st.cell_strain_rate.array() != 0.0).count() != 1) {
+    t.fail(*t.find("measure_modulus"), "measure_modulus",
+           "needs a cell_strain_rate along exactly one axis (a uniaxial strain test)");
+  }
   const double rate = t.number("rate_scale", Range::positive(), 1.0).value;
   if (rate != 1.0) {
+    st.cell_strain_rate *= rate;
     for (auto& wv : st.wall_velocity) wv.second *= rate;
     if (st.steps > 0) st.steps = static_cast<std::uint64_t>(std::ceil(static_cast<double>(st.steps) / rate));
     st.time /= rate;
@@ -941,7 +994,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
 constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
                                         "split",    "output",   "material", "contact",
                                         "dynamics", "wall",     "bond",     "stage",
-                                        "fracture", "mesh_grain", "thermal"};
+                                        "fracture", "mesh_grain", "thermal", "periodic"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -1032,6 +1085,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   read_bond_table(reader("bond"), s.bond, unit);
   read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
   read_thermal_table(reader("thermal"), unit, s.dynamics.enabled, s.thermal);
+  read_periodic_table(reader("periodic"), s);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
       const toml::node& first = *stages->get(0);

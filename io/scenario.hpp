@@ -138,6 +138,13 @@ struct ThermalDef {
   double heat_capacity = 0.0;  ///< J/(kg K)
 };
 
+/// [periodic]: a periodic cell, the Voronoi specimen's box, periodic along the axes named.
+struct PeriodicDef {
+  bool enabled = false;
+  std::array<bool, 3> axes{false, false, false};
+  SourcePosition position;  ///< of `axes`, for messages
+};
+
 /// One [[stage]] of a staged run (sec. 2.5.2: compaction, bond initialisation, loading).
 struct StageDef {
   enum class Kind { motion, bond };
@@ -170,6 +177,12 @@ struct StageDef {
   std::string quench_wall;
   double quench_temperature = 0.0;
   double quench_depth = 0.0;
+  /// motion, with [periodic]: the periodic cell's stretching rates along x, y, z (1/s: the
+  /// diagonal of its velocity gradient; zero on the axes that are not periodic).
+  Eigen::Vector3d cell_strain_rate = Eigen::Vector3d::Zero();
+  /// With one non-zero cell_strain_rate: Young's modulus and Poisson's ratio from the slope
+  /// of the cell's stress against its strain over the stage, a row of modulus.csv.
+  bool measure_modulus = false;
 };
 
 /// The name of an `until` event as written in scenario files.
@@ -193,6 +206,7 @@ struct Scenario {
   BondDef bond;
   FractureDef fracture;
   ThermalDef thermal;
+  PeriodicDef periodic;
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
   /// Per wall: `gap` (m), a plane or platen placed this far from the specimen's nearest grain

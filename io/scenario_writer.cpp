@@ -216,6 +216,14 @@ std::string scenario_to_toml(const Scenario& s) {
     if (t.heat_capacity > 0.0) out += fmt::format("heat_capacity = {}\n", num(t.heat_capacity));
   }
 
+  if (s.periodic.enabled) {
+    std::string axes;
+    for (int k = 0; k < 3; ++k) {
+      if (s.periodic.axes[static_cast<std::size_t>(k)]) axes += fmt::format("{}\"{}\"", axes.empty() ? "" : ", ", "xyz"[k]);
+    }
+    out += fmt::format("\n[periodic]\naxes = [{}]\n", axes);
+  }
+
   for (const StageDef& st : s.stages) {
     out += fmt::format("\n[[stage]]\nname = {}\n", str(st.name));
     if (st.kind == StageDef::Kind::bond) {
@@ -247,6 +255,8 @@ std::string scenario_to_toml(const Scenario& s) {
       out += fmt::format("quench_wall = {}\nquench_temperature = {}\nquench_depth = {}\n", str(st.quench_wall),
                          num(st.quench_temperature), num(st.quench_depth));
     }
+    if (!st.cell_strain_rate.isZero(0.0)) out += fmt::format("cell_strain_rate = {}\n", vec(st.cell_strain_rate));
+    if (st.measure_modulus) out += "measure_modulus = true\n";
   }
   return out;
 }
@@ -386,6 +396,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("thermal.seed", a.thermal.seed, b.thermal.seed);
   d.same("thermal.conductivity", a.thermal.conductivity, b.thermal.conductivity);
   d.same("thermal.heat_capacity", a.thermal.heat_capacity, b.thermal.heat_capacity);
+  d.same("periodic", a.periodic.enabled, b.periodic.enabled);
+  for (std::size_t k = 0; k < 3; ++k) d.same(fmt::format("periodic.axes[{}]", k), a.periodic.axes[k], b.periodic.axes[k]);
 
   d.same("wall (count)", a.walls.size(), b.walls.size());
   for (std::size_t i = 0; i < std::min(a.walls.size(), b.walls.size()); ++i) {
@@ -430,6 +442,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     d.same(k + "quench_wall", ta.quench_wall, tb.quench_wall);
     d.same(k + "quench_temperature", ta.quench_temperature, tb.quench_temperature);
     d.same(k + "quench_depth", ta.quench_depth, tb.quench_depth);
+    for (int c = 0; c < 3; ++c) d.same(k + fmt::format("cell_strain_rate[{}]", c), ta.cell_strain_rate[c], tb.cell_strain_rate[c]);
+    d.same(k + "measure_modulus", ta.measure_modulus, tb.measure_modulus);
     d.same(k + "distance", ta.bond_distance, tb.bond_distance);
   }
   return d.keys;

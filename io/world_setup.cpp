@@ -146,6 +146,10 @@ void apply_thermal(const Scenario& scenario, physics::World& world) {
   world.set_conduction(thermal.conductivity, thermal.heat_capacity);
 }
 
+namespace {
+Eigen::Vector3d specimen_def_size(const Scenario& scenario) { return scenario.specimen.voronoi.size; }
+}  // namespace
+
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
   const std::vector<physics::RigidShape> shapes = grain_shapes(scenario, specimen);
   check_time_step(scenario, shapes);
@@ -178,6 +182,30 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
     const auto k = static_cast<std::size_t>(g.shape);
     world.add_body(ids.at(k), grain_density(scenario), g.site.centre + shapes[k].centroid + lift,
                    shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
+  }
+  if (scenario.periodic.enabled) {
+    // The Voronoi box, lifted with its grains, is the periodic cell (the cells tile it).
+    const Eigen::Vector3d lo = lift;
+    const physics::PeriodicCell cell = physics::PeriodicCell::box(lo, lo + specimen_def_size(scenario), scenario.periodic.axes);
+    // A pair must meet through one image only: the cell over twice a pair's reach across.
+    double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
+    for (const auto& shape : shapes) {
+      largest = std::max(largest, shape.bounding_radius());
+      smallest = std::min(smallest, shape.bounding_radius());
+    }
+    const double reach = 2.0 * largest + ws.search_skin * smallest;
+    for (int k = 0; k < 3; ++k) {
+      if (cell.periodic(k) && !(cell.width(k) > 2.0 * reach)) {
+        throw ScenarioError(scenario.source, scenario.periodic.position.line, scenario.periodic.position.column,
+                            "periodic.axes",
+                            fmt::format("the cell is {:.4g} mm across {}, but a pair of these grains reaches {:.4g} mm "
+                                        "(2 x the largest bounding radius, {:.4g} mm, plus the search skin): a periodic "
+                                        "cell must be over twice that across, so that no pair meets twice; use a "
+                                        "larger box or more, smaller grains",
+                                        cell.width(k) * 1e3, "xyz"[k], reach * 1e3, largest * 1e3));
+      }
+    }
+    world.set_cell(cell);
   }
   if (scenario.thermal.enabled) apply_thermal(scenario, world);
   for (std::size_t i = 0; i < scenario.walls.size(); ++i) {

@@ -163,7 +163,7 @@ struct StageRun {
 };
 
 /// The layout of the run state in a checkpoint (Runner::encode_run_state).
-constexpr std::uint32_t kRunStateLayout = 2;  // 2: thermal.csv
+constexpr std::uint32_t kRunStateLayout = 3;  // 2: thermal.csv; 3: cell.csv, modulus.csv
 
 void put_summary(physics::StateWriter& w, const StageSummary& st) {
   w.put(st.name);
@@ -228,7 +228,12 @@ class Dynamics::Runner {
     walls_ += "\n";
     loads_ += ",load_N,load_point_displacement_m\n";
     bond_counts_ = "time_s,stage,intact,broken_tension,broken_shear,broken_bending,broken_torsion\n";
-    if (scenario_.thermal.enabled) thermal_ = "time_s,stage,mean_K,min_K,max_K,bonds_intact,bonds_broken\n";
+    if (scenario_.thermal.enabled) thermal_ = "time_s,stage,mean_K,min_K,max_K,bonds_intact,bonds_broken,grain_splits\n";
+    if (const physics::PeriodicCell* cell = world_.cell()) {
+      cell_ = "time_s,stage,lx_m,ly_m,lz_m,strain_x,strain_y,strain_z,sxx_Pa,syy_Pa,szz_Pa,syz_Pa,sxz_Pa,sxy_Pa\n";
+      modulus_ = "stage,time_s,mean_K,axis,strain,young_Pa,poisson,bonds_broken,grain_splits\n";
+      cell0_ = cell->vectors().colwise().norm().transpose();
+    }
     if (resume) {
       // Everything else comes from the checkpoint (run()).
       if (scenario_.fracture.enabled != resume->book.has_value()) {
@@ -427,6 +432,8 @@ class Dynamics::Runner {
       for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
       for (const auto& [name, v] : stage.wall_velocity) wall(name).velocity = v;
       if (scenario_.thermal.enabled) quench(stage);
+      // A periodic cell stretches at the stage's rates (and stands still without them).
+      if (world_.cell()) world_.set_velocity_gradient(stage.cell_strain_rate.asDiagonal());
     }
     for (const auto& name : stage.load_walls) r.load_walls.push_back(wall_index(name));
     if (!resume) {
@@ -586,8 +593,11 @@ class Dynamics::Runner {
       write_plot(stage, st, r.progress.plot_x, r.progress.plot_y);
     }
     breaks_by_stage_.emplace_back(world_.bond_breaks().size(), stage.name);
+    std::string modulus_line;
+    if (stage.measure_modulus) modulus_line = measure_modulus(stage);
     if (!quiet_) {
       std::string line = fmt::format("\n{:>8}ended by {} after {} steps", "", st.ended_by, st.steps);
+      if (!modulus_line.empty()) line += "; " + modulus_line;
       if (st.event_missed) line += fmt::format(" (the {} event did not come)", io::to_string(stage.until));
       if (!load_walls.empty()) {
         line += fmt::format("; peak load {:.4g} N at {:.4g} um load-point displacement", st.peak_load,
@@ -624,7 +634,9 @@ class Dynamics::Runner {
     for (const auto& st : sum_.stages) put_summary(w, st);
     w.put(origin0_);
     w.put(pe0_);
-    for (const std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_}) w.put(*s);
+    for (const std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_, &cell_, &modulus_})
+      w.put(*s);
+    w.put(cell0_);
     w.count(breaks_by_stage_.size());
     for (const auto& [end, name] : breaks_by_stage_) {
       w.put<std::uint64_t>(end);
@@ -674,7 +686,9 @@ class Dynamics::Runner {
       for (auto& st : sum_.stages) st = get_summary(r);
       origin0_ = r.vec3s();
       pe0_ = r.get<double>();
-      for (std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_}) *s = r.string();
+      for (std::string* s : {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_, &cell_, &modulus_})
+        *s = r.string();
+      cell0_ = r.vec3();
       breaks_by_stage_.resize(r.count(16));
       for (auto& [end, name] : breaks_by_stage_) {
         end = r.get<std::uint64_t>();
@@ -858,9 +872,18 @@ class Dynamics::Runner {
         hi = std::max(hi, t);
       }
       const physics::BondCounts c = world_.bond_counts();
-      thermal_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{}\n", world_.time(), stage_,
+      thermal_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", world_.time(), stage_,
                               ids.empty() ? 0.0 : sum / static_cast<double>(ids.size()), lo, hi, c.intact,
-                              c.tension + c.shear + c.bending + c.torsion);
+                              c.tension + c.shear + c.bending + c.torsion, sum_.splits);
+    }
+    if (const physics::PeriodicCell* cell = world_.cell()) {
+      // The cell's size, its strain from the start, and the mean stress in it.
+      const Eigen::Vector3d l = cell->vectors().colwise().norm().transpose();
+      const Eigen::Vector3d e = l.cwiseQuotient(cell0_) - Eigen::Vector3d::Ones();
+      const Eigen::Matrix3d sg = world_.cell_stress();
+      cell_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+                           world_.time(), stage_, l.x(), l.y(), l.z(), e.x(), e.y(), e.z(), sg(0, 0), sg(1, 1), sg(2, 2),
+                           sg(1, 2), sg(0, 2), sg(0, 1));
     }
   }
 
@@ -893,6 +916,133 @@ class Dynamics::Runner {
                      scenario_.output.mesh_layout);
   }
 
+  /// Rows of a CSV history (header first) whose column `stage` (index 1) is `name`, split.
+  static std::vector<std::vector<std::string>> rows_of(const std::string& csv, const std::string& name) {
+    std::vector<std::vector<std::string>> rows;
+    std::size_t at = csv.find('\n') + 1;
+    while (at < csv.size()) {
+      const std::size_t end = csv.find('\n', at);
+      std::vector<std::string> cells;
+      std::size_t a = at;
+      while (true) {
+        const std::size_t comma = csv.find(',', a);
+        if (comma == std::string::npos || comma > end) {
+          cells.push_back(csv.substr(a, end - a));
+          break;
+        }
+        cells.push_back(csv.substr(a, comma - a));
+        a = comma + 1;
+      }
+      if (name.empty() || (cells.size() > 1 && cells[1] == name)) rows.push_back(std::move(cells));
+      at = end + 1;
+    }
+    return rows;
+  }
+
+  /// The stage's uniaxial strain test of the periodic cell: the slopes of the normal
+  /// stresses against the strain along the stretched axis (least squares over the last 70 %
+  /// of the stage's rows of cell.csv), read for an isotropic solid. The lateral axes that are periodic are
+  /// held (uniaxial strain), the others free:
+  ///   both held: nu = s_l / (s_a + s_l), E = s_a - 2 nu s_l (s_l: the lateral slopes' mean);
+  ///   one held:  nu = s_l / s_a, E = s_a (1 - nu^2) (plane stress);
+  ///   none:      E = s_a (uniaxial stress; nu not measured).
+  /// Appends a row to modulus.csv and returns a line for the log.
+  std::string measure_modulus(const StageDef& stage) {
+    int axis = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (stage.cell_strain_rate[k] != 0.0) axis = k;
+    }
+    // The stage's rows, the first 30 % left out (the cell's stress catching up with its strain).
+    auto rows = rows_of(cell_, stage.name);
+    rows.erase(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(rows.size() * 3 / 10));
+    double n = 0, se = 0, see = 0;
+    Eigen::Vector3d ss = Eigen::Vector3d::Zero(), ses = Eigen::Vector3d::Zero();
+    for (const auto& row : rows) {
+      const double e = std::stod(row.at(5 + static_cast<std::size_t>(axis)));
+      n += 1;
+      se += e;
+      see += e * e;
+      for (int k = 0; k < 3; ++k) {
+        const double sigma = std::stod(row.at(8 + static_cast<std::size_t>(k)));
+        ss[k] += sigma;
+        ses[k] += e * sigma;
+      }
+    }
+    const double var = see - se * se / n;
+    if (rows.size() < 2 || !(var > 0.0)) return "modulus not measured (the cell did not stretch)";
+    const Eigen::Vector3d slope = (ses - ss * se / n) / var;
+    std::vector<double> lateral;
+    for (int k = 0; k < 3; ++k) {
+      if (k != axis && world_.cell()->periodic(k)) lateral.push_back(slope[k]);
+    }
+    double young = slope[axis], nu = std::numeric_limits<double>::quiet_NaN();
+    if (lateral.size() == 2) {
+      const double sl = 0.5 * (lateral[0] + lateral[1]);
+      nu = sl / (slope[axis] + sl);
+      young = slope[axis] - 2.0 * nu * sl;
+    } else if (lateral.size() == 1) {
+      nu = lateral[0] / slope[axis];
+      young = slope[axis] * (1.0 - nu * nu);
+    }
+    double mean_k = std::numeric_limits<double>::quiet_NaN();
+    if (scenario_.thermal.enabled) {
+      const auto ids = world_.body_ids();
+      mean_k = 0.0;
+      for (const physics::BodyId id : ids) mean_k += world_.temperature(id) / static_cast<double>(ids.size());
+    }
+    const physics::BondCounts c = world_.bond_counts();
+    const double strain = std::stod(rows.back().at(5 + static_cast<std::size_t>(axis)));
+    auto field = [](double v) { return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); };
+    modulus_ += fmt::format("{},{:.9g},{},{},{:.9g},{:.9g},{},{},{}\n", stage.name, world_.time(), field(mean_k), "xyz"[axis],
+                            strain, young, field(nu), c.broken(), sum_.splits);
+    std::string line = fmt::format("E = {:.4g} GPa", young * 1e-9);
+    if (std::isfinite(nu)) line += fmt::format(", nu = {:.3f}", nu);
+    if (std::isfinite(mean_k)) line += fmt::format(" at {:.0f} K", mean_k);
+    return line;
+  }
+
+  /// modulus.svg: the measured Young's moduli against temperature (or against the stage
+  /// order when there is no [thermal]).
+  void write_modulus_plot() {
+    io::Plot plot;
+    plot.title = fmt::format("{}: Young's modulus of the periodic cell", scenario_.name);
+    const bool thermal = scenario_.thermal.enabled;
+    plot.x_label = thermal ? "mean temperature (K)" : "modulus stage";
+    plot.y_label = "Young's modulus E (GPa)";
+    io::PlotSeries series;
+    series.label = "E from the cell's uniaxial strain test";
+    series.markers = true;
+    int k = 0;
+    for (const auto& row : rows_of(modulus_, "")) {
+      series.x.push_back(thermal && !row.at(2).empty() ? std::stod(row.at(2)) : ++k);
+      series.y.push_back(std::stod(row.at(5)) * 1e-9);
+    }
+    plot.series.push_back(std::move(series));
+    io::write_plot_svg(out_ / "modulus.svg", plot);
+  }
+
+  /// microcracks.svg: broken bonds (intergranular) and grain splits (transgranular)
+  /// against the mean temperature, from thermal.csv.
+  void write_microcrack_plot() {
+    io::Plot plot;
+    plot.title = fmt::format("{}: microcracks against temperature", scenario_.name);
+    plot.x_label = "mean temperature (K)";
+    plot.y_label = "cracks";
+    io::PlotSeries bonds, splits;
+    bonds.label = "broken bonds (intergranular)";
+    splits.label = "grain splits (transgranular)";
+    for (const auto& row : rows_of(thermal_, "")) {
+      const double t = std::stod(row.at(2));
+      bonds.x.push_back(t);
+      bonds.y.push_back(std::stod(row.at(6)));
+      splits.x.push_back(t);
+      splits.y.push_back(std::stod(row.at(7)));
+    }
+    plot.series.push_back(std::move(bonds));
+    if (book_) plot.series.push_back(std::move(splits));
+    io::write_plot_svg(out_ / "microcracks.svg", plot);
+  }
+
   void write_plot(const StageDef& stage, const StageSummary& st, const std::vector<double>& x,
                   const std::vector<double>& y) {
     io::Plot plot;
@@ -917,6 +1067,12 @@ class Dynamics::Runner {
     io::write_file_atomically(out_ / "load_displacement.csv", loads_);
     if (book_) io::write_file_atomically(out_ / "splits.csv", splits_);
     if (scenario_.thermal.enabled) io::write_file_atomically(out_ / "thermal.csv", thermal_);
+    if (!cell_.empty()) io::write_file_atomically(out_ / "cell.csv", cell_);
+    if (modulus_.find('\n') + 1 < modulus_.size()) {
+      io::write_file_atomically(out_ / "modulus.csv", modulus_);
+      write_modulus_plot();
+    }
+    if (scenario_.thermal.enabled && !world_.bonds().empty()) write_microcrack_plot();
     if (!scenario_.bond.enabled) return;
     io::write_file_atomically(out_ / "bonds.csv", bond_counts_);
     std::string breaks =
@@ -953,6 +1109,8 @@ class Dynamics::Runner {
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;
   std::string energy_, walls_, loads_, bond_counts_, splits_, thermal_;
+  std::string cell_, modulus_;  // cell.csv, modulus.csv (periodic cells)
+  Eigen::Vector3d cell0_ = Eigen::Vector3d::Ones();  // the cell's edge lengths at the start
   std::optional<physics::FractureBook> book_;
   std::string stage_;
   std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)

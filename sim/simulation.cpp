@@ -320,6 +320,10 @@ RunReport Simulation::State::finish() {
       files += ", energy.csv, walls.csv, load_displacement.csv";
       if (scenario.bond.enabled) files += ", bonds.csv, bond_breaks.csv";
       if (scenario.thermal.enabled) files += ", thermal.csv";
+      if (scenario.thermal.enabled && scenario.bond.enabled) files += ", microcracks.svg";
+      if (scenario.periodic.enabled) files += ", cell.csv";
+      if (std::any_of(scenario.stages.begin(), scenario.stages.end(), [](const io::StageDef& st) { return st.measure_modulus; }))
+        files += ", modulus.csv, modulus.svg";
       for (const auto& st : d.stages) {
         if (!st.plot.empty()) files += ", " + st.plot;
       }

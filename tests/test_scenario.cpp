@@ -909,4 +909,55 @@ TEST(Scenario, GrainStressCriteriaReadBackAndLeaveOutTheToughness) {
   EXPECT_SCENARIO_ERROR(none, line_of_last(none, "[fracture]"), "fracture.sigma_f", "missing");
 }
 
+TEST(Scenario, PeriodicCellsAndCellStrainStagesReadBackAndBadValuesNameTheirKey) {
+  const std::string voronoi = R"([specimen]
+shape = "voronoi"
+size = [1, 1, 0.5]
+grains = 20
+seed = 3
+[material]
+density = 3000
+[contact]
+dilation_radius = 0.01
+[contact.particle_particle]
+kn = 5.0
+ks = 2.0
+[contact.particle_wall]
+kn = 5.0
+[dynamics]
+dt = 1e-6
+gravity = [0, 0, 0]
+)";
+  auto with = [&](const std::string& periodic, const std::string& stage) {
+    return voronoi + periodic + "[[stage]]\nname = \"pull\"\nsteps = 10\n" + stage;
+  };
+  const Scenario s = parse_scenario(with("[periodic]\naxes = [\"x\", \"z\"]\n",
+                                         "cell_strain_rate = [2.5, 0, 0]\nmeasure_modulus = true\n"),
+                                    "p.toml");
+  EXPECT_TRUE(s.periodic.enabled);
+  EXPECT_EQ(s.periodic.axes, (std::array<bool, 3>{true, false, true}));
+  EXPECT_EQ(s.specimen.voronoi.periodic, s.periodic.axes);  // the cells tile the cell
+  EXPECT_EQ(s.stages.at(0).cell_strain_rate, Eigen::Vector3d(2.5, 0, 0));
+  EXPECT_TRUE(s.stages.at(0).measure_modulus);
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  // Errors, each at its key.
+  const std::string bad_axis = with("[periodic]\naxes = [\"x\", \"w\"]\n", "");
+  EXPECT_SCENARIO_ERROR(bad_axis, line_of_last(bad_axis, "axes"), "periodic.axes", "element 2");
+  const std::string twice = with("[periodic]\naxes = [\"y\", \"y\"]\n", "");
+  EXPECT_SCENARIO_ERROR(twice, line_of_last(twice, "axes"), "periodic.axes", "named twice");
+  const std::string empty = with("[periodic]\naxes = []\n", "");
+  EXPECT_SCENARIO_ERROR(empty, line_of_last(empty, "axes"), "periodic.axes", "non-empty");
+  const std::string not_periodic = with("[periodic]\naxes = [\"x\"]\n", "cell_strain_rate = [0, 1.0, 0]\n");
+  EXPECT_SCENARIO_ERROR(not_periodic, line_of_last(not_periodic, "cell_strain_rate"), "stage[1].cell_strain_rate",
+                        "not periodic along y");
+  const std::string no_cell = with("", "cell_strain_rate = [1.0, 0, 0]\n");
+  EXPECT_SCENARIO_ERROR(no_cell, line_of_last(no_cell, "cell_strain_rate"), "stage[1].cell_strain_rate", "[periodic]");
+  const std::string two = with("[periodic]\naxes = [\"x\", \"z\"]\n", "cell_strain_rate = [1, 0, 1]\nmeasure_modulus = true\n");
+  EXPECT_SCENARIO_ERROR(two, line_of_last(two, "measure_modulus"), "stage[1].measure_modulus", "exactly one axis");
+  std::string lattice = kDropTest;
+  lattice += "[periodic]\naxes = [\"x\"]\n";
+  EXPECT_SCENARIO_ERROR(lattice, line_of_last(lattice, "axes"), "periodic.axes", "shape = \"voronoi\"");
+}
+
 }  // namespace cleave::io

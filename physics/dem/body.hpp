@@ -52,6 +52,9 @@ struct BodyThermal {
   /// for a hexagonal or trigonal crystal with c-axis c).
   Eigen::Matrix3d alpha = Eigen::Matrix3d::Zero();
   bool held = false;  ///< conduction leaves its temperature as set
+  /// The temperature the body's (rigid) shape has its size at, K: set with its expansion.
+  /// Contacts count their overlap from the gap the two grains' expansion since then opens.
+  double shaped_at = 0.0;
 };
 
 /// What a body is (changes only when bodies are created, split or removed).

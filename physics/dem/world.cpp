@@ -130,7 +130,9 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     // The piece is of the parent's material: its temperature, and its expansion tensor
     // turned into the piece's own frame.
     const Eigen::Matrix3d turn = f.turn.toRotationMatrix();
-    thermal_[id.index] = {pt.temperature, pt.bonded_at, turn.transpose() * pt.alpha * turn};
+    thermal_[id.index] = pt;
+    thermal_[id.index].alpha = turn.transpose() * pt.alpha * turn;
+    thermal_[id.index].held = false;
     ids.push_back(id);
   }
   // Each bond follows its material point to the piece that holds it.
@@ -368,6 +370,10 @@ void World::compute_forces() {
   join_pending();
   evaluate_and_apply(nt);
   bond_forces(nt);
+  // The temperatures the bonds (and a periodic cell) have followed up to now.
+  if (thermal_on_) {
+    for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
+  }
   if (bond_params_.criterion != BondCriterion::limits && !bonds_.empty()) break_by_stress();
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
   forces_current_ = true;
@@ -480,11 +486,18 @@ void World::body_contacts(int nt, bool stale) {
         features.clear();
         if (cell_on_) {
           // Every contact of the pair, in the pair's order, against B's image (searched in
-          // full: the feature cache and manifolds follow B itself, not its image).
+          // full: the feature cache follows B itself, not its image; no manifolds).
           const bool shifted = !pair_image_[p].isZero();
           const Eigen::Vector3d t = shifted ? cell_.shift(pair_image_[p]) : Eigen::Vector3d::Zero();
-          if (shifted) shifted_copy(posed_[b], t, image);
-          polyhedron_contacts(posed_[a], shifted ? image : posed_[b], 0.0, features);
+          if (shifted) {
+            shifted_copy(posed_[b], t, image);
+            polyhedron_contacts(posed_[a], image, 0.0, features);
+          } else if (cached) {
+            polyhedron_contacts(posed_[a], posed_[b], settings_.feature_skin * (posed_[a].radius + posed_[b].radius),
+                                near_[p], features);
+          } else {
+            polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
+          }
           std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) {
             return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
           });
@@ -720,20 +733,38 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     // Periodic cell: B acts from its image; a straining cell moves the two apart at L d.
     const Eigen::Vector3d xb = sb.x + contact_shift_[k];
     kin.velocity = sb.v + sb.w.cross(c.point - xb) - va_point;
-    if (!wall && cell_.straining()) kin.velocity += cell_.velocity_gradient() * (xb - states_[a].x);
+    if (!wall && moving_cell_) kin.velocity += gradient_ * (xb - states_[a].x);
   } else {
     kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
   }
   kin.spin = sb.w - wa;
   kin.lever = posed_[b].radius;
+  bool bonded = false;
   if (!wall && (!bonds_.empty() || !offsets_.empty())) {
     // Overlaps count from the one stored at bonding (end of sec. 2.3.3) or at a split.
     double stored = bonds_.empty() ? 0.0 : initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
     if (!offsets_.empty()) stored = std::max(stored, pair_offset(a, b));
     kin.overlap -= stored;
     // A bonded pair's grains have grown or shrunk with temperature; their shapes have not.
-    if (thermal_on_ && bond_cursor < bonds_.size() && bonds_[bond_cursor].a == a && bonds_[bond_cursor].b == b)
+    if (thermal_on_ && bond_cursor < bonds_.size() && bonds_[bond_cursor].a == a && bonds_[bond_cursor].b == b) {
       kin.overlap -= bonds_[bond_cursor].thermal_gap;
+      bonded = true;
+    }
+  }
+  if (thermal_on_ && !bonded) {
+    // Any other contact: the gap its grains' expansion since their shapes were made opens at
+    // the contact point, to first order (each grain about its centroid, as for the bonds).
+    auto grown = [&](std::uint32_t slot, const Eigen::Vector3d& arm) -> Eigen::Vector3d {
+      const BodyThermal& t = thermal_[slot];
+      const double d = t.temperature - t.shaped_at;
+      if (d == 0.0) return Eigen::Vector3d::Zero();
+      const Eigen::Quaterniond& q = states_[slot].q;
+      return rotated(q, t.alpha * (q.conjugate() * arm)) * d;
+    };
+    const Eigen::Vector3d xb = contact_shift_.empty() ? sb.x : Eigen::Vector3d(sb.x + contact_shift_[k]);
+    Eigen::Vector3d opened = grown(b, c.point - xb);
+    if (!wall) opened -= grown(a, c.point - states_[a].x);
+    kin.overlap -= c.normal.dot(opened);
   }
   ContactHistory h;
   if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
@@ -808,6 +839,27 @@ const std::vector<ContactRecord>& World::contacts() const {
 
 void World::step() {
   const double h = settings_.dt;
+  if (cell_on_) {
+    // The cell's velocity gradient this step: the one set, plus, when the grains expand,
+    // their volume-mean expansion since the last evaluation over the step (the cell of a
+    // free polycrystal follows its mean thermal strain; the grains' mismatch stays in them).
+    gradient_ = cell_.velocity_gradient();
+    if (thermal_on_) {
+      Eigen::Matrix3d strain = Eigen::Matrix3d::Zero();
+      double volume = 0.0;
+      for (std::size_t i = 0; i < states_.size(); ++i) {
+        if (!infos_[i].alive) continue;
+        const double v = shapes_[infos_[i].shape].volume;
+        const double dt = thermal_[i].temperature - thermal_[i].bonded_at;
+        volume += v;
+        if (dt == 0.0) continue;
+        const Eigen::Matrix3d r = states_[i].q.toRotationMatrix();
+        strain += v * dt * (r * thermal_[i].alpha * r.transpose());
+      }
+      if (volume > 0.0) gradient_ += strain / (volume * h);
+    }
+    moving_cell_ = !gradient_.isZero(0.0);
+  }
   if (!forces_current_) compute_forces();
   const int nt = thread_count(settings_.threads);
   const auto slots = static_cast<std::ptrdiff_t>(states_.size());
@@ -818,13 +870,13 @@ void World::step() {
     drift(states_[i], infos_[i], h);  // sets w
   }
   if (cell_on_) {
-    if (cell_.straining()) {
+    if (moving_cell_) {
       // The homogeneous deformation: centroids ride the affine field, the cell with them.
-      const Eigen::Matrix3d step = h * cell_.velocity_gradient();
+      const Eigen::Matrix3d step = h * gradient_;
       for (std::ptrdiff_t i = 0; i < slots; ++i) {
         if (infos_[i].alive) states_[i].x += step * (states_[i].x - cell_.origin());
       }
-      cell_.deform(h);
+      cell_.set_vectors(cell_.vectors() + step * cell_.vectors());
     }
     wrap_bodies();
   }
@@ -878,12 +930,15 @@ double World::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa
   }
   while (cursor < bonds_.size() && before(bonds_[cursor])) ++cursor;
   if (cursor == bonds_.size() || bonds_[cursor].a != a || bonds_[cursor].b != b) return 0.0;
-  double any = 0.0;
+  // The features' own stored overlap; a feature pair that did not touch at bonding (the
+  // search may name another vertex or edge for a contact of the same faces once they move,
+  // as it does between coplanar faces) counts from the largest the pair stored.
+  double most = 0.0;
   for (const Bond::Overlap& o : bonds_[cursor].initial) {
     if (o.fa == fa && o.fb == fb) return o.overlap;
-    if (o.fa == Bond::kAnyFeature) any = o.overlap;
+    most = std::max(most, o.overlap);
   }
-  return any;
+  return most;
 }
 
 double World::pair_offset(std::uint32_t a, std::uint32_t b) const {
@@ -908,6 +963,7 @@ void World::set_expansion(BodyId id, const Eigen::Matrix3d& alpha_world) {
     throw std::invalid_argument("set_expansion: the tensor must be symmetric");
   const Eigen::Matrix3d r = states_[id.index].q.toRotationMatrix();
   thermal_[id.index].alpha = r.transpose() * alpha_world * r;
+  thermal_[id.index].shaped_at = thermal_[id.index].temperature;  // its shape has its size now
   if (!alpha_world.isZero(0.0)) thermal_on_ = true;
 }
 
@@ -1019,7 +1075,7 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   std::vector<BodyPair> pairs;
   NeighbourSearch search(settings_.search);
   find_body_pairs(search, spheres, distance, pairs);
-  std::vector<FeatureContact> features;
+  std::vector<FeatureContact> features, touching;
   PosedShape image;
   for (const auto& [i, j] : pairs) {
     const std::uint32_t a = live_slots_[i], b = live_slots_[j];
@@ -1039,9 +1095,13 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
     for (const FeatureContact& fc : features) {
       point += fc.contact.point;
       normal += fc.contact.normal;
-      if (fc.contact.penetration > 0.0) {
-        bd.initial.push_back({fc.feature_a, fc.feature_b, fc.contact.penetration});
-      }
+    }
+    // The overlaps to count from: those of the search the steps make (no margin), which
+    // may name other features for a contact than the search with a margin does.
+    touching.clear();
+    polyhedron_contacts(posed_[a], n.isZero() ? posed_[b] : image, 0.0, touching);
+    for (const FeatureContact& fc : touching) {
+      if (fc.contact.penetration > 0.0) bd.initial.push_back({fc.feature_a, fc.feature_b, fc.contact.penetration});
     }
     point /= static_cast<double>(features.size());
     if (normal.norm() < 1e-12) continue;  // opposed normals: no well-defined bond
@@ -1133,7 +1193,7 @@ void World::bond_forces(int nt) {
       bd.point = 0.5 * (pa + pb);
       bd.normal = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
       Eigen::Vector3d velocity = sb.v + sb.w.cross(bd.point - xb) - (sa.v + sa.w.cross(bd.point - sa.x));
-      if (cell_on_ && cell_.straining()) velocity += cell_.velocity_gradient() * (xb - sa.x);
+      if (cell_on_ && moving_cell_) velocity += gradient_ * (xb - sa.x);
       if (thermal_on_) {
         const Eigen::Vector3d free = thermal_free(bd, sa, sb);
         velocity += free / settings_.dt;
@@ -1168,9 +1228,6 @@ void World::bond_forces(int nt) {
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});
     }
-  }
-  if (thermal_on_) {
-    for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
   }
   // Log the breaks in bond order.
   for (const auto& list : bond_failures_) {

@@ -392,6 +392,8 @@ class World {
   std::vector<BodyPair> pairs_;
   PeriodicCell cell_;
   bool cell_on_ = false;
+  Eigen::Matrix3d gradient_ = Eigen::Matrix3d::Zero();  // this step's: the cell's L plus its thermal rate
+  bool moving_cell_ = false;                            // gradient_ is not zero
   Eigen::Matrix3d cell_at_search_ = Eigen::Matrix3d::Zero();  // the cell vectors at the last search
   std::vector<Eigen::Vector3i> pair_image_;  // by pair, in a cell: B's nearest image (fixed between searches)
   std::vector<std::vector<Eigen::Vector3d>> chunk_shift_;  // in a cell: per chunk_pending_ entry, B's shift

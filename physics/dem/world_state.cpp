@@ -183,6 +183,7 @@ void World::save_state(StateWriter& w) const {
     w.put(t.bonded_at);
     w.put(t.alpha);
     w.put(t.held);
+    w.put(t.shaped_at);
   }
 
   w.count(walls_.size());
@@ -380,7 +381,9 @@ void World::load_state(StateReader& r) {
     t.bonded_at = r.get<double>();
     t.alpha = r.mat3();
     t.held = r.get_bool();
-    if (!std::isfinite(t.temperature) || !std::isfinite(t.bonded_at) || !t.alpha.allFinite())
+    t.shaped_at = r.get<double>();
+    if (!std::isfinite(t.temperature) || !std::isfinite(t.bonded_at) || !t.alpha.allFinite() ||
+        !std::isfinite(t.shaped_at))
       r.fail("a body's temperature or expansion is not finite");
   }
   std::size_t alive = 0;
