@@ -86,6 +86,25 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
   return frame;
 }
 
+/// A periodic cell's twelve edges as lines, `axis` the cell vector each runs along (0, 1, 2)
+/// and `periodic` whether the cell is periodic along it.
+io::LinkFrame cell_frame(const physics::PeriodicCell& cell) {
+  io::LinkFrame frame;
+  auto corner = [&](int bits) {
+    return Eigen::Vector3d(cell.origin() + cell.vectors() * Eigen::Vector3d(bits & 1, (bits >> 1) & 1, (bits >> 2) & 1));
+  };
+  for (int bits = 0; bits < 8; ++bits) {
+    for (int k = 0; k < 3; ++k) {
+      if (bits & (1 << k)) continue;
+      frame.a.push_back(corner(bits));
+      frame.b.push_back(corner(bits | (1 << k)));
+      frame.fields.ids["axis"].push_back(k);
+      frame.fields.ids["periodic"].push_back(cell.periodic(k) ? 1 : 0);
+    }
+  }
+  return frame;
+}
+
 /// Contacts as points (zero-length links) at their contact points.
 io::LinkFrame contact_frame(const physics::World& world) {
   io::LinkFrame frame;
@@ -214,7 +233,8 @@ class Dynamics::Runner {
         world_(resume ? std::move(resume->world) : io::make_world(scenario, specimen)),
         bodies_pvd_(out_ / "bodies.pvd"),
         contacts_pvd_(out_ / "contacts.pvd"),
-        bonds_pvd_(out_ / "bonds.pvd") {
+        bonds_pvd_(out_ / "bonds.pvd"),
+        cell_pvd_(out_ / "cell.pvd") {
     fs::create_directories(out_ / "frames");
     for (const auto& w : world_.walls()) origin0_.push_back(w.origin);
     pe0_ = world_.potential_energy();
@@ -643,7 +663,7 @@ class Dynamics::Runner {
       w.put(name);
     }
     w.put(last_frame_step_);
-    for (const io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_}) {
+    for (const io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_, &cell_pvd_}) {
       w.count(pvd->entries().size());
       for (const auto& e : pvd->entries()) {
         w.put(e.time);
@@ -695,7 +715,7 @@ class Dynamics::Runner {
         name = r.string();
       }
       last_frame_step_ = r.get<std::uint64_t>();
-      for (io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_}) {
+      for (io::PvdSeries* pvd : {&bodies_pvd_, &contacts_pvd_, &bonds_pvd_, &cell_pvd_}) {
         std::vector<io::PvdSeries::Entry> entries(r.count(16));
         for (auto& e : entries) {
           e.time = r.get<double>();
@@ -897,6 +917,10 @@ class Dynamics::Runner {
     if (scenario_.bond.enabled) {
       io::write_vtp(out_ / dir / ("bonds_" + stem + ".vtp"), bond_frame(world_));
       bonds_pvd_.add(world_.time(), dir / ("bonds_" + stem + ".vtp"));
+    }
+    if (const physics::PeriodicCell* cell = world_.cell()) {
+      io::write_vtp(out_ / dir / ("cell_" + stem + ".vtp"), cell_frame(*cell));
+      cell_pvd_.add(world_.time(), dir / ("cell_" + stem + ".vtp"));
     }
     if (scenario_.output.frame_meshes) write_frame_meshes(stem);
     ++sum_.frames;
@@ -1105,7 +1129,7 @@ class Dynamics::Runner {
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   physics::World world_;
   double stable_dt_ = io::stable_time_step(scenario_, specimen_);  // for blow-up messages
-  io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_;
+  io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_, cell_pvd_;
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;
   std::string energy_, walls_, loads_, bond_counts_, splits_, thermal_;

@@ -321,7 +321,7 @@ RunReport Simulation::State::finish() {
       if (scenario.bond.enabled) files += ", bonds.csv, bond_breaks.csv";
       if (scenario.thermal.enabled) files += ", thermal.csv";
       if (scenario.thermal.enabled && scenario.bond.enabled) files += ", microcracks.svg";
-      if (scenario.periodic.enabled) files += ", cell.csv";
+      if (scenario.periodic.enabled) files += ", cell.csv, cell.pvd";
       if (std::any_of(scenario.stages.begin(), scenario.stages.end(), [](const io::StageDef& st) { return st.measure_modulus; }))
         files += ", modulus.csv, modulus.svg";
       for (const auto& st : d.stages) {

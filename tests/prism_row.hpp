@@ -16,6 +16,12 @@ constexpr double kThick = 1.0e-3;      // prism thickness, m
 constexpr double kDilation = 0.05e-3;  // m
 constexpr double kRho = 3100.0;
 inline const double kFlat = std::sqrt(3.0) * kSide;  // distance between opposite side faces
+inline const double kPitch = kFlat + 2.0 * kDilation;  // centroid spacing of touching neighbours
+inline const double kBondArea = M_PI * kDilation * kDilation;  // bond section (eq. 2.10)
+constexpr double kSpringN = 5000.0, kSpringS = 2000.0;  // bond springs K_bn, K_bs, N/m (table 2.5's size)
+
+/// Springs of table 2.5's size, strengths far above anything the tests load them to.
+inline physics::BondParams strong_bonds() { return {kSpringN / kBondArea, kSpringS / kBondArea, 1e12, 1e12}; }
 
 inline physics::RigidShape prism() {
   return physics::make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick), kDilation);

@@ -236,6 +236,22 @@ TEST(Voronoi, CellsAreConvexAndPairwiseSeparatedByTheirBisectors) {
   EXPECT_EQ(pairs, 12 * 11);
 }
 
+namespace {
+/// How far `x` lies inside the mesh moved by `shift`: the smallest distance inside its face
+/// planes (negative: outside).
+double inside_margin(const cleave::geometry::PolygonMesh& mesh, const Eigen::Vector3d& x,
+                     const Eigen::Vector3d& shift = Eigen::Vector3d::Zero()) {
+  double margin = 1.0;
+  for (const auto& f : mesh.faces) {
+    const Eigen::Vector3d a = mesh.vertices[f[0]] + shift, b = mesh.vertices[f[1]] + shift,
+                          cc = mesh.vertices[f[2]] + shift;
+    const Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
+    margin = std::min(margin, -(x - a).dot(n));
+  }
+  return margin;
+}
+}  // namespace
+
 TEST(Voronoi, RandomPointsLieInExactlyTheCellOfTheirNearestPoint) {
   // Brute force in doubles: a point of the box is strictly inside one cell, the one whose
   // seed point is nearest, and outside all others (points within 1e-12 of a face skipped).
@@ -254,13 +270,7 @@ TEST(Voronoi, RandomPointsLieInExactlyTheCellOfTheirNearestPoint) {
     int inside = 0;
     bool near_face = false;
     for (std::size_t c = 0; c < cells.size(); ++c) {
-      const auto mesh = cells[c].to_mesh();
-      double margin = 1.0;  // smallest distance inside the face planes (negative: outside)
-      for (const auto& f : mesh.faces) {
-        const Eigen::Vector3d a = mesh.vertices[f[0]], b = mesh.vertices[f[1]], cc = mesh.vertices[f[2]];
-        const Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
-        margin = std::min(margin, -(x - a).dot(n));
-      }
+      const double margin = inside_margin(cells[c].to_mesh(), x);
       if (std::abs(margin) < 1e-12) near_face = true;
       if (margin > 0.0) {
         ++inside;
@@ -320,12 +330,7 @@ TEST(Voronoi, PeriodicCellsTileTheBoxExactlyAndHoldThePointsNearestImage) {
     for (std::size_t c = 0; c < cells.size(); ++c) {
       const auto mesh = cells[c].to_mesh();
       for (const auto& t : shifts) {
-        double margin = 1.0;
-        for (const auto& f : mesh.faces) {
-          const Eigen::Vector3d a = mesh.vertices[f[0]] + t, b = mesh.vertices[f[1]] + t, cc = mesh.vertices[f[2]] + t;
-          const Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
-          margin = std::min(margin, -(x - a).dot(n));
-        }
+        const double margin = inside_margin(mesh, x, t);
         if (std::abs(margin) < 1e-12) near_face = true;
         if (margin > 0.0) {
           ++inside;

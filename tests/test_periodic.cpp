@@ -20,11 +20,6 @@ using namespace cleave::test;
 
 namespace {
 
-const double kPitch = kFlat + 2.0 * kDilation;  // centroid spacing of touching neighbours
-const double kArea = M_PI * kDilation * kDilation;  // bond section (eq. 2.10)
-constexpr double kSpringN = 5000.0, kSpringS = 2000.0;  // bond springs K_bn, K_bs, N/m
-
-BondParams strong_bonds() { return {kSpringN / kArea, kSpringS / kArea, 1e12, 1e12}; }
 
 WorldSettings settings() {
   WorldSettings ws;
