@@ -27,6 +27,20 @@ inline physics::RigidShape prism() {
   return physics::make_rigid_shape(geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick), kDilation);
 }
 
+/// A world for these prisms: no gravity, table 2.3's particle springs (5000 and 2000 N/m,
+/// friction 0.3) for both sets, one thread, time step `dt`.
+inline physics::WorldSettings prism_settings(double dt) {
+  physics::WorldSettings ws;
+  ws.gravity.setZero();
+  ws.dt = dt;
+  ws.particle_particle.kn = 5000.0;
+  ws.particle_particle.ks = 2000.0;
+  ws.particle_particle.mu_s = 0.3;
+  ws.particle_wall = ws.particle_particle;
+  ws.threads = 1;
+  return ws;
+}
+
 /// n prisms in a row along x, side face to side face; neighbouring dilated surfaces
 /// overlap by `overlap` (negative: a gap; 0: they just touch).
 inline std::vector<physics::BodyId> row(physics::World& world, int n, double overlap = 0.0) {

@@ -250,6 +250,30 @@ double inside_margin(const cleave::geometry::PolygonMesh& mesh, const Eigen::Vec
   }
   return margin;
 }
+
+/// Where a point x of the box lies: in how many cells (each moved by each of `shifts`) it
+/// lies strictly inside, each expected to be cell `nearest`; whether it is within 1e-12 of
+/// some face (then the count says nothing).
+struct Located {
+  int inside = 0;
+  bool near_face = false;
+};
+Located locate(const std::vector<ExactPolyhedron>& cells, const Eigen::Vector3d& x,
+               const std::vector<Eigen::Vector3d>& shifts, std::size_t nearest) {
+  Located at;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const auto mesh = cells[c].to_mesh();
+    for (const auto& t : shifts) {
+      const double margin = inside_margin(mesh, x, t);
+      if (std::abs(margin) < 1e-12) at.near_face = true;
+      if (margin > 0.0) {
+        ++at.inside;
+        EXPECT_EQ(c, nearest);
+      }
+    }
+  }
+  return at;
+}
 }  // namespace
 
 TEST(Voronoi, RandomPointsLieInExactlyTheCellOfTheirNearestPoint) {
@@ -267,18 +291,9 @@ TEST(Voronoi, RandomPointsLieInExactlyTheCellOfTheirNearestPoint) {
     for (std::size_t k = 1; k < points.size(); ++k) {
       if ((x - points[k]).norm() < (x - points[nearest]).norm()) nearest = k;
     }
-    int inside = 0;
-    bool near_face = false;
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      const double margin = inside_margin(cells[c].to_mesh(), x);
-      if (std::abs(margin) < 1e-12) near_face = true;
-      if (margin > 0.0) {
-        ++inside;
-        EXPECT_EQ(c, nearest);
-      }
-    }
-    if (near_face) continue;
-    EXPECT_EQ(inside, 1);
+    const Located at = locate(cells, x, {Eigen::Vector3d::Zero()}, nearest);
+    if (at.near_face) continue;
+    EXPECT_EQ(at.inside, 1);
     ++checked;
   }
   EXPECT_GT(checked, 490);
@@ -325,21 +340,9 @@ TEST(Voronoi, PeriodicCellsTileTheBoxExactlyAndHoldThePointsNearestImage) {
         }
       }
     }
-    int inside = 0;
-    bool near_face = false;
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      const auto mesh = cells[c].to_mesh();
-      for (const auto& t : shifts) {
-        const double margin = inside_margin(mesh, x, t);
-        if (std::abs(margin) < 1e-12) near_face = true;
-        if (margin > 0.0) {
-          ++inside;
-          EXPECT_EQ(c, nearest);
-        }
-      }
-    }
-    if (near_face) continue;
-    EXPECT_EQ(inside, 1);
+    const Located at = locate(cells, x, shifts, nearest);
+    if (at.near_face) continue;
+    EXPECT_EQ(at.inside, 1);
     ++checked;
   }
   EXPECT_GT(checked, 290);

@@ -22,15 +22,9 @@ namespace {
 
 
 WorldSettings settings() {
-  WorldSettings ws;
-  ws.gravity.setZero();
-  ws.dt = 1e-7;
-  ws.particle_particle.kn = 5000.0;
-  ws.particle_particle.ks = 2000.0;
-  ws.particle_particle.mu_s = 0.3;
+  WorldSettings ws = prism_settings(1e-7);
   ws.particle_particle.damping_ratio = 0.1;
   ws.particle_wall = ws.particle_particle;
-  ws.threads = 1;
   return ws;
 }
 

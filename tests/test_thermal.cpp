@@ -21,15 +21,8 @@ namespace {
 const double kArea = kBondArea;
 
 World make_world() {
-  WorldSettings ws;
-  ws.gravity.setZero();
-  ws.dt = 2e-7;
-  ws.particle_particle.kn = 5000.0;
-  ws.particle_particle.ks = 2000.0;
-  ws.particle_particle.mu_s = 0.3;
-  ws.particle_wall = ws.particle_particle;
+  WorldSettings ws = prism_settings(2e-7);
   ws.local_damping = 0.7;  // quasi-static: the answers are equilibria
-  ws.threads = 1;
   return World(ws);
 }
 
