@@ -115,6 +115,9 @@
 ///   #   grain heats or cools at the rate until the target; quench_wall (a wall's name),
 ///   #   quench_temperature (K, > 0) and quench_depth (length unit, > 0): the grains within
 ///   #   the depth of that wall's plane are held at the temperature for the stage;
+///   #   temperature_gradient_rate = [gx, gy, gz] (K per length unit per s, with
+///   #   [thermal]): each grain's temperature also changes at g . (x - the grains' mean
+///   #   centroid) per second, a linear field growing over the stage;
 ///   #   cell_strain_rate = [ex, ey, ez] (1/s, with [periodic], non-zero on periodic axes
 ///   #   only): the cell stretches at these rates, the grains' centroids with it;
 ///   #   measure_modulus = true (one non-zero rate): E and nu from the cell's stress against
@@ -775,7 +778,8 @@ constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_vel
                                                  "load_drop", "load_walls", "frames",
                                                  "ramp_time", "rate_scale", "temperature_rate",
                                                  "temperature_target", "quench_wall", "quench_temperature",
-                                                 "quench_depth", "cell_strain_rate", "measure_modulus"};
+                                                 "quench_depth", "cell_strain_rate", "measure_modulus",
+                                                 "temperature_gradient_rate"};
 
 constexpr std::string_view kPeriodicKeys[] = {"axes"};
 
@@ -948,6 +952,11 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     st.temperature_target = t.number("temperature_target", Range::positive()).value;
   } else if (const toml::node* target = t.find("temperature_target")) {
     t.fail(*target, "temperature_target", "applies only with a temperature_rate");
+  }
+  if (const toml::node* g = t.find("temperature_gradient_rate")) {
+    if (!s.thermal.enabled) t.fail(*g, "temperature_gradient_rate", "a temperature stage needs a [thermal] table");
+    const auto r = t.numbers("temperature_gradient_rate", 3, Range{});
+    st.temperature_gradient_rate = Eigen::Vector3d(r[0], r[1], r[2]) / unit;  // K per length unit per s -> K/(m s)
   }
   if (const toml::node* quench = t.find("quench_wall")) {
     if (!s.thermal.enabled) t.fail(*quench, "quench_wall", "a thermal shock needs a [thermal] table");

@@ -171,6 +171,10 @@ struct StageDef {
   /// uniform field added to conduction's), stopping at `temperature_target` K.
   double temperature_rate = 0.0;
   double temperature_target = 0.0;
+  /// motion, with [thermal]: K/(m s), a linear field growing over the stage: each grain's
+  /// temperature changes at temperature_gradient_rate . (x - the grains' mean centroid) per
+  /// second on top of temperature_rate (a field T(x, t) prescribed piecewise linear in time).
+  Eigen::Vector3d temperature_gradient_rate = Eigen::Vector3d::Zero();
   /// motion, with [thermal]: a thermal shock. The grains whose centroid lies within
   /// `quench_depth` (m) of wall `quench_wall`'s plane are held at `quench_temperature` (K)
   /// for the stage (conduction carries the shock inwards); empty: none.

@@ -256,6 +256,8 @@ std::string scenario_to_toml(const Scenario& s) {
                          num(st.quench_temperature), num(st.quench_depth));
     }
     if (!st.cell_strain_rate.isZero(0.0)) out += fmt::format("cell_strain_rate = {}\n", vec(st.cell_strain_rate));
+    if (!st.temperature_gradient_rate.isZero(0.0))
+      out += fmt::format("temperature_gradient_rate = {}\n", vec(st.temperature_gradient_rate));
     if (st.measure_modulus) out += "measure_modulus = true\n";
   }
   return out;
@@ -444,6 +446,9 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     d.same(k + "quench_depth", ta.quench_depth, tb.quench_depth);
     for (int c = 0; c < 3; ++c) d.same(k + fmt::format("cell_strain_rate[{}]", c), ta.cell_strain_rate[c], tb.cell_strain_rate[c]);
     d.same(k + "measure_modulus", ta.measure_modulus, tb.measure_modulus);
+    for (int c = 0; c < 3; ++c)
+      d.same(k + fmt::format("temperature_gradient_rate[{}]", c), ta.temperature_gradient_rate[c],
+             tb.temperature_gradient_rate[c]);
     d.same(k + "distance", ta.bond_distance, tb.bond_distance);
   }
   return d.keys;

@@ -501,6 +501,24 @@ class Dynamics::Runner {
       // The stage's uniform heating or cooling, this step's share, up to its target.
       world_.ramp_temperature(stage.temperature_rate * scenario_.dynamics.dt, stage.temperature_target);
     }
+    if (!stage.temperature_gradient_rate.isZero(0.0)) {
+      // The stage's growing linear field, this step's share, about the grains' mean centroid
+      // now (held grains keep theirs).
+      const auto ids = world_.body_ids();
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (const physics::BodyId id : ids) centre += world_.state(id).x / static_cast<double>(ids.size());
+      const double h = scenario_.dynamics.dt;
+      for (const physics::BodyId id : ids) {
+        if (world_.slot_thermal()[id.index].held) continue;
+        const double t = world_.temperature(id) + h * stage.temperature_gradient_rate.dot(world_.state(id).x - centre);
+        if (!(t > 0.0)) {
+          throw std::runtime_error(fmt::format("stage '{}': the temperature_gradient_rate field falls to {:.4g} K at "
+                                               "grain {} (t = {:.4g} s); keep every grain above 0 K",
+                                               stage.name, t, world_.info(id).grain_id, world_.time()));
+        }
+        world_.set_temperature(id, t);
+      }
+    }
     guard_.before_step(world_);
     bool completed = true;
     try {

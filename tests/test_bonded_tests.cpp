@@ -374,6 +374,33 @@ TEST_F(BondedTest, GrainsSplitInAPeriodicCellAndTheirPiecesStayExact) {
   EXPECT_NE(log.find("sum exactly"), std::string::npos) << log;
 }
 
+TEST_F(BondedTest, ALinearTemperatureFieldGrowsAsPrescribedOverAStage) {
+  // scenarios/thermal_microcracking.toml with its cooling replaced by a field growing at
+  // 100 K per mm per second along x for 0.5 s: at every row of thermal.csv the spread of
+  // the grains' temperatures is t x 100 K/(mm s) x the spread of their centroids along x,
+  // and the mean stays at 1773 K (the field is about the grains' mean centroid).
+  const fs::path dir = run("thermal_microcracking",
+                           {{"temperature_rate = -2960.0   # K/s: 1773 K to 293 K over the stage\n"
+                             "temperature_target = 293.0\n",
+                             "temperature_gradient_rate = [100.0, 0.0, 0.0]\n"}},
+                           "field");
+  double lo = 1e300, hi = -1e300;
+  for (const auto& g : read_csv(dir / "specimen.csv")) {
+    lo = std::min(lo, std::stod(g.at("x_m")));
+    hi = std::max(hi, std::stod(g.at("x_m")));
+  }
+  const auto rows = read_csv(dir / "thermal.csv");
+  ASSERT_GE(rows.size(), 3u);
+  const double start = std::stod(rows.front().at("time_s"));
+  for (const auto& row : rows) {
+    const double t = std::stod(row.at("time_s")) - start;
+    const double spread = std::stod(row.at("max_K")) - std::stod(row.at("min_K"));
+    EXPECT_NEAR(spread, t * 100.0e3 * (hi - lo), 0.01 * t * 100.0e3 * (hi - lo) + 1e-9) << t;
+    EXPECT_NEAR(std::stod(row.at("mean_K")), 1773.0, 1e-6);
+  }
+  EXPECT_NEAR(std::stod(rows.back().at("time_s")) - start, 0.5, 1e-9);
+}
+
 TEST_F(BondedTest, AThermalShockHoldsTheQuenchedFaceAndConductionCoolsTheRestFromIt) {
   // scenarios/thermal_microcracking.toml turned into a thermal shock: conduction on, and
   // the cooling stage replaced by one that holds the grains within 0.6 mm of a plane at

@@ -792,6 +792,13 @@ TEST(Scenario, ThermalTableAndTemperatureStagesReadBackAndBadValuesNameTheirKey)
   const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
   EXPECT_TRUE(scenario_differences(s, again).empty());
   EXPECT_EQ(again.stages.at(0).temperature_rate, -100.0);
+  // A field growing over a stage: K per length unit per second in the file (mm here).
+  const Scenario grows = parse_scenario(with_stage(thermal, "temperature_gradient_rate = [0, 0, 5]\n"), "f.toml");
+  EXPECT_EQ(grows.stages.at(0).temperature_gradient_rate, Eigen::Vector3d(0, 0, 5e3));
+  EXPECT_TRUE(scenario_differences(grows, parse_scenario(scenario_to_toml(grows), "f2.toml")).empty());
+  const std::string unheated = with_stage(std::string(kDropTest), "temperature_gradient_rate = [0, 0, 5]\n");
+  EXPECT_SCENARIO_ERROR(unheated, line_of_last(unheated, "temperature_gradient_rate"), "stage[1].temperature_gradient_rate",
+                        "[thermal]");
   // A linear field: K per length unit in the file, K/m read.
   const Scenario field = parse_scenario(std::string(kDropTest) + "[thermal]\ngradient = [0, 10, 0]\n", "g.toml");
   EXPECT_EQ(field.thermal.gradient, Eigen::Vector3d(0, 1e4, 0));
