@@ -42,6 +42,15 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+/// The meta data the checkpoints of a run of `source` carry.
+io::CheckpointMeta meta_of(const fs::path& source) {
+  io::CheckpointMeta meta;
+  meta.cleave_version = "test";
+  meta.scenario_source = source.string();
+  meta.scenario_text = slurp(source);
+  return meta;
+}
+
 class Checkpoint : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -187,10 +196,7 @@ TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTh
   //    broken and a grain has split, mid-loading.
   const fs::path part = dir_ / "part";
   const fs::path file = part / io::kCheckpointName;
-  io::CheckpointMeta meta;
-  meta.cleave_version = "test";
-  meta.scenario_source = kScenario.string();
-  meta.scenario_text = slurp(kScenario);
+  const io::CheckpointMeta meta = meta_of(kScenario);
   StoppedRun stopped;
   bool stop = false;
   sim::RunHooks hooks;
@@ -352,10 +358,7 @@ TEST_F(Checkpoint, ACoolingPolycrystalRestartedMidCoolingEndsWithTheSameHashAndT
   ASSERT_GT(reference.bond_counts.broken(), 0u);
 
   const fs::path part = dir_ / "part";
-  io::CheckpointMeta meta;
-  meta.cleave_version = "test";
-  meta.scenario_source = source.string();
-  meta.scenario_text = slurp(source);
+  const io::CheckpointMeta meta = meta_of(source);
   bool stop = false;
   std::uint64_t stopped_at = 0;
   sim::RunHooks hooks;

@@ -78,7 +78,8 @@ BeamResult beam_force(const BondParams& p, const BeamPose& pose) {
   /// The cohesive beam of seed 003 (Andre et al. 2012): four parameters L_m, R_m, E_m, nu_m.
   BeamResult out;
   const double r = p.beam_radius, l0 = pose.rest_length;
-  const double area = M_PI * r * r, inertia = 0.25 * M_PI * r * r * r * r, polar = 2.0 * inertia;
+  const BondSection section{r};
+  const double area = section.area(), inertia = section.inertia(), polar = section.polar();
   const double young = p.beam_young, shear_modulus = young / (2.0 * (1.0 + p.beam_poisson));
   const Eigen::Vector3d chord = pose.end_b - pose.end_a;
   const double length = chord.norm();

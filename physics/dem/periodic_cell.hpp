@@ -38,7 +38,6 @@ class PeriodicCell {
   [[nodiscard]] bool periodic(int k) const { return periodic_[static_cast<std::size_t>(k)]; }
   [[nodiscard]] bool any_periodic() const { return periodic_[0] || periodic_[1] || periodic_[2]; }
   [[nodiscard]] const Eigen::Matrix3d& velocity_gradient() const { return l_; }
-  [[nodiscard]] bool straining() const { return !l_.isZero(0.0); }
   void set_velocity_gradient(const Eigen::Matrix3d& l) { l_ = l; }
   void set_vectors(const Eigen::Matrix3d& h) {
     h_ = h;
@@ -72,8 +71,9 @@ class PeriodicCell {
     }
     return m;
   }
-  /// One step of the homogeneous deformation: H <- (I + dt L) H.
-  void deform(double dt) { set_vectors(h_ + dt * (l_ * h_)); }
+  /// One step of a homogeneous deformation: H <- (I + step) H, step = dt L over the step
+  /// (World::step adds the grains' mean thermal strain rate to the cell's L).
+  void deform(const Eigen::Matrix3d& step) { set_vectors(h_ + step * h_); }
 
  private:
   Eigen::Matrix3d h_ = Eigen::Matrix3d::Identity();

@@ -295,6 +295,9 @@ namespace {
 /// Loops shorter than this run on one thread: for small worlds the cost of waking threads
 /// every step exceeds the work (and oversubscribed cores make it far worse).
 constexpr std::ptrdiff_t kParallelMin = 512;
+/// Pairs per chunk of the narrow phase (body_contacts); join_pending finds the chunks' lists
+/// by it.
+constexpr std::size_t kPairChunk = 256;
 
 /// The contiguous block [begin, end) of n items that the calling thread takes, split over
 /// the threads actually running (OpenMP may give fewer than asked): blocks follow thread
@@ -454,7 +457,7 @@ void World::body_contacts(int nt, bool stale) {
   // so the contact list (and everything after it) is the same for any number of threads.
   const std::size_t n = pairs_.size();
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
-  constexpr std::size_t kChunk = 256;
+  constexpr std::size_t kChunk = kPairChunk;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   if (chunk_pending_.size() < chunks) chunk_pending_.resize(chunks);
   if (cell_on_ && chunk_shift_.size() < chunks) chunk_shift_.resize(chunks);
@@ -643,7 +646,7 @@ void World::join_pending() {
   if (cell_on_) {
     // The pairs' chunks come first, in order, then the walls' lists (no shift).
     contact_shift_.assign(part_start_.back(), Eigen::Vector3d::Zero());
-    const std::size_t chunks = (pairs_.size() + 255) / 256;
+    const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
     for (std::size_t c = 0; c < chunks && c < parts_.size(); ++c)
       std::copy(chunk_shift_[c].begin(), chunk_shift_[c].end(), contact_shift_.begin() + static_cast<std::ptrdiff_t>(part_start_[c]));
   }
@@ -729,14 +732,10 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
     kin.i_crit = i1 * i2 / (i1 + i2);
   }
-  if (!contact_shift_.empty()) {
-    // Periodic cell: B acts from its image; a straining cell moves the two apart at L d.
-    const Eigen::Vector3d xb = sb.x + contact_shift_[k];
-    kin.velocity = sb.v + sb.w.cross(c.point - xb) - va_point;
-    if (!wall && moving_cell_) kin.velocity += gradient_ * (xb - states_[a].x);
-  } else {
-    kin.velocity = sb.v + sb.w.cross(c.point - sb.x) - va_point;
-  }
+  // B's centroid, or in a periodic cell its image's; a moving cell moves the two apart at L d.
+  const Eigen::Vector3d xb = contact_shift_.empty() ? sb.x : Eigen::Vector3d(sb.x + contact_shift_[k]);
+  kin.velocity = sb.v + sb.w.cross(c.point - xb) - va_point;
+  if (!wall && moving_cell_) kin.velocity += gradient_ * (xb - states_[a].x);
   kin.spin = sb.w - wa;
   kin.lever = posed_[b].radius;
   bool bonded = false;
@@ -761,7 +760,6 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
       const Eigen::Quaterniond& q = states_[slot].q;
       return rotated(q, t.alpha * (q.conjugate() * arm)) * d;
     };
-    const Eigen::Vector3d xb = contact_shift_.empty() ? sb.x : Eigen::Vector3d(sb.x + contact_shift_[k]);
     Eigen::Vector3d opened = grown(b, c.point - xb);
     if (!wall) opened -= grown(a, c.point - states_[a].x);
     kin.overlap -= c.normal.dot(opened);
@@ -876,7 +874,7 @@ void World::step() {
       for (std::ptrdiff_t i = 0; i < slots; ++i) {
         if (infos_[i].alive) states_[i].x += step * (states_[i].x - cell_.origin());
       }
-      cell_.set_vectors(cell_.vectors() + step * cell_.vectors());
+      cell_.deform(step);
     }
     wrap_bodies();
   }
@@ -1408,7 +1406,7 @@ void World::beam_bond(Bond& bd, const BodyState& sa, const BodyState& sb, const 
   // The beam's own strength (criterion "limits"): its outer fibre's stress.
   if (r.peak_stress > params.sigma_f * bd.strength) {
     // Named by the larger part of that stress: the pull or the bending.
-    const double pull = r.axial / (M_PI * params.beam_radius * params.beam_radius);
+    const double pull = r.axial / BondSection{params.beam_radius}.area();
     const BondFailure mode = pull >= r.peak_stress - pull ? BondFailure::tension : BondFailure::bending;
     BondState at = bd.state;
     bd.state = BondState{};
