@@ -118,6 +118,12 @@
 ///   #   temperature_gradient_rate = [gx, gy, gz] (K per length unit per s, with
 ///   #   [thermal]): each grain's temperature also changes at g . (x - the grains' mean
 ///   #   centroid) per second, a linear field growing over the stage;
+///   #   temperature_field = "1773 - 2e9*t + 4e3*x" (K, with [thermal]; not with
+///   #   temperature_rate or temperature_gradient_rate): every grain's temperature is this
+///   #   formula of its centroid x, y, z (length unit) and the time t since the stage began
+///   #   (s), read by muparser (+ - * / ^, sin, exp, sqrt, min, max, a ? b : c, _pi, ...);
+///   #   hold_cracks = false: true holds every bond and grain together during the stage (no
+///   #   breaks, no splits: an elastic probe of the cracked state);
 ///   #   cell_strain_rate = [ex, ey, ez] (1/s, with [periodic], non-zero on periodic axes
 ///   #   only): the cell stretches at these rates, the grains' centroids with it;
 ///   #   measure_modulus = true (one non-zero rate): E and nu from the cell's stress against
@@ -137,6 +143,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "io/field_expression.hpp"
 #include "io/material_library.hpp"
 #include "io/mesh_grains.hpp"
 #include "io/toml_reader.hpp"
@@ -779,7 +786,8 @@ constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_vel
                                                  "ramp_time", "rate_scale", "temperature_rate",
                                                  "temperature_target", "quench_wall", "quench_temperature",
                                                  "quench_depth", "cell_strain_rate", "measure_modulus",
-                                                 "temperature_gradient_rate"};
+                                                 "temperature_gradient_rate", "temperature_field",
+                                                 "hold_cracks"};
 
 constexpr std::string_view kPeriodicKeys[] = {"axes"};
 
@@ -958,6 +966,20 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     const auto r = t.numbers("temperature_gradient_rate", 3, Range{});
     st.temperature_gradient_rate = Eigen::Vector3d(r[0], r[1], r[2]) / unit;  // K per length unit per s -> K/(m s)
   }
+  if (const toml::node* field = t.find("temperature_field")) {
+    if (!s.thermal.enabled) t.fail(*field, "temperature_field", "a temperature stage needs a [thermal] table");
+    for (std::string_view other : {"temperature_rate", "temperature_gradient_rate"}) {
+      if (t.find(other) != nullptr)
+        t.fail(*field, "temperature_field", fmt::format("prescribes every grain's temperature: leave out {}", other));
+    }
+    const std::string text = t.string("temperature_field");
+    try {
+      FieldExpression check(text);
+    } catch (const std::invalid_argument& e) {
+      t.fail(*field, "temperature_field", e.what());
+    }
+    st.temperature_field = lengths_in_metres(text, unit);  // kept in metres, as every length
+  }
   if (const toml::node* quench = t.find("quench_wall")) {
     if (!s.thermal.enabled) t.fail(*quench, "quench_wall", "a thermal shock needs a [thermal] table");
     st.quench_wall = t.string("quench_wall");
@@ -986,6 +1008,10 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
   if (st.measure_modulus && (st.cell_strain_rate.array() != 0.0).count() != 1) {
     t.fail(*t.find("measure_modulus"), "measure_modulus",
            "needs a cell_strain_rate along exactly one axis (a uniaxial strain test)");
+  }
+  st.hold_cracks = t.boolean("hold_cracks", false);
+  if (st.hold_cracks && s.bond.params.law == physics::BondLaw::cohesive) {
+    t.fail(*t.find("hold_cracks"), "hold_cracks", "the cohesive law's damage cannot be held; leave it out");
   }
   const double rate = t.number("rate_scale", Range::positive(), 1.0).value;
   if (rate != 1.0) {

@@ -175,6 +175,14 @@ struct StageDef {
   /// temperature changes at temperature_gradient_rate . (x - the grains' mean centroid) per
   /// second on top of temperature_rate (a field T(x, t) prescribed piecewise linear in time).
   Eigen::Vector3d temperature_gradient_rate = Eigen::Vector3d::Zero();
+  /// motion, with [thermal]: a prescribed field T(x, y, z, t), a formula (FieldExpression,
+  /// io/field_expression.hpp) in the file's length unit and the seconds since the stage
+  /// began; every grain not held by a quench takes its value at its centroid each step.
+  /// Empty: none.
+  std::string temperature_field;
+  /// motion: no bond breaks and no grain splits during the stage (an elastic probe, such as
+  /// a modulus test of a cracked specimen, that must not crack it further).
+  bool hold_cracks = false;
   /// motion, with [thermal]: a thermal shock. The grains whose centroid lies within
   /// `quench_depth` (m) of wall `quench_wall`'s plane are held at `quench_temperature` (K)
   /// for the stage (conduction carries the shock inwards); empty: none.

@@ -258,7 +258,9 @@ std::string scenario_to_toml(const Scenario& s) {
     if (!st.cell_strain_rate.isZero(0.0)) out += fmt::format("cell_strain_rate = {}\n", vec(st.cell_strain_rate));
     if (!st.temperature_gradient_rate.isZero(0.0))
       out += fmt::format("temperature_gradient_rate = {}\n", vec(st.temperature_gradient_rate));
+    if (!st.temperature_field.empty()) out += fmt::format("temperature_field = {}\n", str(st.temperature_field));
     if (st.measure_modulus) out += "measure_modulus = true\n";
+    if (st.hold_cracks) out += "hold_cracks = true\n";
   }
   return out;
 }
@@ -449,6 +451,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
     for (int c = 0; c < 3; ++c)
       d.same(k + fmt::format("temperature_gradient_rate[{}]", c), ta.temperature_gradient_rate[c],
              tb.temperature_gradient_rate[c]);
+    d.same(k + "temperature_field", ta.temperature_field, tb.temperature_field);
+    d.same(k + "hold_cracks", ta.hold_cracks, tb.hold_cracks);
     d.same(k + "distance", ta.bond_distance, tb.bond_distance);
   }
   return d.keys;

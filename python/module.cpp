@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -376,6 +377,43 @@ PYBIND11_MODULE(_cleave, m) {
                              "(slots,) which slots hold a live body.")
       .def_property_readonly("grain_ids",
                              [](Simulation& s) { return per_slot<int>(s, [](const auto& b) { return b.grain_id; }); })
+      .def_property_readonly("temperatures",
+                             [](Simulation& s) {
+                               const auto& thermal = world_of(s).slot_thermal();
+                               py::array_t<double> a(static_cast<py::ssize_t>(thermal.size()));
+                               auto r = a.mutable_unchecked<1>();
+                               for (std::size_t i = 0; i < thermal.size(); ++i)
+                                 r(static_cast<py::ssize_t>(i)) = thermal[i].temperature;
+                               return a;
+                             },
+                             "(slots,) each body's temperature, K (a copy).")
+      .def(
+          "set_temperatures",
+          [](Simulation& s, const py::array_t<double, py::array::c_style | py::array::forcecast>& kelvin) {
+            cleave::physics::World& w = world_of(s);
+            const auto n = static_cast<py::ssize_t>(w.slot_thermal().size());
+            if (kelvin.ndim() != 1 || kelvin.shape(0) != n)
+              throw py::value_error(fmt::format("set_temperatures: expected a 1-D array of {} temperatures (one per "
+                                                "slot), got {} dimension(s) of first length {}",
+                                                n, kelvin.ndim(), kelvin.ndim() > 0 ? kelvin.shape(0) : 0));
+            const auto r = kelvin.unchecked<1>();
+            for (const auto id : w.body_ids()) {
+              const double t = r(static_cast<py::ssize_t>(id.index));
+              if (std::isnan(t)) continue;
+              if (!(t > 0.0) || !std::isfinite(t))
+                throw py::value_error(fmt::format("set_temperatures: slot {} (grain {}): {} K; temperatures must be "
+                                                  "finite and above 0 K (NaN leaves a body as it is)",
+                                                  id.index, w.info(id).grain_id, t));
+            }
+            for (const auto id : w.body_ids()) {
+              const double t = r(static_cast<py::ssize_t>(id.index));
+              if (!std::isnan(t)) w.set_temperature(id, t);
+            }
+          },
+          "kelvin"_a,
+          "Sets each live body's temperature (K; an array of one value per slot, NaN leaves a body as it "
+          "is): a field of any shape, prescribed from Python between advance() calls. Bonds follow it "
+          "from the next step on.")
       .def_property_readonly("grain_stresses",
                              [](Simulation& s) {
                                const auto stress = world_of(s).body_stresses();

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "io/field_expression.hpp"
 #include "io/mesh_io.hpp"
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
@@ -179,6 +180,7 @@ struct StageRun {
   std::uint64_t i = 1;  ///< the stage's next step, counted from 1
   std::chrono::steady_clock::time_point t0, last_print;
   bool halt = false;  ///< interrupted or blew up: the run ends after this step
+  std::optional<io::FieldExpression> temperature_field;  ///< the stage's, when it has one
 };
 
 /// The layout of the run state in a checkpoint (Runner::encode_run_state).
@@ -447,6 +449,8 @@ class Dynamics::Runner {
     r.plain = plain;
     r.progress = std::move(progress);
     current_ = &r.progress;
+    world_.hold_bonds(stage.hold_cracks);
+    if (!stage.temperature_field.empty()) r.temperature_field.emplace(stage.temperature_field);
     // Walls move as the stage says; the others stand still (a resumed stage has them so).
     if (!resume) {
       for (std::size_t i = 0; i < world_.walls().size(); ++i) world_.wall(i).velocity.setZero();
@@ -519,6 +523,22 @@ class Dynamics::Runner {
         world_.set_temperature(id, t);
       }
     }
+    if (r.temperature_field) {
+      // The stage's prescribed field T(x, y, z, t) at each grain's centroid, t at the end of
+      // this step (seconds since the stage began; held grains keep theirs).
+      const double t = static_cast<double>(st.steps + 1) * scenario_.dynamics.dt;
+      for (const physics::BodyId id : world_.body_ids()) {
+        if (world_.slot_thermal()[id.index].held) continue;
+        const Eigen::Vector3d& x = world_.state(id).x;
+        const double kelvin = (*r.temperature_field)(x.x(), x.y(), x.z(), t);
+        if (!(kelvin > 0.0)) {
+          throw std::runtime_error(fmt::format("stage '{}': temperature_field gives {:.4g} K at grain {} (x = [{:.6g}, "
+                                               "{:.6g}, {:.6g}] m, t = {:.4g} s into the stage); keep every grain above 0 K",
+                                               stage.name, kelvin, world_.info(id).grain_id, x.x(), x.y(), x.z(), t));
+        }
+        world_.set_temperature(id, kelvin);
+      }
+    }
     guard_.before_step(world_);
     bool completed = true;
     try {
@@ -537,7 +557,7 @@ class Dynamics::Runner {
       halt = stopped_ = true;
       return;
     }
-    if (book_ && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
+    if (book_ && !stage.hold_cracks && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
       st.splits += split_grains();
     }
     const double overlap = max_overlap(world_);
@@ -648,6 +668,7 @@ class Dynamics::Runner {
     }
     sum_.stages.push_back(st);
     current_ = nullptr;
+    world_.hold_bonds(false);
     stage_run_.reset();
   }
 

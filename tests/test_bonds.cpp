@@ -242,6 +242,21 @@ TEST_P(BondFailureAtItsLimit, IntactJustBelowBrokenInThatModeJustAbove) {
   EXPECT_EQ(above.world.bonds().front().force.norm(), 0.0);
 }
 
+TEST_P(BondFailureAtItsLimit, HeldPastItsLimitItStaysIntactAndBreaksOnTheFirstStepReleased) {
+  // hold_bonds (a stage's hold_cracks): 1 % past its limit the bond carries on; released,
+  // it breaks at the next step, in the mode that passed.
+  const ModeCase c = GetParam();
+  Pair held;
+  held.world.hold_bonds(true);
+  load_to(held, c.mode, 1.01);
+  EXPECT_EQ(held.world.bond_counts().intact, 1u) << c.name;
+  EXPECT_TRUE(held.world.bond_breaks().empty()) << c.name;
+  held.world.hold_bonds(false);
+  held.world.step();
+  ASSERT_EQ(held.world.bond_breaks().size(), 1u) << c.name;
+  EXPECT_EQ(held.world.bond_breaks().front().mode, c.mode) << c.name;
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, BondFailureAtItsLimit,
                          ::testing::Values(ModeCase{BondFailure::tension, "tension"},
                                            ModeCase{BondFailure::shear, "shear"},
@@ -448,6 +463,37 @@ TEST_P(StressCriterion, AChainPulledApartBreaksWhereItsGrainsStressReachesSigmaF
   EXPECT_GT(force, params.tbn * M_PI * kDilation * kDilation);
   EXPECT_FALSE(world.bonds()[1].intact());
   EXPECT_TRUE(world.bonds()[0].intact());
+}
+
+TEST_P(StressCriterion, HeldBondsOutlastSigmaFAndBreakOnTheFirstStepReleased) {
+  // The chain above, its bonds held until the inner grains' stress is 50 % past the
+  // criterion's: none breaks; released, the overloaded ones break at the next step.
+  const BondCriterion criterion = GetParam();
+  World world = make_world(5e-7, 0.7);
+  const auto ids = row(world, 4, 0.0);
+  BondParams params = table_2_5();
+  params.criterion = criterion;
+  params.sigma_f = 1e4;
+  ASSERT_EQ(world.initialise_bonds(params, 1e-6), 3u);
+  world.set_fixed(ids[0], true);
+  world.set_fixed(ids[3], true);
+  world.state(ids[3]).v = Eigen::Vector3d(1e-3, 0, 0);
+  world.hold_bonds(true);
+  const double pitch = kFlat + 2.0 * kDilation;
+  const double volume = world.shape(world.info(ids[1]).shape).volume;
+  const double factor = criterion == BondCriterion::rankine ? 1.0 : 3.0;
+  const double breaking = factor * params.sigma_f * volume / pitch;
+  int steps = 0;
+  while (world.bonds()[1].state.normal < 1.5 * breaking && steps < 80000) {
+    world.step();
+    ++steps;
+  }
+  ASSERT_GE(world.bonds()[1].state.normal, 1.5 * breaking) << "after " << steps << " steps";
+  EXPECT_TRUE(world.bond_breaks().empty());
+  world.hold_bonds(false);
+  world.step();
+  EXPECT_FALSE(world.bond_breaks().empty());
+  EXPECT_FALSE(world.bonds()[1].intact());
 }
 
 INSTANTIATE_TEST_SUITE_P(RankineAndHydrostatic, StressCriterion,

@@ -312,6 +312,8 @@ TEST(ScenarioAsRun, TheComparisonSeesAChangeInAnyTable) {
   EXPECT_EQ(changed([](Scenario& t) { t.stages[0].wall_velocity[1].second.y() = 0; }),
             V{"stage[1].wall_velocity.top plate"});
   EXPECT_EQ(changed([](Scenario& t) { t.stages[2].load_drop = 0.5; }), V{"stage[3].load_drop"});
+  EXPECT_EQ(changed([](Scenario& t) { t.stages[1].temperature_field = "300 + x"; }), V{"stage[2].temperature_field"});
+  EXPECT_EQ(changed([](Scenario& t) { t.stages[1].hold_cracks = true; }), V{"stage[2].hold_cracks"});
   EXPECT_EQ(changed([](Scenario& t) { t.stages.pop_back(); }), V{"stage (count)"});
   EXPECT_TRUE(changed([](Scenario& t) { t.source = "elsewhere.toml"; }).empty());
 }

@@ -176,6 +176,63 @@ TEST(ThermalState, ASplitGrainsPiecesKeepItsTemperatureAndExpansion) {
   }
 }
 
+TEST(ThermalState, ASplitGrainsPiecesPressOnItsNeighboursAsItDidTheStepBefore) {
+  // Three prisms in a row, held, heated by 300 K with alpha = 1e-5 (no bonds: their
+  // contacts count the gap the expansion closed). The middle one is split across the row,
+  // on the {10-10} plane parallel to the faces its neighbours touch. Its pieces go on
+  // expanding about the parent's centroid, so each neighbour feels the same force after the
+  // split as before it. (About their own centroids, the near piece's face would stand
+  // alpha dT times the distance between the two centroids further back at once, and the
+  // force would drop by a fifth here.)
+  const geometry::ExactPolyhedron exact = geometry::ExactPolyhedron::hexagonal_prism(kSide, kThick);
+  const double alpha = 1e-5, dT = 300.0;
+  int across = 0;
+  for (const int angle : {0, 60, 120}) {
+    World world = make_world();
+    const std::vector<BodyId> ids = row(world, 3, 1e-9);  // touching: the contacts are found
+    for (BodyId id : ids) {
+      world.set_temperature(id, 300.0);
+      world.set_expansion(id, alpha * Eigen::Matrix3d::Identity());
+      world.set_fixed(id, true);
+      world.set_temperature(id, 300.0 + dT);
+    }
+    auto on = [&](std::uint32_t slot) {  // the contact force on one body
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      for (const ContactRecord& c : world.contacts()) {
+        if (c.b == slot) f += c.force;
+        if (!c.wall && c.a == slot) f -= c.force;
+      }
+      return f;
+    };
+    world.step();
+    const Eigen::Vector3d before_a = on(ids[0].index), before_c = on(ids[2].index);
+    ASSERT_GT(before_a.norm(), 0.0);
+    const RigidShape parent_shape = prism();
+    std::vector<Fragment> pieces;
+    for (const auto& slab : exact.cleavage_slabs({geometry::CleavageFamily::m_10_10, angle})) {
+      const RigidShape piece = make_rigid_shape(slab, kDilation);
+      pieces.push_back(fragment_placement(parent_shape, piece, world.add_shape(piece)));
+    }
+    const Eigen::Vector3d centre = world.state(ids[1]).x;
+    const std::vector<BodyId> split = world.split_body(ids[1], pieces);
+    ASSERT_EQ(split.size(), 2u);
+    const double apart = std::abs(world.state(split[0]).x.x() - world.state(split[1]).x.x());
+    if (apart < 0.3 * kFlat) continue;  // this plane does not cut across the row
+    ++across;
+    EXPECT_NEAR((world.state(split[0]).x - centre).norm() + (world.state(split[1]).x - centre).norm(), apart,
+                1e-9 * kFlat);
+    world.step();
+    const Eigen::Vector3d after_a = on(ids[0].index), after_c = on(ids[2].index);
+    // About the pieces' own centroids the overlap alpha dT (x_B - x_A) would lose
+    // alpha dT (apart / 2): the force (linear in it) that share.
+    EXPECT_GT(0.5 * apart / kPitch, 0.15) << "the test would not see the difference";
+    EXPECT_LT((after_a - before_a).norm(), 1e-6 * before_a.norm()) << angle << ": " << before_a.transpose() << " -> "
+                                                                   << after_a.transpose();
+    EXPECT_LT((after_c - before_c).norm(), 1e-6 * before_c.norm()) << angle;
+  }
+  EXPECT_EQ(across, 1);
+}
+
 TEST(ThermalState, ACheckpointMidRampCarriesOnBitForBit) {
   auto setup = [](World& world) {
     const std::vector<BodyId> ids = row(world, 3);

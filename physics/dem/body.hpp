@@ -55,6 +55,10 @@ struct BodyThermal {
   /// The temperature the body's (rigid) shape has its size at, K: set with its expansion.
   /// Contacts count their overlap from the gap the two grains' expansion since then opens.
   double shaped_at = 0.0;
+  /// The point its expansion is about, from the centroid, in the principal frame: zero for
+  /// a grain; for a piece of a split one, its parent's (a piece's material has moved with the
+  /// parent's expansion until the split, so its bonds and contacts go on from there).
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
 
 /// What a body is (changes only when bodies are created, split or removed).

@@ -133,6 +133,10 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     thermal_[id.index] = pt;
     thermal_[id.index].alpha = turn.transpose() * pt.alpha * turn;
     thermal_[id.index].held = false;
+    // It goes on expanding about the parent's centre: its bonds' and contacts' thermal gaps
+    // carry on from where the parent's were (about its own centroid they would jump by
+    // alpha dT times the distance between the two centroids at once).
+    thermal_[id.index].centre = states_[id.index].q.conjugate() * (ps.x + ps.q * pt.centre - x);
     ids.push_back(id);
   }
   // Each bond follows its material point to the piece that holds it.
@@ -377,7 +381,7 @@ void World::compute_forces() {
   if (thermal_on_) {
     for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
   }
-  if (bond_params_.criterion != BondCriterion::limits && !bonds_.empty()) break_by_stress();
+  if (bond_params_.criterion != BondCriterion::limits && !bonds_.empty() && !bonds_held_) break_by_stress();
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
   forces_current_ = true;
 }
@@ -758,7 +762,7 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
       const double d = t.temperature - t.shaped_at;
       if (d == 0.0) return Eigen::Vector3d::Zero();
       const Eigen::Quaterniond& q = states_[slot].q;
-      return rotated(q, t.alpha * (q.conjugate() * arm)) * d;
+      return rotated(q, t.alpha * (q.conjugate() * arm - t.centre)) * d;
     };
     Eigen::Vector3d opened = grown(b, c.point - xb);
     if (!wall) opened -= grown(a, c.point - states_[a].x);
@@ -1150,9 +1154,10 @@ void World::bond_forces(int nt) {
   // joined in thread order are in bond order).
   bond_failures_.resize(static_cast<std::size_t>(std::max(nt, 1)));
   for (auto& list : bond_failures_) list.clear();
-  // A stress criterion replaces eq. 2.15's limits (break_by_stress applies it).
+  // A stress criterion replaces eq. 2.15's limits (break_by_stress applies it); held bonds
+  // have none.
   BondParams base = bond_params_;
-  if (base.criterion != BondCriterion::limits) {
+  if (base.criterion != BondCriterion::limits || bonds_held_) {
     base.tbn = base.tbs = std::numeric_limits<double>::infinity();
     if (base.law == BondLaw::beam) base.sigma_f = std::numeric_limits<double>::infinity();
   }
@@ -1171,7 +1176,7 @@ void World::bond_forces(int nt) {
       const BodyThermal& tb = thermal_[bd.b];
       const double dta = ta.temperature - ta.bonded_at, dtb = tb.temperature - tb.bonded_at;
       if (dta == 0.0 && dtb == 0.0) return Eigen::Vector3d::Zero();
-      return rotated(sb.q, tb.alpha * bd.arm_b) * dtb - rotated(sa.q, ta.alpha * bd.arm_a) * dta;
+      return rotated(sb.q, tb.alpha * (bd.arm_b - tb.centre)) * dtb - rotated(sa.q, ta.alpha * (bd.arm_a - ta.centre)) * dta;
     };
     for (std::size_t k = block.begin; k < block.end; ++k) {
       Bond& bd = bonds_[k];

@@ -217,6 +217,10 @@ class World {
   void set_bond_strength(std::size_t k, double factor);
   [[nodiscard]] const std::vector<Bond>& bonds() const { return bonds_; }
   [[nodiscard]] BondCounts bond_counts() const;
+  /// While held, no intact bond breaks, whatever its load (a stage's hold_cracks: an elastic
+  /// probe of a cracked specimen). Not kept in checkpoints: the stage sets it.
+  void hold_bonds(bool held) { bonds_held_ = held; }
+  [[nodiscard]] bool bonds_held() const { return bonds_held_; }
   /// Every bond failure so far, in the order they happened.
   [[nodiscard]] const std::vector<BondBreak>& bond_breaks() const { return breaks_; }
 
@@ -380,6 +384,7 @@ class World {
   std::vector<BodyInfo> infos_;    // cold, indexed by slot
   std::vector<BodyThermal> thermal_;  // by slot
   bool thermal_on_ = false;           // some body expands
+  bool bonds_held_ = false;           // hold_bonds
   double conductivity_ = 0.0, heat_capacity_ = 0.0;
   std::vector<double> heat_;  // by slot: this step's conducted heat (J)
   void conduct(double h);

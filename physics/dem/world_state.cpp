@@ -13,8 +13,8 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 6;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures;
-                                           // 5: beam bonds; 6: periodic cells
+constexpr std::uint32_t kWorldLayout = 7;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures;
+                                           // 5: beam bonds; 6: periodic cells; 7: expansion centres
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -184,6 +184,7 @@ void World::save_state(StateWriter& w) const {
     w.put(t.alpha);
     w.put(t.held);
     w.put(t.shaped_at);
+    w.put(t.centre);
   }
 
   w.count(walls_.size());
@@ -382,8 +383,9 @@ void World::load_state(StateReader& r) {
     t.alpha = r.mat3();
     t.held = r.get_bool();
     t.shaped_at = r.get<double>();
+    t.centre = r.vec3();
     if (!std::isfinite(t.temperature) || !std::isfinite(t.bonded_at) || !t.alpha.allFinite() ||
-        !std::isfinite(t.shaped_at))
+        !std::isfinite(t.shaped_at) || !t.centre.allFinite())
       r.fail("a body's temperature or expansion is not finite");
   }
   std::size_t alive = 0;
