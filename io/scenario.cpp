@@ -99,7 +99,10 @@
 ///                              # required with a conductivity)
 ///   [periodic]                 # optional (needs [dynamics], shape = "voronoi"): axes = ["x",
 ///                              # "y", "z"] (any non-empty set): the specimen's box is a
-///                              # periodic cell along them, its Voronoi cells tile it so
+///                              # periodic cell along them, its Voronoi cells tile it so;
+///                              # stress_control_time (s, > 0) with stress_control_modulus
+///                              # (Pa, > 0): outside cell_strain_rate stages the cell's
+///                              # mean normal stresses relax to zero (Berendsen)
 ///   [[stage]]                  # any number, run in file order (needs [dynamics]):
 ///   name = "loading"           # required, unique
 ///   kind = "motion"            # optional: "motion" (default) | "bond"
@@ -789,7 +792,7 @@ constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_vel
                                                  "temperature_gradient_rate", "temperature_field",
                                                  "hold_cracks"};
 
-constexpr std::string_view kPeriodicKeys[] = {"axes"};
+constexpr std::string_view kPeriodicKeys[] = {"axes", "stress_control_time", "stress_control_modulus"};
 
 /// [periodic] axes = ["x", "y", "z"] (any non-empty set): the Voronoi specimen's box is a
 /// periodic cell along those axes (its cells tile it periodically there).
@@ -815,6 +818,15 @@ void read_periodic_table(const TableReader& t, Scenario& s) {
     t.fail(*node, "axes", "a periodic cell is the box of a Voronoi specimen: [specimen] shape = \"voronoi\"");
   s.periodic.enabled = true;
   s.periodic.position = {line_of(node->source()), column_of(node->source())};
+  const Number tau = t.number("stress_control_time", Range::positive(), 0.0);
+  const Number modulus = t.number("stress_control_modulus", Range::positive(), 0.0);
+  if ((tau.node == nullptr) != (modulus.node == nullptr)) {
+    const bool has_tau = tau.node != nullptr;
+    t.fail(has_tau ? *tau.node : *modulus.node, has_tau ? "stress_control_time" : "stress_control_modulus",
+           "stress control takes both stress_control_time (s) and stress_control_modulus (Pa)");
+  }
+  s.periodic.stress_control_time = tau.value;
+  s.periodic.stress_control_modulus = modulus.value;
   s.specimen.voronoi.periodic = s.periodic.axes;
 }
 

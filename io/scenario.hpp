@@ -143,6 +143,13 @@ struct PeriodicDef {
   bool enabled = false;
   std::array<bool, 3> axes{false, false, false};
   SourcePosition position;  ///< of `axes`, for messages
+  /// A stress-free cell (Berendsen's pressure control, as MD codes do it): while no
+  /// cell_strain_rate is set, each periodic axis also stretches at -sigma_ii / (modulus
+  /// time), so the cell's mean normal stresses relax to zero in about `stress_control_time`
+  /// (s); `stress_control_modulus` (Pa) estimates the cell's stiffness. 0: off (the cell
+  /// follows only the grains' mean thermal expansion and the stages' rates).
+  double stress_control_time = 0.0;
+  double stress_control_modulus = 0.0;
 };
 
 /// One [[stage]] of a staged run (sec. 2.5.2: compaction, bond initialisation, loading).

@@ -222,6 +222,10 @@ std::string scenario_to_toml(const Scenario& s) {
       if (s.periodic.axes[static_cast<std::size_t>(k)]) axes += fmt::format("{}\"{}\"", axes.empty() ? "" : ", ", "xyz"[k]);
     }
     out += fmt::format("\n[periodic]\naxes = [{}]\n", axes);
+    if (s.periodic.stress_control_time > 0.0) {
+      out += fmt::format("stress_control_time = {}\nstress_control_modulus = {}\n", num(s.periodic.stress_control_time),
+                         num(s.periodic.stress_control_modulus));
+    }
   }
 
   for (const StageDef& st : s.stages) {
@@ -402,6 +406,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("thermal.heat_capacity", a.thermal.heat_capacity, b.thermal.heat_capacity);
   d.same("periodic", a.periodic.enabled, b.periodic.enabled);
   for (std::size_t k = 0; k < 3; ++k) d.same(fmt::format("periodic.axes[{}]", k), a.periodic.axes[k], b.periodic.axes[k]);
+  d.same("periodic.stress_control_time", a.periodic.stress_control_time, b.periodic.stress_control_time);
+  d.same("periodic.stress_control_modulus", a.periodic.stress_control_modulus, b.periodic.stress_control_modulus);
 
   d.same("wall (count)", a.walls.size(), b.walls.size());
   for (std::size_t i = 0; i < std::min(a.walls.size(), b.walls.size()); ++i) {

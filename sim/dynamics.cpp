@@ -459,6 +459,12 @@ class Dynamics::Runner {
       // A periodic cell stretches at the stage's rates (and stands still without them).
       if (world_.cell()) world_.set_velocity_gradient(stage.cell_strain_rate.asDiagonal());
     }
+    // A stress-free cell outside its strain tests ([periodic] stress_control_time).
+    if (world_.cell()) {
+      const io::PeriodicDef& p = scenario_.periodic;
+      world_.set_stress_control(p.stress_control_modulus,
+                                stage.cell_strain_rate.isZero(0.0) ? p.stress_control_time : 0.0);
+    }
     for (const auto& name : stage.load_walls) r.load_walls.push_back(wall_index(name));
     if (!resume) {
       for (const auto& w : world_.walls()) r.progress.stage_origin.push_back(w.origin);

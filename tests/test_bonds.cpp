@@ -425,7 +425,30 @@ TEST(CohesiveGrainBond, StopsShortOfDecohesionIntactAndSoftened) {
   EXPECT_NEAR(-b.force.x(), 0.5 * p.sigma_c * A, 1e-3 * p.sigma_c * A);
 }
 
-class StressCriterion : public ::testing::TestWithParam<BondCriterion> {};
+class StressCriterion : public ::testing::TestWithParam<BondCriterion> {
+ protected:
+  /// Four prisms in a row bonded with the criterion (sigma_f = 1e4 Pa), the first held,
+  /// the last pulled slowly along x; `breaking`: the middle bond's tension when its grains'
+  /// stress reaches the criterion (the closed form of the first test).
+  void SetUp() override {
+    ids = row(world, 4, 0.0);
+    params = table_2_5();
+    params.criterion = GetParam();
+    params.sigma_f = 1e4;
+    ASSERT_EQ(world.initialise_bonds(params, 1e-6), 3u);
+    world.set_fixed(ids[0], true);
+    world.set_fixed(ids[3], true);
+    world.state(ids[3]).v = Eigen::Vector3d(1e-3, 0, 0);
+    const double pitch = kFlat + 2.0 * kDilation;
+    const double volume = world.shape(world.info(ids[1]).shape).volume;
+    const double factor = GetParam() == BondCriterion::rankine ? 1.0 : 3.0;
+    breaking = factor * params.sigma_f * volume / pitch;
+  }
+  World world = make_world(5e-7, 0.7);
+  std::vector<BodyId> ids;
+  BondParams params;
+  double breaking = 0.0;
+};
 
 TEST_P(StressCriterion, AChainPulledApartBreaksWhereItsGrainsStressReachesSigmaF) {
   // Four prisms in a row, the first held, the last pulled slowly along x. Each inner grain
@@ -433,18 +456,6 @@ TEST_P(StressCriterion, AChainPulledApartBreaksWhereItsGrainsStressReachesSigmaF
   // sigma_xx = 2 (pitch / 2) F / V and nothing else; the end grains carry half of it. The
   // bond between the two inner grains breaks first, when sigma_xx reaches sigma_f
   // (Rankine: the largest principal stress) or 3 sigma_f (hydrostatic: sigma_xx / 3).
-  const BondCriterion criterion = GetParam();
-  World world = make_world(5e-7, 0.7);
-  const auto ids = row(world, 4, 0.0);
-  BondParams params = table_2_5();
-  params.criterion = criterion;
-  params.sigma_f = 1e4;
-  ASSERT_EQ(world.initialise_bonds(params, 1e-6), 3u);
-  world.set_fixed(ids[0], true);
-  world.set_fixed(ids[3], true);
-  world.state(ids[3]).v = Eigen::Vector3d(1e-3, 0, 0);
-  const double pitch = kFlat + 2.0 * kDilation;
-  const double volume = world.shape(world.info(ids[1]).shape).volume;
   double force = 0.0;  // the middle bond's tension on the step before the first break
   int steps = 0;
   while (world.bond_breaks().empty() && steps < 40000) {
@@ -455,9 +466,7 @@ TEST_P(StressCriterion, AChainPulledApartBreaksWhereItsGrainsStressReachesSigmaF
   ASSERT_EQ(world.bond_breaks().size(), 1u) << "after " << steps << " steps";
   EXPECT_EQ(world.bond_breaks().front().bond, 1u);  // the inner one
   EXPECT_EQ(world.bond_breaks().front().mode, BondFailure::tension);
-  const double factor = criterion == BondCriterion::rankine ? 1.0 : 3.0;
-  const double expected = factor * params.sigma_f * volume / pitch;
-  EXPECT_NEAR(force, expected, 0.01 * expected);
+  EXPECT_NEAR(force, breaking, 0.01 * breaking);
   // With the stress criterion, eq. 2.15's limits (1000 Pa on the bond's tiny section, far
   // below this force) do not break anything.
   EXPECT_GT(force, params.tbn * M_PI * kDilation * kDilation);
@@ -468,21 +477,7 @@ TEST_P(StressCriterion, AChainPulledApartBreaksWhereItsGrainsStressReachesSigmaF
 TEST_P(StressCriterion, HeldBondsOutlastSigmaFAndBreakOnTheFirstStepReleased) {
   // The chain above, its bonds held until the inner grains' stress is 50 % past the
   // criterion's: none breaks; released, the overloaded ones break at the next step.
-  const BondCriterion criterion = GetParam();
-  World world = make_world(5e-7, 0.7);
-  const auto ids = row(world, 4, 0.0);
-  BondParams params = table_2_5();
-  params.criterion = criterion;
-  params.sigma_f = 1e4;
-  ASSERT_EQ(world.initialise_bonds(params, 1e-6), 3u);
-  world.set_fixed(ids[0], true);
-  world.set_fixed(ids[3], true);
-  world.state(ids[3]).v = Eigen::Vector3d(1e-3, 0, 0);
   world.hold_bonds(true);
-  const double pitch = kFlat + 2.0 * kDilation;
-  const double volume = world.shape(world.info(ids[1]).shape).volume;
-  const double factor = criterion == BondCriterion::rankine ? 1.0 : 3.0;
-  const double breaking = factor * params.sigma_f * volume / pitch;
   int steps = 0;
   while (world.bonds()[1].state.normal < 1.5 * breaking && steps < 80000) {
     world.step();

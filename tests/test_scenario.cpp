@@ -948,7 +948,19 @@ gravity = [0, 0, 0]
   EXPECT_TRUE(s.stages.at(0).measure_modulus);
   const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
   EXPECT_TRUE(scenario_differences(s, again).empty());
+  const Scenario controlled =
+      parse_scenario(with("[periodic]\naxes = [\"x\"]\nstress_control_time = 1e-7\nstress_control_modulus = 4e11\n", ""),
+                     "c.toml");
+  EXPECT_EQ(controlled.periodic.stress_control_time, 1e-7);
+  EXPECT_EQ(controlled.periodic.stress_control_modulus, 4e11);
+  EXPECT_TRUE(scenario_differences(controlled, parse_scenario(scenario_to_toml(controlled), "c2.toml")).empty());
   // Errors, each at its key.
+  const std::string half = with("[periodic]\naxes = [\"x\"]\nstress_control_time = 1e-7\n", "");
+  EXPECT_SCENARIO_ERROR(half, line_of_last(half, "stress_control_time"), "periodic.stress_control_time",
+                        "both stress_control_time (s) and stress_control_modulus (Pa)");
+  const std::string negative =
+      with("[periodic]\naxes = [\"x\"]\nstress_control_time = 1e-7\nstress_control_modulus = -4e11\n", "");
+  EXPECT_SCENARIO_ERROR(negative, line_of_last(negative, "stress_control_modulus"), "periodic.stress_control_modulus", "");
   const std::string bad_axis = with("[periodic]\naxes = [\"x\", \"w\"]\n", "");
   EXPECT_SCENARIO_ERROR(bad_axis, line_of_last(bad_axis, "axes"), "periodic.axes", "element 2");
   const std::string twice = with("[periodic]\naxes = [\"y\", \"y\"]\n", "");

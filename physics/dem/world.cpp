@@ -860,6 +860,15 @@ void World::step() {
       }
       if (volume > 0.0) gradient_ += strain / (volume * h);
     }
+    if (stress_tau_ > 0.0 && forces_current_) {
+      // Berendsen: the axes left free relax their mean normal stress (a cell in tension
+      // shrinks, one in compression grows).
+      const Eigen::Matrix3d sigma = cell_stress();
+      const Eigen::Matrix3d set = cell_.velocity_gradient();
+      for (int k = 0; k < 3; ++k) {
+        if (cell_.periodic(k) && set(k, k) == 0.0) gradient_(k, k) -= sigma(k, k) / (stress_modulus_ * stress_tau_);
+      }
+    }
     moving_cell_ = !gradient_.isZero(0.0);
   }
   if (!forces_current_) compute_forces();

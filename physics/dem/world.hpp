@@ -271,6 +271,15 @@ class World {
   /// The cell's velocity gradient L (1/s; PeriodicCell): from the next step on the cell and
   /// the bodies' centroids follow dH/dt = L H. Throws std::logic_error without a cell.
   void set_velocity_gradient(const Eigen::Matrix3d& l);
+  /// Berendsen's pressure control for the cell: on each periodic axis whose set rate is
+  /// zero, the cell also stretches at -sigma_ii / (modulus tau) each step (sigma from the
+  /// last force evaluation), so its mean normal stresses relax to zero with time constant
+  /// about tau when `modulus` is its stiffness along the axis. tau = 0: off. Not kept in
+  /// checkpoints (a stage sets it).
+  void set_stress_control(double modulus, double tau) {
+    stress_modulus_ = modulus;
+    stress_tau_ = tau;
+  }
   /// The average stress in the cell from the last force evaluation (Pa, tension positive):
   /// (1/V) sum over body contacts and intact bonds of -(x_B + shift - x_A) (x) F_B, plus
   /// (point - x_B) (x) F_B for wall contacts, symmetrised; V the cell's volume. It is the
@@ -399,6 +408,7 @@ class World {
   bool cell_on_ = false;
   Eigen::Matrix3d gradient_ = Eigen::Matrix3d::Zero();  // this step's: the cell's L plus its thermal rate
   bool moving_cell_ = false;                            // gradient_ is not zero
+  double stress_modulus_ = 0.0, stress_tau_ = 0.0;      // set_stress_control
   Eigen::Matrix3d cell_at_search_ = Eigen::Matrix3d::Zero();  // the cell vectors at the last search
   std::vector<Eigen::Vector3i> pair_image_;  // by pair, in a cell: B's nearest image (fixed between searches)
   std::vector<std::vector<Eigen::Vector3d>> chunk_shift_;  // in a cell: per chunk_pending_ entry, B's shift
