@@ -487,6 +487,25 @@ class Dynamics::Runner {
     r.i = r.progress.st.steps + 1;  // 1, or the step after the checkpoint
   }
 
+  /// Sets each of `ids` not held by a quench to `kelvin(id)`; a value not above 0 K stops the
+  /// run naming the stage, its key, the grain, its centroid and the step.
+  template <class F>
+  void prescribe_temperatures(const StageDef& stage, const char* key, const std::vector<physics::BodyId>& ids,
+                              F&& kelvin) {
+    for (const physics::BodyId id : ids) {
+      if (world_.slot_thermal()[id.index].held) continue;
+      const double t = kelvin(id);
+      if (!(t > 0.0)) {
+        const Eigen::Vector3d& x = world_.state(id).x;
+        throw std::runtime_error(fmt::format("stage '{}': {} gives {:.4g} K at grain {} (x = [{:.6g}, {:.6g}, {:.6g}] m) "
+                                             "at step {} of the stage (t = {:.4g} s); keep every grain above 0 K",
+                                             stage.name, key, t, world_.info(id).grain_id, x.x(), x.y(), x.z(),
+                                             stage_run_->progress.st.steps + 1, world_.time()));
+      }
+      world_.set_temperature(id, t);
+    }
+  }
+
   /// Step i of the stage under way: the step, its fracture check, the events, the
   /// histories, frames and hooks.
   void step_once() {
@@ -518,32 +537,18 @@ class Dynamics::Runner {
       Eigen::Vector3d centre = Eigen::Vector3d::Zero();
       for (const physics::BodyId id : ids) centre += world_.state(id).x / static_cast<double>(ids.size());
       const double h = scenario_.dynamics.dt;
-      for (const physics::BodyId id : ids) {
-        if (world_.slot_thermal()[id.index].held) continue;
-        const double t = world_.temperature(id) + h * stage.temperature_gradient_rate.dot(world_.state(id).x - centre);
-        if (!(t > 0.0)) {
-          throw std::runtime_error(fmt::format("stage '{}': the temperature_gradient_rate field falls to {:.4g} K at "
-                                               "grain {} (t = {:.4g} s); keep every grain above 0 K",
-                                               stage.name, t, world_.info(id).grain_id, world_.time()));
-        }
-        world_.set_temperature(id, t);
-      }
+      prescribe_temperatures(stage, "temperature_gradient_rate", ids, [&](physics::BodyId id) {
+        return world_.temperature(id) + h * stage.temperature_gradient_rate.dot(world_.state(id).x - centre);
+      });
     }
     if (r.temperature_field) {
       // The stage's prescribed field T(x, y, z, t) at each grain's centroid, t at the end of
-      // this step (seconds since the stage began; held grains keep theirs).
+      // this step (seconds since the stage began).
       const double t = static_cast<double>(st.steps + 1) * scenario_.dynamics.dt;
-      for (const physics::BodyId id : world_.body_ids()) {
-        if (world_.slot_thermal()[id.index].held) continue;
+      prescribe_temperatures(stage, "temperature_field", world_.body_ids(), [&](physics::BodyId id) {
         const Eigen::Vector3d& x = world_.state(id).x;
-        const double kelvin = (*r.temperature_field)(x.x(), x.y(), x.z(), t);
-        if (!(kelvin > 0.0)) {
-          throw std::runtime_error(fmt::format("stage '{}': temperature_field gives {:.4g} K at grain {} (x = [{:.6g}, "
-                                               "{:.6g}, {:.6g}] m, t = {:.4g} s into the stage); keep every grain above 0 K",
-                                               stage.name, kelvin, world_.info(id).grain_id, x.x(), x.y(), x.z(), t));
-        }
-        world_.set_temperature(id, kelvin);
-      }
+        return (*r.temperature_field)(x.x(), x.y(), x.z(), t);
+      });
     }
     guard_.before_step(world_);
     bool completed = true;

@@ -220,7 +220,6 @@ class World {
   /// While held, no intact bond breaks, whatever its load (a stage's hold_cracks: an elastic
   /// probe of a cracked specimen). Not kept in checkpoints: the stage sets it.
   void hold_bonds(bool held) { bonds_held_ = held; }
-  [[nodiscard]] bool bonds_held() const { return bonds_held_; }
   /// Every bond failure so far, in the order they happened.
   [[nodiscard]] const std::vector<BondBreak>& bond_breaks() const { return breaks_; }
 
