@@ -22,6 +22,7 @@ packages=(
   libassimp-dev libopenvdb-dev libboost-iostreams-dev libtbb-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev libssl-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin  # `mpirun -np N cleave run` (parallel/)
   clang libclang-rt-14-dev libomp-dev  # sanitizer/fuzz build: ASan, UBSan, libFuzzer, OpenMP
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib  # import cleave
 )

@@ -23,6 +23,10 @@ struct RunOptions {
   std::filesystem::path restart;
   /// Overrides [output] checkpoint_every (a checkpoint every N steps; 0: only on a signal).
   std::optional<std::uint64_t> checkpoint_every;
+  /// Processes mpirun started (0: not started by mpirun). From 1 up the run steps as one
+  /// process of a domain decomposition (parallel::MpiDomain), which gives one answer for any
+  /// number of processes.
+  int mpi_size = 0;
 };
 
 /// Builds the specimen, splits every grain into its cleavage slabs and writes the result

@@ -3,8 +3,24 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cstdlib>
+#include <memory>
+
 #include "cleave_version.hpp"
 #include "commands.hpp"
+#ifdef CLEAVE_HAVE_MPI
+#include "parallel/mpi_domain.hpp"
+#endif
+
+namespace {
+/// The number of processes mpirun started (1 when it did not), from its environment.
+int mpirun_size() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    if (const char* s = std::getenv(v)) return std::max(1, std::atoi(s));
+  }
+  return 1;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace cleave::app;
@@ -116,6 +132,26 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only the result");
 
   CLI11_PARSE(app, argc, argv);
+
+  // Several processes: `cleave run` splits the specimen among them (parallel/); nothing
+  // else does, and a build without MPI says so rather than running N copies.
+  const int processes = mpirun_size();
+#ifdef CLEAVE_HAVE_MPI
+  std::unique_ptr<cleave::parallel::MpiSession> mpi;
+  if (cleave::parallel::launched_by_mpirun()) mpi = std::make_unique<cleave::parallel::MpiSession>(argc, argv);
+  if (processes > 1 && !run_cmd->parsed() && !restart_cmd->parsed()) {
+    if (!mpi || mpi->rank() == 0)
+      fmt::print(stderr, "cleave: error: only `cleave run` runs on several MPI processes (mpirun -np {})\n", processes);
+    return 2;
+  }
+  run.mpi_size = restart.mpi_size = mpi ? mpi->size() : 0;  // mpirun -np 1 too: the same code path
+#else
+  if (processes > 1) {
+    fmt::print(stderr, "cleave: error: started by mpirun with {} processes, but this cleave was built without "
+                       "MPI (install libopenmpi-dev and rebuild with -DCLEAVE_MPI=ON)\n", processes);
+    return 2;
+  }
+#endif
 
   if (run_cmd->parsed()) {
     if (run.scenario.empty() == run.restart.empty()) {

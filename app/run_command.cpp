@@ -10,6 +10,15 @@
 #include "run_control.hpp"
 #include "sim/simulation.hpp"
 
+#ifdef CLEAVE_HAVE_MPI
+#include <unistd.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "parallel/mpi_domain.hpp"
+#endif
+
 namespace cleave::app {
 
 int run_command(const RunOptions& options) {
@@ -23,6 +32,30 @@ int run_command(const RunOptions& options) {
   so.mesh_layout = options.mesh_layout;
   so.stop_requested = [] { return stop_signal() != 0; };
   so.stop_reason = [] { return fmt::format("stopped by {}", signal_name(stop_signal())); };
+
+#ifdef CLEAVE_HAVE_MPI
+  // Several processes (mpirun -np N): each steps its region of the specimen; the first
+  // writes the result folder, the others work in a scratch folder removed at the end.
+  std::unique_ptr<parallel::MpiDomain> domain;
+  std::filesystem::path scratch;
+  struct Cleanup {
+    std::filesystem::path* dir;
+    ~Cleanup() {
+      std::error_code ec;
+      if (!dir->empty()) std::filesystem::remove_all(*dir, ec);
+    }
+  } cleanup{&scratch};
+  if (options.mpi_size >= 1) {
+    domain = std::make_unique<parallel::MpiDomain>();
+    so.domain = domain.get();
+    if (domain->rank() != 0) {
+      scratch = std::filesystem::temp_directory_path() /
+                fmt::format("cleave-rank{}-{}", domain->rank(), static_cast<long>(::getpid()));
+      so.out = scratch;
+      so.quiet = true;
+    }
+  }
+#endif
 
   std::unique_ptr<sim::Simulation> run;
   try {
@@ -49,6 +82,24 @@ int run_command(const RunOptions& options) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
     return 1;
   }
+#ifdef CLEAVE_HAVE_MPI
+  if (domain) {
+    // What the decomposition cost, per process (a collective call: every process is here).
+    const auto stats = domain->all_stats();
+    if (domain->rank() == 0 && !options.quiet) {
+      const std::uint64_t steps = report.dynamics ? report.dynamics->steps : 0;
+      fmt::print(stderr, "cleave: {} MPI processes (halo {:.4g} m):\n", stats.size(), domain->halo());
+      for (std::size_t r = 0; r < stats.size(); ++r) {
+        const auto& st = stats[r];
+        fmt::print(stderr,
+                   "  rank {}: {} bodies owned, {} ghosts; {} re-partitions ({} re-cut, {:.3f} s); "
+                   "{} bodies migrated; MPI {:.3f} s, {:.1f} kB sent per step\n",
+                   r, st.owned, st.ghosts, st.repartitions, st.rebalances, st.rebalance_seconds, st.migrated,
+                   st.communication_seconds, steps ? static_cast<double>(st.bytes_sent) / 1e3 / static_cast<double>(steps) : 0.0);
+      }
+    }
+  }
+#endif
   switch (report.status) {
     case sim::RunReport::Status::finished:
       return 0;

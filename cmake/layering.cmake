@@ -11,7 +11,7 @@
 
 set(CLEAVE_LAYER_FOLDERS
   geometry physics/bonds physics/dem physics/lattice physics/transgranular validation
-  io sim app python)
+  io sim parallel app python)
 
 function(cleave_check_layer folder)
   cmake_parse_arguments(L "" "ROOT" "ALLOWS" ${ARGN})

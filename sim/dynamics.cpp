@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -283,6 +284,20 @@ class Dynamics::Runner {
           "time_s,step,stage,grain,parent,pieces,plane,nx,ny,nz,x_m,y_m,z_m,mean_stress_Pa,sigma_Pa,"
           "tau_Pa,K_I_Pa_sqrt_m,K_II_Pa_sqrt_m,criterion\n";
     }
+    if (hooks_.domain) {
+      // One process of several (mpirun): what the decomposition does not carry yet is refused
+      // before anything runs.
+      auto refuse = [](const std::string& what) {
+        throw std::invalid_argument(what + " is not yet supported on several MPI processes; run it on one");
+      };
+      if (scenario_.thermal.enabled) refuse("[thermal]");
+      if (world_.cell()) refuse("a periodic cell ([periodic])");
+      if (scenario_.dynamics.manifold_tolerance > 0.0) refuse("[dynamics] manifold_tolerance > 0");
+      if (scenario_.bond.enabled && scenario_.bond.params.criterion != physics::BondCriterion::limits)
+        refuse("[bond] criterion = \"" + std::string(scenario_.bond.params.criterion == physics::BondCriterion::rankine ? "rankine" : "hydrostatic") + "\"");
+      hooks_.domain->attach(world_);
+      root_ = hooks_.domain->rank() == 0;
+    }
   }
 
   /// Where the run starts: its first frame, or the loop's state of a checkpoint.
@@ -365,6 +380,7 @@ class Dynamics::Runner {
     advance(std::numeric_limits<std::uint64_t>::max());  // to the end: it stops only when done
     // A blown-up state with non-finite values makes no frame; the last good one stays.
     const bool garbage = sum_.ending == RunEnding::blew_up && !finite_state();
+    if (domain()) domain()->gather_all(world_, true);  // every process holds the whole world
     if (world_.steps() != last_frame_step_ && !garbage) write_frame();
     write_tables();
     sum_.steps = world_.steps();
@@ -438,7 +454,7 @@ class Dynamics::Runner {
                      stage.bond_distance * 1e3);
         progress_shown_ = false;
       }
-      record(max_overlap(world_), std::nullopt);
+      record(largest_overlap(), std::nullopt);
       write_frame();
       sum_.stages.push_back(st);
       current_ = nullptr;
@@ -561,17 +577,32 @@ class Dynamics::Runner {
       completed = false;
     }
     ++st.steps;
-    if (const auto blow_up = guard_.check(world_, completed)) {
+    std::optional<std::string> failure;
+    if (const auto blow_up = guard_.check(world_, completed)) failure = physics::describe(*blow_up, stable_dt_);
+    std::optional<double> overlap_now;  // several processes: read with the blow-up and the stop
+    bool stop_now = false;
+    if (domain()) {
+      // One reduction a step for what every process must agree on: the largest overlap,
+      // a stop request, and whether (and where first) the step blew up.
+      stop_now = hooks_.stop_requested && hooks_.stop_requested();
+      std::array<double, 3> v{max_overlap(world_), stop_now ? 1.0 : 0.0,
+                              failure ? static_cast<double>(domain()->size() - domain()->rank()) : 0.0};
+      domain()->max(v);
+      overlap_now = v[0];
+      stop_now = v[1] > 0.0;
+      if (v[2] > 0.0) failure = domain()->first(failure);  // the lowest process that saw one
+    }
+    if (failure) {
       sum_.ending = RunEnding::blew_up;
-      sum_.failure = physics::describe(*blow_up, stable_dt_);
-      record(max_overlap(world_), std::nullopt);
+      sum_.failure = *failure;
+      record(overlap_now ? *overlap_now : max_overlap(world_), std::nullopt);
       halt = stopped_ = true;
       return;
     }
     if (book_ && !stage.hold_cracks && world_.steps() % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0) {
       st.splits += split_grains();
     }
-    const double overlap = max_overlap(world_);
+    const double overlap = overlap_now ? *overlap_now : max_overlap(world_);
     sum_.max_overlap = std::max(sum_.max_overlap, overlap);
     const auto [load, closure] = machine_reading(load_walls, stage_origin);
     if (!load_walls.empty() && load > st.peak_load) {
@@ -612,25 +643,31 @@ class Dynamics::Runner {
                          [this] { return encode_run_state(); }};
     if (hooks_.on_checkpoint && hooks_.checkpoint_every > 0 &&
         world_.steps() % hooks_.checkpoint_every == 0) {
+      if (domain()) domain()->gather_all(world_);  // the whole world into the checkpoint
       hooks_.on_checkpoint(point);
     }
-    if (hooks_.stop_requested && hooks_.stop_requested()) {
+    // Several processes stop after the same step (the request was read with the overlap).
+    const bool stop = domain() ? stop_now : hooks_.stop_requested && hooks_.stop_requested();
+    if (stop) {
       sum_.ending = RunEnding::interrupted;
       // The checkpoint first: a restart continues the histories as if never stopped.
-      if (hooks_.on_interrupt) hooks_.on_interrupt(point);
+      if (hooks_.on_interrupt) {
+        if (domain()) domain()->gather_all(world_);
+        hooks_.on_interrupt(point);
+      }
       if (i % r.log_every != 0 && i != limit && !event) {
         record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
       }
       halt = stopped_ = true;
     }
-    if (!quiet_ && (seconds_since(r.last_print) > 1.0 || i == limit || event || halt)) {
+    if (!quiet_ && root_ && (seconds_since(r.last_print) > 1.0 || i == limit || event || halt)) {
       r.last_print = std::chrono::steady_clock::now();
       const double elapsed = seconds_since(r.t0);
       const double eta = elapsed / static_cast<double>(i) * static_cast<double>(limit - i);
       std::string line = fmt::format(
           "\r  stage {:<12} step {}/{}  t = {:.4g} s  bodies {}  contacts {}  KE {:.3g} J",
-          stage.name, i, limit, world_.time(), world_.body_count(), world_.contacts().size(),
-          world_.kinetic_energy());
+          stage.name, i, limit, world_.time(), world_.body_count(),
+          domain() ? last_contacts_ : world_.contacts().size(), domain() ? last_kinetic_ : world_.kinetic_energy());
       if (!world_.bonds().empty()) {
         line += fmt::format("  bonds {}/{} broken", world_.bond_counts().broken(), world_.bonds().size());
       }
@@ -845,6 +882,7 @@ class Dynamics::Runner {
                                                   world_.shape(info.shape).bounding_radius());
         if (scenario_.dynamics.dt > limit) {
           piece_warned_ = true;
+          if (!root_) break;  // several processes: the first says it
           fmt::print(stderr,
                      "cleave: warning: step {}: grain {} split into a piece of {:.3g} kg (smallest principal "
                      "moment {:.3g} kg m^2) whose stable step by the grains' bound is {:.3g} s, below dt = "
@@ -867,11 +905,10 @@ class Dynamics::Runner {
     return true;
   }
 
-  bool settled() const {
-    const double released = pe0_ - world_.potential_energy();
+  bool settled() {
+    const double released = pe0_ - potential_energy();
     const double ratio = scenario_.dynamics.settle_ratio;
-    return ratio > 0.0 && released > 0.0 && !world_.contacts().empty() &&
-           world_.kinetic_energy() < ratio * released;
+    return ratio > 0.0 && released > 0.0 && contact_count() > 0 && kinetic_energy() < ratio * released;
   }
 
   /// Every body touches another body (its dilated surface overlaps another's).
@@ -883,10 +920,45 @@ class Dynamics::Runner {
       if (touched_.size() < top) touched_.resize(top, 0);
       touched_[c.a] = touched_[c.b] = 1;
     }
+    bool all = true;
     for (const physics::BodyId id : world_.body_ids()) {
-      if (id.index >= touched_.size() || !touched_[id.index]) return false;
+      if (!world_.owns(id.index)) continue;  // one process of several answers for its own bodies
+      if (id.index >= touched_.size() || !touched_[id.index]) {
+        all = false;
+        break;
+      }
     }
-    return true;
+    return domain() ? !domain()->any(!all) : all;
+  }
+
+  // Readings of the whole world; on several processes each adds its own bodies' share
+  // (exactly, so the sums are the same on any number of them). Every process calls them at
+  // the same points of the run.
+  physics::Domain* domain() const { return world_.domain(); }
+  double kinetic_energy() const {
+    if (!domain()) return world_.kinetic_energy();
+    physics::ExactSum e;
+    for (const physics::BodyId id : world_.body_ids()) {
+      if (!world_.owns(id.index)) continue;
+      const physics::BodyState& s = world_.state(id);
+      e.add(0.5 * world_.info(id).mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L));
+    }
+    return domain()->sum(e);
+  }
+  double potential_energy() const {
+    if (!domain()) return world_.potential_energy();
+    physics::ExactSum e;
+    for (const physics::BodyId id : world_.body_ids()) {
+      if (world_.owns(id.index)) e.add(-world_.info(id).mass * world_.settings().gravity.dot(world_.state(id).x));
+    }
+    return domain()->sum(e);
+  }
+  std::size_t contact_count() const {
+    return domain() ? domain()->count(world_.owned_contact_count()) : world_.contacts().size();
+  }
+  double largest_overlap() const {
+    const double mine = max_overlap(world_);
+    return domain() ? domain()->max(mine) : mine;
   }
 
   std::size_t wall_index(const std::string& name) const {
@@ -915,8 +987,10 @@ class Dynamics::Runner {
   /// One row of every history; `reading` is the stage's (load, load-point displacement)
   /// when it has load walls.
   void record(double overlap, std::optional<std::pair<double, double>> reading) {
-    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), world_.kinetic_energy(),
-                           world_.potential_energy(), world_.contacts().size(), overlap, stage_);
+    last_kinetic_ = kinetic_energy();
+    last_contacts_ = contact_count();
+    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), last_kinetic_,
+                           potential_energy(), last_contacts_, overlap, stage_);
     walls_ += fmt::format("{:.9g}", world_.time());
     loads_ += fmt::format("{:.9g},{},{}", world_.time(), world_.steps(), stage_);
     for (std::size_t i = 0; i < world_.walls().size(); ++i) {
@@ -958,6 +1032,7 @@ class Dynamics::Runner {
   }
 
   void write_frame() {
+    if (domain()) domain()->gather_all(world_, true);  // the whole world, its contacts too
     const std::string stem = fmt::format("{:06d}", sum_.frames);
     const fs::path dir = "frames";
     io::write_vtp(out_ / dir / ("bodies_" + stem + ".vtp"), body_frame(world_, specimen_));
@@ -1171,6 +1246,9 @@ class Dynamics::Runner {
   const geometry::Specimen& specimen_;
   fs::path out_;
   bool quiet_;
+  bool root_ = true;  // the process that prints (the first of several)
+  double last_kinetic_ = 0.0;       // the last history row's, for the progress line
+  std::size_t last_contacts_ = 0;
   std::uint64_t max_steps_;
   RunHooks hooks_;
   physics::StepGuard guard_;

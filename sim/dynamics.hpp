@@ -78,6 +78,10 @@ struct RunHooks {
   /// The step guard's limit on a body's movement in one step, as a fraction of its
   /// bounding radius (physics/dem/step_guard.hpp).
   double max_move_fraction = 0.1;
+  /// One process of a domain decomposition (`mpirun -np N cleave run`; parallel::MpiDomain):
+  /// the run attaches the world to it and reads the whole world's energies, contacts and
+  /// events through it. Null: the whole world in this process.
+  physics::Domain* domain = nullptr;
 };
 
 struct DynamicsSummary {

@@ -278,6 +278,8 @@ void Simulation::State::make_dynamics() {
   meta = io::CheckpointMeta{CLEAVE_VERSION, scenario.source, input, max_steps,
                             static_cast<std::int64_t>(record->started().time_since_epoch().count())};
   auto save = [this](const RunPoint& p) {
+    // Several processes: the first writes the whole world (gathered by the run loop).
+    if (options.domain && options.domain->rank() != 0) return;
     const fs::path checkpoint_path = out / io::kCheckpointName;
     const auto t0 = std::chrono::steady_clock::now();
     try {
@@ -296,6 +298,7 @@ void Simulation::State::make_dynamics() {
   hooks.checkpoint_every = options.checkpoint_every.value_or(scenario.output.checkpoint_every);
   if (hooks.checkpoint_every > 0) hooks.on_checkpoint = save;
   hooks.on_interrupt = save;
+  hooks.domain = options.domain;
   std::optional<RunResume> resume;
   if (checkpoint) {
     resume.emplace(RunResume{std::move(checkpoint->world), std::move(checkpoint->book),

@@ -42,6 +42,8 @@ struct SimulationOptions {
   std::function<bool()> stop_requested;
   /// Why it stopped, for run.toml ("stopped by SIGINT").
   std::function<std::string()> stop_reason;
+  /// One process of several (RunHooks::domain); the caller keeps it alive.
+  physics::Domain* domain = nullptr;
 };
 
 /// How a run ended.

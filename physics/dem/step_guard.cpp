@@ -32,6 +32,7 @@ std::string number(double x) {
 void StepGuard::before_step(const World& world) {
   poses_.clear();
   for (const BodyId id : world.body_ids()) {
+    if (!world.owns(id.index)) continue;  // one process of several watches its own bodies
     const BodyState& s = world.state(id);
     poses_.push_back({id, s.x, s.q});
   }
@@ -50,6 +51,7 @@ std::optional<BlowUp> StepGuard::check(const World& world, bool step_completed) 
   };
   std::size_t k = 0;  // poses_ and body_ids() are both in slot order
   for (const BodyId id : world.body_ids()) {
+    if (!world.owns(id.index)) continue;
     const BodyState& s = world.state(id);
     if (const char* part = non_finite_part(s)) {
       BlowUp b = blow_up(id);

@@ -43,6 +43,14 @@ BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x
     thermal_.emplace_back();
   }
   thermal_[slot] = BodyThermal{};
+  if (!roles_.empty()) {
+    // One process of several: a new body (a split's piece) is everywhere, as the whole
+    // world's; its owner is settled by the re-partition this starts (split_body sets it
+    // meanwhile).
+    roles_.resize(states_.size(), Role::dormant);
+    roles_[slot] = Role::dormant;
+    bodies_changed_ = true;
+  }
   const RigidShape& s = shapes_[shape];
   BodyInfo& b = infos_[slot];
   b.shape = shape;
@@ -119,6 +127,7 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     if (o.a == old_slot) remember(o.b, o.overlap);
     if (o.b == old_slot) remember(o.a, o.overlap);
   }
+  const Role parent_role = role(old_slot);
   remove_body(parent);  // drops the parent's bonds, offsets and contact history
   std::vector<BodyId> ids;
   for (const Fragment& f : pieces) {
@@ -127,6 +136,7 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     const BodyId id = add_body(f.shape, rho, x, ps.q * f.turn, ps.v + ps.w.cross(x - ps.x), ps.w,
                                pi.grain_id);
     infos_[id.index].fixed = pi.fixed;
+    if (!roles_.empty()) roles_[id.index] = parent_role;  // the parent's owner holds its pieces
     // The piece is of the parent's material: its temperature, and its expansion tensor
     // turned into the piece's own frame.
     const Eigen::Matrix3d turn = f.turn.toRotationMatrix();
@@ -330,9 +340,11 @@ int thread_count(int wanted) {
 }  // namespace
 
 void World::compute_forces() {
+  if (domain_) domain_->before_forces(*this);  // ghosts current, roles set
+  breaks_at_step_ = breaks_.size();
   live_slots_.clear();
   for (std::uint32_t i = 0; i < states_.size(); ++i) {
-    if (infos_[i].alive) live_slots_.push_back(i);
+    if (infos_[i].alive && role(i) != Role::dormant) live_slots_.push_back(i);
   }
   posed_.resize(states_.size());
   const int nt = thread_count(settings_.threads);
@@ -383,7 +395,41 @@ void World::compute_forces() {
   }
   if (bond_params_.criterion != BondCriterion::limits && !bonds_.empty() && !bonds_held_) break_by_stress();
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
+  if (domain_) domain_->after_forces(*this);
   forces_current_ = true;
+}
+
+void World::set_domain(Domain* domain, std::vector<Role> roles) {
+  domain_ = domain;
+  set_roles(std::move(roles));
+}
+
+void World::set_roles(std::vector<Role> roles) {
+  if (!roles.empty() && roles.size() != states_.size())
+    throw std::invalid_argument("set_roles: one role per body slot");
+  roles_ = std::move(roles);
+  // Another set of bodies here: the pair list and its caches are searched afresh.
+  pairs_current_ = false;
+  near_.clear();
+}
+
+std::vector<World::WallForceAt> World::wall_forces() const {
+  std::vector<WallForceAt> out;
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;  // the walls' lists follow
+  const std::size_t begin = chunks < part_start_.size() ? part_start_[chunks] : pending_count();
+  for_pending(begin, pending_count(), [&](std::size_t k, const Pending& p) {
+    if ((p.key.a & kWallFlag) != 0) out.push_back({p.key.a & ~kWallFlag, p.key.b, k, forces_[k].force});
+  });
+  return out;
+}
+
+std::size_t World::owned_contact_count() const {
+  std::size_t n = 0;
+  for_pending(0, pending_count(), [&](std::size_t, const Pending& p) {
+    const bool wall = (p.key.a & kWallFlag) != 0;
+    n += owns(wall ? p.key.b : p.key.a);
+  });
+  return n;
 }
 
 void World::body_contacts(int nt, bool stale) {
@@ -431,6 +477,8 @@ void World::body_contacts(int nt, bool stale) {
         b_hi += t;
       }
       if (((a.lo.array() - reach > b_hi.array()) || (b_lo.array() - reach > a.hi.array())).any()) continue;
+      // One process of a decomposition: the pairs of two ghosts are their owners' to evaluate.
+      if (!roles_.empty() && !owns(live_slots_[pairs_[p].first]) && !owns(live_slots_[pairs_[p].second])) continue;
       if (cell_on_) pair_image_[kept] = pair_image_[p];
       pairs_[kept++] = pairs_[p];
     }
@@ -621,6 +669,7 @@ void World::wall_contacts(int nt) {
       const std::uint32_t a = w | kWallFlag;
       for (std::size_t k = begin; k < end; ++k) {
         const std::uint32_t slot = live_slots_[k];
+        if (!owns(slot)) continue;  // a ghost's wall contacts are its owner's
         const PosedShape& p = posed_[slot];
         if (!wall_within_reach(wall, p.centre, shapes_[infos_[slot].shape].bounding_radius())) continue;
         for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
@@ -876,7 +925,7 @@ void World::step() {
   const auto slots = static_cast<std::ptrdiff_t>(states_.size());
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < slots; ++i) {
-    if (!infos_[i].alive) continue;
+    if (!infos_[i].alive || !owns(static_cast<std::uint32_t>(i))) continue;
     if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
     drift(states_[i], infos_[i], h);  // sets w
   }
@@ -895,7 +944,7 @@ void World::step() {
   compute_forces();
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < slots; ++i) {
-    if (!infos_[i].alive || infos_[i].fixed) continue;
+    if (!infos_[i].alive || infos_[i].fixed || !owns(static_cast<std::uint32_t>(i))) continue;
     kick(states_[i], infos_[i], 0.5 * h);
   }
   if (conductivity_ > 0.0) conduct(h);
@@ -1077,6 +1126,27 @@ void World::conduct(double h) {
 std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   if (!bonds_.empty()) throw std::logic_error("initialise_bonds: the bodies are already bonded");
   if (!(distance >= 0.0)) throw std::invalid_argument("initialise_bonds: distance must be >= 0");
+  if (domain_) {
+    // Bonding happens once: every process makes the whole world's bonds from the whole
+    // world's state, as one process would (the same list everywhere), then goes back to
+    // its own bodies.
+    if (params.criterion != BondCriterion::limits)
+      throw std::invalid_argument("initialise_bonds: a stress criterion is single-process for now");
+    Domain* domain = domain_;
+    domain->gather_all(*this);
+    std::vector<Role> roles = std::move(roles_);
+    domain_ = nullptr;
+    roles_.clear();
+    pairs_current_ = false;
+    near_.clear();
+    // Every body posed and searched afresh (the histories this evaluation advances are
+    // cleared below, as after any bonding).
+    forces_current_ = false;
+    const std::size_t n = initialise_bonds(params, distance);
+    domain_ = domain;
+    set_roles(std::move(roles));
+    return n;
+  }
   if (!forces_current_) compute_forces();  // posed shapes and live slots of this state
   for (std::uint32_t slot : live_slots_) posed_[slot].update_geometry();  // a lazy pose may have skipped some
   std::vector<BoundingSphere> spheres;
@@ -1189,6 +1259,14 @@ void World::bond_forces(int nt) {
     };
     for (std::size_t k = block.begin; k < block.end; ++k) {
       Bond& bd = bonds_[k];
+      if (!roles_.empty()) {
+        // One process of a decomposition evaluates the bonds of the bodies it owns (those
+        // across its boundary as their other owner does, bit for bit).
+        const Role ra = roles_[bd.a], rb = roles_[bd.b];
+        if (ra != Role::owned && rb != Role::owned) continue;
+        if (bd.intact() && (ra == Role::dormant || rb == Role::dormant))
+          throw std::logic_error("a bond reaches past this process's ghosts (the halo is too thin)");
+      }
       const BodyState& sa = states_[bd.a];
       const BodyState& sb = states_[bd.b];
       if (!bd.intact()) {

@@ -6,22 +6,68 @@
 
 #include <Eigen/Dense>
 #include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 
 #include "physics/dem/body.hpp"
 #include "physics/bonds/bond_law.hpp"
 #include "physics/dem/contact_law.hpp"
+#include "physics/dem/exact_sum.hpp"
 #include "physics/dem/narrow_phase.hpp"
 #include "physics/dem/neighbour_search.hpp"
 #include "physics/dem/periodic_cell.hpp"
 #include "physics/dem/rigid_shape.hpp"
 #include "physics/dem/wall.hpp"
 
+namespace cleave::parallel {
+class MpiDomain;
+}
+
 namespace cleave::physics {
 
 class StateWriter;
 class StateReader;
+class World;
+
+/// What one process of a domain decomposition holds of each body slot: nothing current
+/// (dormant), a copy of a body another process owns, kept for the contacts and bonds across
+/// the boundary (ghost), or the body itself (owned: integrated here).
+enum class Role : unsigned char { dormant, ghost, owned };
+
+/// A domain decomposition: several processes step one world, each owning the bodies of its
+/// region (parallel::MpiDomain, over MPI). The world calls it around each force evaluation;
+/// everything else stays the single-process code, restricted to the bodies a process holds.
+class Domain {
+ public:
+  virtual ~Domain() = default;
+  /// Splits `world` (the same whole world on every process) and makes it step as this
+  /// process's part (World::set_domain).
+  virtual void attach(World& world) = 0;
+  /// Before the contacts are found: the ghosts' states in; re-partitions when the search's
+  /// skin is spent (then sets the roles anew).
+  virtual void before_forces(World& world) = 0;
+  /// After the forces: the walls' reactions and this step's bond breaks made the whole world's.
+  virtual void after_forces(World& world) = 0;
+  /// Every body's state (and every bond's and contact history's) on every process; with
+  /// `contacts`, every process's contact records too (World::contacts, in one process's order).
+  virtual void gather_all(World& world, bool contacts = false) = 0;
+
+  // Readings of the whole world: every process calls them at the same point of the run.
+  [[nodiscard]] virtual int rank() const = 0;
+  [[nodiscard]] virtual int size() const = 0;
+  virtual double sum(const ExactSum& part) = 0;  ///< exact: the same on any number of processes
+  virtual double max(double part) = 0;
+  virtual void max(std::span<double> parts) = 0;  ///< element by element, in place
+  virtual std::uint64_t count(std::uint64_t part) = 0;
+  virtual bool any(bool part) = 0;
+  /// The text of the lowest process whose `mine` is set (empty if none).
+  virtual std::string first(const std::optional<std::string>& mine) = 0;
+  /// Every process's bytes, in process order.
+  virtual std::vector<std::vector<char>> all_gather(const std::vector<char>& mine) = 0;
+};
 
 struct WorldSettings {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.80665);  ///< m/s^2
@@ -323,6 +369,19 @@ class World {
   /// and stored overlaps, bond breaks, contact histories and records, pair offsets, the
   /// neighbour search's Verlet list, time and step count. A world that loads what another
   /// saved steps on exactly as the other would have. `threads` is kept as this world's.
+  /// Steps this world as one process of `domain` (null: the whole world here): only the
+  /// owned bodies are integrated, only contacts and bonds with an owned body are evaluated.
+  /// `roles` by slot (empty: all owned). Periodic cells, thermal expansion, manifolds, stress
+  /// criteria and splits are single-process for now (refused by the caller).
+  void set_domain(Domain* domain, std::vector<Role> roles);
+  void set_roles(std::vector<Role> roles);
+  [[nodiscard]] Domain* domain() const { return domain_; }
+  [[nodiscard]] Role role(std::uint32_t slot) const { return roles_.empty() ? Role::owned : roles_[slot]; }
+  [[nodiscard]] bool owns(std::uint32_t slot) const { return role(slot) == Role::owned; }
+  /// The contacts this process counts: body pairs whose A it owns, wall contacts whose body
+  /// it owns (each contact of the whole world is counted by exactly one process).
+  [[nodiscard]] std::size_t owned_contact_count() const;
+
   void save_state(StateWriter& out) const;
   /// Replaces this world's state by a saved one; throws StateError on malformed data.
   void load_state(StateReader& in);
@@ -332,6 +391,17 @@ class World {
   [[nodiscard]] std::uint64_t state_hash() const;
 
  private:
+  friend class parallel::MpiDomain;
+  Domain* domain_ = nullptr;
+  std::vector<Role> roles_;  // by slot; empty: every body owned
+  std::size_t breaks_at_step_ = 0;  // breaks_.size() when this force evaluation began
+  bool bodies_changed_ = false;     // a body came or went since the domain last partitioned
+  struct WallForceAt {  // a wall contact's force and its place in the contact list
+    std::uint32_t wall, slot;
+    std::uint64_t order;
+    Eigen::Vector3d force;
+  };
+  [[nodiscard]] std::vector<WallForceAt> wall_forces() const;
   void compute_forces();
   /// Every pair of `spheres` within `margin` of each other, as NeighbourSearch::find_pairs
   /// gives them; in a periodic cell through the faces too (each pair once, whichever image).

@@ -199,13 +199,18 @@ void World::save_state(StateWriter& w) const {
   }
 
   // The neighbour search's Verlet list: reused until a body moves half the skin.
-  w.put(pairs_current_);
+  // One process of several (a domain) lists its own region's pairs only: its checkpoint,
+  // read on any number of processes, searches afresh.
+  const bool whole = roles_.empty();
+  w.put(whole && pairs_current_);
   w.put(skin_);
-  w.put(searched_at_);
-  w.count(searched_q_.size());
-  for (const Eigen::Quaterniond& q : searched_q_) w.put(q);
-  w.count(pairs_.size());
-  for (const auto& [i, j] : pairs_) {
+  w.put(whole ? searched_at_ : std::vector<Eigen::Vector3d>{});
+  w.count(whole ? searched_q_.size() : 0);
+  if (whole) {
+    for (const Eigen::Quaterniond& q : searched_q_) w.put(q);
+  }
+  w.count(whole ? pairs_.size() : 0);
+  for (const auto& [i, j] : whole ? pairs_ : std::vector<BodyPair>{}) {
     w.put(i);
     w.put(j);
   }

@@ -1,6 +1,7 @@
 #include "physics/transgranular/transgranular.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <omp.h>
 #include <limits>
 #include <optional>
@@ -265,7 +266,7 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
 #pragma omp parallel for schedule(dynamic, 64) num_threads(check_threads(world)) if (n >= 512)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const BodyId id = ids[static_cast<std::size_t>(k)];
-    if (!book.knows(id)) continue;
+    if (!book.knows(id) || !world.owns(id.index)) continue;  // one process of several: its own bodies
     const std::span<const PointForce> acting = forces.of(id.index);
     const std::vector<CrackAssessment> found =
         assess_with(world, book, id, params, stress_of(world, id.index, acting), acting);
@@ -277,6 +278,43 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
   std::vector<CrackAssessment> failing;
   for (const auto& w : worst) {
     if (w) failing.push_back(*w);
+  }
+  if (Domain* domain = world.domain()) {
+    // Several processes: each decided for its own bodies; every process makes every split,
+    // in body order, from the owner's state of the parent (the same slots everywhere).
+    std::vector<char> mine;
+    auto put = [&mine](const auto& v) {
+      const auto* p = reinterpret_cast<const char*>(&v);
+      mine.insert(mine.end(), p, p + sizeof v);
+    };
+    for (const CrackAssessment& a : failing) {
+      put(a);
+      put(world.state(a.id));
+    }
+    failing.clear();
+    std::vector<BodyState> parents;
+    for (const std::vector<char>& part : domain->all_gather(mine)) {
+      constexpr std::size_t kOne = sizeof(CrackAssessment) + sizeof(BodyState);
+      if (part.size() % kOne != 0) throw std::logic_error("transgranular_step: a split message is cut short");
+      for (std::size_t at = 0; at < part.size(); at += kOne) {
+        CrackAssessment a;
+        BodyState s;
+        std::memcpy(static_cast<void*>(&a), part.data() + at, sizeof a);
+        std::memcpy(static_cast<void*>(&s), part.data() + at + sizeof a, sizeof s);
+        failing.push_back(a);
+        parents.push_back(s);
+      }
+    }
+    std::vector<std::size_t> order(failing.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t p, std::size_t q) { return failing[p].id.index < failing[q].id.index; });
+    std::vector<CrackAssessment> sorted;
+    for (const std::size_t k : order) {
+      world.state(failing[k].id) = parents[k];
+      sorted.push_back(failing[k]);
+    }
+    failing = std::move(sorted);
   }
   for (const CrackAssessment& a : failing) {
     SplitEvent split = book.split(world, a.id, a.plane);

@@ -1,0 +1,633 @@
+#include "parallel/mpi_domain.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <numeric>
+#include <stdexcept>
+#include <type_traits>
+
+namespace cleave::parallel {
+
+namespace {
+
+using physics::BodyState;
+using physics::Role;
+using physics::World;
+
+/// Plain bytes in and out of a buffer: states, histories and bonds are plain data (doubles,
+/// integers and Eigen's fixed-size arrays of doubles), and every process is this binary on
+/// this machine type, so their bytes travel as they are.
+struct Packer {
+  std::vector<char>& out;
+  template <class T>
+  void put(const T& v) {
+    const auto* p = reinterpret_cast<const char*>(&v);
+    out.insert(out.end(), p, p + sizeof(T));
+  }
+};
+
+struct Unpacker {
+  const std::vector<char>& in;
+  std::size_t at = 0;
+  [[nodiscard]] bool more() const { return at < in.size(); }
+  template <class T>
+  T get() {
+    if (at + sizeof(T) > in.size()) throw std::logic_error("MpiDomain: a message ended early");
+    T v;
+    std::memcpy(&v, in.data() + at, sizeof(T));
+    at += sizeof(T);
+    return v;
+  }
+};
+
+/// What a bond carries from step to step (its geometry at bonding is everywhere already).
+struct BondDynamic {
+  std::uint64_t index;
+  physics::BondState state;
+  physics::BondFailure failure;
+  double broken_at, thermal_gap, rest_length;
+  Eigen::Vector3d point, normal, force, moment, shift;
+};
+
+BondDynamic dynamic_of(const physics::Bond& b, std::size_t k) {
+  return {k, b.state, b.failure, b.broken_at, b.thermal_gap, b.beam.rest_length,
+          b.point, b.normal, b.force, b.moment, b.shift};
+}
+
+void apply(physics::Bond& b, const BondDynamic& d) {
+  b.state = d.state;
+  b.failure = d.failure;
+  b.broken_at = d.broken_at;
+  b.thermal_gap = d.thermal_gap;
+  b.beam.rest_length = d.rest_length;
+  b.point = d.point;
+  b.normal = d.normal;
+  b.force = d.force;
+  b.moment = d.moment;
+  b.shift = d.shift;
+}
+
+
+/// A contact record with its place in the one-process order: pairs by (A, B), then walls.
+struct RecordAt {
+  std::uint32_t group;  // 0 pairs, 1 walls
+  std::uint32_t first, second;
+  std::uint64_t order;
+  physics::ContactRecord record;
+};
+
+class Timer {
+ public:
+  explicit Timer(double& total) : total_(total), t0_(std::chrono::steady_clock::now()) {}
+  ~Timer() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  Timer(const Timer&) = delete;
+  Timer& operator=(const Timer&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+MpiSession::MpiSession(int& argc, char**& argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);  // OpenMP threads do not call MPI
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+MpiSession::~MpiSession() { MPI_Finalize(); }
+
+bool launched_by_mpirun() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
+    if (std::getenv(v) != nullptr) return true;
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------
+Bisection::Bisection(std::vector<Point> points, int parts) {
+  if (parts < 1) throw std::invalid_argument("Bisection: at least one part");
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  lo_.assign(static_cast<std::size_t>(parts), Eigen::Vector3d::Constant(-inf));
+  hi_.assign(static_cast<std::size_t>(parts), Eigen::Vector3d::Constant(inf));
+  build(points, 0, points.size(), 0, parts, Eigen::Vector3d::Constant(-inf), Eigen::Vector3d::Constant(inf));
+}
+
+int Bisection::build(std::vector<Point>& points, std::size_t first, std::size_t last, int first_part,
+                     int parts, Eigen::Vector3d lo, Eigen::Vector3d hi) {
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  if (parts == 1) {
+    nodes_[index].part = first_part;
+    lo_[first_part] = lo;
+    hi_[first_part] = hi;
+    return index;
+  }
+  // The longest extent of this part's bodies (x when it has none).
+  int axis = 0;
+  if (last > first) {
+    Eigen::Vector3d a = points[first].x, b = a;
+    for (std::size_t i = first; i < last; ++i) {
+      a = a.cwiseMin(points[i].x);
+      b = b.cwiseMax(points[i].x);
+    }
+    (b - a).maxCoeff(&axis);
+  }
+  std::sort(points.begin() + static_cast<std::ptrdiff_t>(first), points.begin() + static_cast<std::ptrdiff_t>(last),
+            [axis](const Point& p, const Point& q) {
+              return p.x[axis] < q.x[axis] || (p.x[axis] == q.x[axis] && p.slot < q.slot);
+            });
+  const int left_parts = parts / 2;
+  const std::size_t n = last - first;
+  const std::size_t k = first + (n * static_cast<std::size_t>(left_parts) + static_cast<std::size_t>(parts) / 2) /
+                                    static_cast<std::size_t>(parts);
+  double at = 0.0;
+  if (n == 0) {
+    at = std::isfinite(lo[axis]) && std::isfinite(hi[axis]) ? 0.5 * (lo[axis] + hi[axis]) : 0.0;
+  } else if (k == first) {
+    at = points[first].x[axis];
+  } else if (k == last) {
+    at = std::nextafter(points[last - 1].x[axis], std::numeric_limits<double>::infinity());
+  } else {
+    at = 0.5 * (points[k - 1].x[axis] + points[k].x[axis]);
+  }
+  // Ties at the cut go right (owner() sends x >= at right): split where the points say so.
+  std::size_t split = first;
+  while (split < last && points[split].x[axis] < at) ++split;
+  Eigen::Vector3d left_hi = hi, right_lo = lo;
+  left_hi[axis] = at;
+  right_lo[axis] = at;
+  nodes_[index].axis = axis;
+  nodes_[index].at = at;
+  const int left = build(points, first, split, first_part, left_parts, lo, left_hi);
+  const int right = build(points, split, last, first_part + left_parts, parts - left_parts, right_lo, hi);
+  nodes_[index].left = left;
+  nodes_[index].right = right;
+  return index;
+}
+
+int Bisection::owner(const Eigen::Vector3d& x) const {
+  int i = 0;
+  while (nodes_[i].axis >= 0) i = x[nodes_[i].axis] < nodes_[i].at ? nodes_[i].left : nodes_[i].right;
+  return nodes_[i].part;
+}
+
+double Bisection::distance(int p, const Eigen::Vector3d& x) const {
+  const Eigen::Vector3d below = (lo_[p] - x).cwiseMax(0.0), above = (x - hi_[p]).cwiseMax(0.0);
+  return (below + above).norm();
+}
+
+// ---------------------------------------------------------------------------------------
+MpiDomain::MpiDomain(double rebalance) : rebalance_(rebalance) {
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (!(rebalance > 1.0)) throw std::invalid_argument("MpiDomain: the rebalance threshold must be > 1");
+}
+
+void MpiDomain::attach(World& world) {
+  // Every process holds the same whole world here. The skin is the search's (World::
+  // body_contacts: a fraction of the smallest bounding radius); the halo reaches every body
+  // that can touch or be bonded to an owned one until some body has moved half the skin.
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (const physics::BodyId id : world.body_ids()) {
+    const double r = world.shape(world.info(id).shape).bounding_radius();
+    smallest = std::min(smallest, r);
+    largest = std::max(largest, r);
+  }
+  if (world.body_count() == 0) smallest = largest = 0.0;
+  skin_ = world.settings().search_skin * smallest;
+  halo_ = 2.2 * largest + 2.0 * skin_;
+  attached_ = true;
+  repartition(world, true);
+}
+
+std::vector<std::vector<char>> MpiDomain::all_to_all(const std::vector<std::vector<char>>& out) {
+  Timer timer(stats_.communication_seconds);
+  const auto n = static_cast<std::size_t>(size_);
+  std::vector<int> send_counts(n), recv_counts(n), send_at(n), recv_at(n);
+  std::vector<char> sendbuf;
+  for (std::size_t r = 0; r < n; ++r) {
+    send_counts[r] = static_cast<int>(out[r].size());
+    send_at[r] = static_cast<int>(sendbuf.size());
+    sendbuf.insert(sendbuf.end(), out[r].begin(), out[r].end());
+    if (static_cast<int>(r) != rank_) stats_.bytes_sent += out[r].size();
+  }
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    recv_at[r] = total;
+    total += recv_counts[r];
+  }
+  std::vector<char> recvbuf(static_cast<std::size_t>(total));
+  MPI_Alltoallv(sendbuf.data(), send_counts.data(), send_at.data(), MPI_BYTE, recvbuf.data(), recv_counts.data(),
+                recv_at.data(), MPI_BYTE, MPI_COMM_WORLD);
+  std::vector<std::vector<char>> in(n);
+  for (std::size_t r = 0; r < n; ++r)
+    in[r].assign(recvbuf.begin() + recv_at[r], recvbuf.begin() + recv_at[r] + recv_counts[r]);
+  return in;
+}
+
+std::vector<std::vector<char>> MpiDomain::all_gather(const std::vector<char>& mine) {
+  Timer timer(stats_.communication_seconds);
+  const auto n = static_cast<std::size_t>(size_);
+  std::vector<int> counts(n), at(n);
+  const int count = static_cast<int>(mine.size());
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    at[r] = total;
+    total += counts[r];
+  }
+  stats_.bytes_sent += mine.size() * (n - 1);
+  std::vector<char> all(static_cast<std::size_t>(total));
+  MPI_Allgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), at.data(), MPI_BYTE, MPI_COMM_WORLD);
+  std::vector<std::vector<char>> in(n);
+  for (std::size_t r = 0; r < n; ++r) in[r].assign(all.begin() + at[r], all.begin() + at[r] + counts[r]);
+  return in;
+}
+
+void MpiDomain::index_bonds(const World& world) {
+  // Made anew at each re-partition: a split moves bonds to its pieces and re-sorts them.
+  bonds_of_.assign(world.states_.size(), {});
+  for (std::size_t k = 0; k < world.bonds_.size(); ++k) {
+    bonds_of_[world.bonds_[k].a].push_back(static_cast<std::uint32_t>(k));
+    bonds_of_[world.bonds_[k].b].push_back(static_cast<std::uint32_t>(k));
+  }
+}
+
+void MpiDomain::repartition(World& world, bool first) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t slots = world.states_.size();
+  const auto n = static_cast<std::size_t>(size_);
+  std::vector<Role> roles(slots, Role::dormant);
+  world.bodies_changed_ = false;
+  bool rebalanced = false;
+  if (first) {
+    // Every process knows every body: the same cuts everywhere, no messages.
+    std::vector<Bisection::Point> points;
+    for (const physics::BodyId id : world.body_ids()) points.push_back({world.states_[id.index].x, id.index});
+    cuts_ = Bisection(std::move(points), size_);
+    for (const physics::BodyId id : world.body_ids()) {
+      if (cuts_.owner(world.states_[id.index].x) == rank_) roles[id.index] = Role::owned;
+    }
+    rebalanced = true;
+  } else {
+    // Re-cut when the load has drifted: every process's centroids to every process.
+    std::uint64_t mine = 0;
+    for (std::uint32_t i = 0; i < slots; ++i) mine += world.infos_[i].alive && world.owns(i);
+    std::uint64_t most = 0, total = 0;
+    {
+      Timer timer(stats_.communication_seconds);
+      MPI_Allreduce(&mine, &most, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+      MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    }
+    if (total > 0 && static_cast<double>(most) > rebalance_ * static_cast<double>(total) / static_cast<double>(n)) {
+      std::vector<char> buf;
+      Packer pk{buf};
+      for (std::uint32_t i = 0; i < slots; ++i) {
+        if (world.infos_[i].alive && world.owns(i)) pk.put(Bisection::Point{world.states_[i].x, i});
+      }
+      std::vector<Bisection::Point> points;
+      for (const auto& part : all_gather(buf)) {
+        Unpacker up{part};
+        while (up.more()) points.push_back(up.get<Bisection::Point>());
+      }
+      std::sort(points.begin(), points.end(), [](const auto& p, const auto& q) { return p.slot < q.slot; });
+      cuts_ = Bisection(std::move(points), size_);
+      rebalanced = true;
+    }
+    // Bodies that left this region go to their new owner with their contact histories and
+    // bonds (the new owner may not have evaluated the pairs they had with other ghosts).
+    index_bonds(world);
+    std::vector<std::vector<char>> out(n);
+    for (std::uint32_t i = 0; i < slots; ++i) {
+      if (!world.infos_[i].alive || !world.owns(i)) continue;
+      const int to = cuts_.owner(world.states_[i].x);
+      if (to == rank_) {
+        roles[i] = Role::owned;
+        continue;
+      }
+      ++stats_.migrated;
+      Packer pk{out[static_cast<std::size_t>(to)]};
+      pk.put(i);
+      pk.put(world.states_[i]);
+      std::uint64_t histories = 0;
+      for (const auto& e : world.history_) histories += (e.key.a == i || e.key.b == i);
+      pk.put(histories);
+      for (const auto& e : world.history_) {
+        if (e.key.a == i || e.key.b == i) pk.put(e);
+      }
+      pk.put(static_cast<std::uint64_t>(bonds_of_[i].size()));
+      for (const std::uint32_t k : bonds_of_[i]) pk.put(dynamic_of(world.bonds_[k], k));
+    }
+    const auto in = all_to_all(out);
+    std::vector<World::HistoryEntry> arrived;
+    for (const auto& part : in) {
+      Unpacker up{part};
+      while (up.more()) {
+        const auto i = up.get<std::uint32_t>();
+        world.states_[i] = up.get<BodyState>();
+        roles[i] = Role::owned;
+        const auto histories = up.get<std::uint64_t>();
+        for (std::uint64_t h = 0; h < histories; ++h) arrived.push_back(up.get<World::HistoryEntry>());
+        const auto bonds = up.get<std::uint64_t>();
+        for (std::uint64_t b = 0; b < bonds; ++b) {
+          const auto d = up.get<BondDynamic>();
+          apply(world.bonds_[d.index], d);
+        }
+      }
+    }
+    if (!arrived.empty()) {
+      // Histories this process lacks join its list (one it has is the same, bit for bit).
+      auto key_less = [](const World::HistoryEntry& p, const World::HistoryEntry& q) { return p.key < q.key; };
+      std::sort(arrived.begin(), arrived.end(), key_less);
+      std::vector<World::HistoryEntry> merged;
+      merged.reserve(world.history_.size() + arrived.size());
+      std::size_t a = 0, b = 0;
+      while (a < world.history_.size() || b < arrived.size()) {
+        if (b == arrived.size() || (a < world.history_.size() && key_less(world.history_[a], arrived[b]))) {
+          merged.push_back(world.history_[a++]);
+        } else if (a == world.history_.size() || key_less(arrived[b], world.history_[a])) {
+          if (merged.empty() || merged.back().key != arrived[b].key) merged.push_back(arrived[b]);
+          ++b;
+        } else {
+          merged.push_back(world.history_[a++]);
+          ++b;
+        }
+      }
+      world.history_ = std::move(merged);
+    }
+  }
+  // Ghosts: each owner sends the bodies within the halo of another process's region.
+  send_.assign(n, {});
+  recv_.assign(n, {});
+  std::vector<std::vector<char>> out(n);
+  anchor_.resize(slots);
+  for (std::uint32_t i = 0; i < slots; ++i) {
+    if (roles[i] != Role::owned) continue;
+    anchor_[i] = world.states_[i].x;
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_ || cuts_.distance(r, world.states_[i].x) > halo_) continue;
+      send_[static_cast<std::size_t>(r)].push_back(i);
+      Packer pk{out[static_cast<std::size_t>(r)]};
+      pk.put(i);
+      pk.put(world.states_[i]);
+    }
+  }
+  const auto in = all_to_all(out);
+  for (std::size_t r = 0; r < n; ++r) {
+    Unpacker up{in[r]};
+    while (up.more()) {
+      const auto i = up.get<std::uint32_t>();
+      world.states_[i] = up.get<BodyState>();
+      roles[i] = Role::ghost;
+      recv_[r].push_back(i);
+    }
+  }
+  stats_.owned = static_cast<std::size_t>(std::count(roles.begin(), roles.end(), Role::owned));
+  stats_.ghosts = static_cast<std::size_t>(std::count(roles.begin(), roles.end(), Role::ghost));
+  if (first) {
+    world.set_domain(this, std::move(roles));
+  } else {
+    world.set_roles(std::move(roles));
+  }
+  ++stats_.repartitions;
+  if (rebalanced) {
+    ++stats_.rebalances;
+    stats_.rebalance_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+}
+
+void MpiDomain::exchange_ghost_states(World& world) {
+  // The lists are fixed between re-partitions, so are the message sizes: one call.
+  const auto n = static_cast<std::size_t>(size_);
+  constexpr int kState = static_cast<int>(sizeof(BodyState));
+  std::vector<int> send_counts(n), recv_counts(n), send_at(n), recv_at(n);
+  int sent = 0, received = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    send_counts[r] = kState * static_cast<int>(send_[r].size());
+    recv_counts[r] = kState * static_cast<int>(recv_[r].size());
+    send_at[r] = sent;
+    recv_at[r] = received;
+    sent += send_counts[r];
+    received += recv_counts[r];
+  }
+  send_buffer_.resize(static_cast<std::size_t>(sent));
+  recv_buffer_.resize(static_cast<std::size_t>(received));
+  char* p = send_buffer_.data();
+  for (std::size_t r = 0; r < n; ++r) {
+    for (const std::uint32_t i : send_[r]) {
+      std::memcpy(p, &world.states_[i], sizeof(BodyState));
+      p += sizeof(BodyState);
+    }
+  }
+  {
+    Timer timer(stats_.communication_seconds);
+    MPI_Alltoallv(send_buffer_.data(), send_counts.data(), send_at.data(), MPI_BYTE, recv_buffer_.data(),
+                  recv_counts.data(), recv_at.data(), MPI_BYTE, MPI_COMM_WORLD);
+  }
+  stats_.bytes_sent += static_cast<std::uint64_t>(sent);
+  const char* q = recv_buffer_.data();
+  for (std::size_t r = 0; r < n; ++r) {
+    for (const std::uint32_t i : recv_[r]) {
+      std::memcpy(&world.states_[i], q, sizeof(BodyState));
+      q += sizeof(BodyState);
+    }
+  }
+  ++stats_.exchanges;
+}
+
+void MpiDomain::before_forces(World& world) {
+  if (!attached_) throw std::logic_error("MpiDomain: attach the world first");
+  // Some owned body has moved half the skin since the last re-partition (anywhere): the
+  // ghosts may no longer hold every body that can touch an owned one.
+  // A body that came or went (a split: every process made it) repartitions at once.
+  if (world.bodies_changed_) {
+    world.bodies_changed_ = false;
+    repartition(world, false);
+    return;
+  }
+  bool moved = false;
+  for (std::uint32_t i = 0; i < world.states_.size() && !moved; ++i) {
+    if (world.infos_[i].alive && world.owns(i)) moved = (world.states_[i].x - anchor_[i]).norm() >= 0.5 * skin_;
+  }
+  if (any(moved)) {
+    repartition(world, false);
+  } else {
+    exchange_ghost_states(world);
+  }
+}
+
+void MpiDomain::after_forces(World& world) {
+  // The walls' reactions, summed as one process sums them (wall by wall, body by body, each
+  // body's contacts in order), and this step's bond breaks, each from the owner of its A.
+  std::vector<char> buf;
+  Packer pk{buf};
+  const auto walls = world.wall_forces();
+  pk.put(static_cast<std::uint64_t>(walls.size()));
+  for (const auto& w : walls) pk.put(w);
+  for (std::size_t j = world.breaks_at_step_; j < world.breaks_.size(); ++j) {
+    const physics::BondBreak& br = world.breaks_[j];
+    if (!world.owns(br.a)) continue;
+    pk.put(br);
+    pk.put(dynamic_of(world.bonds_[br.bond], br.bond));
+  }
+  const auto in = all_gather(buf);
+  std::vector<World::WallForceAt> forces;
+  std::vector<std::pair<physics::BondBreak, BondDynamic>> breaks;
+  for (const auto& part : in) {
+    Unpacker up{part};
+    const auto count = up.get<std::uint64_t>();
+    for (std::uint64_t c = 0; c < count; ++c) forces.push_back(up.get<World::WallForceAt>());
+    while (up.more()) {
+      const auto br = up.get<physics::BondBreak>();
+      breaks.emplace_back(br, up.get<BondDynamic>());
+    }
+  }
+  std::sort(forces.begin(), forces.end(), [](const auto& p, const auto& q) {
+    return std::tie(p.wall, p.slot, p.order) < std::tie(q.wall, q.slot, q.order);
+  });
+  for (auto& w : world.walls_) w.reaction.setZero();
+  for (const auto& f : forces) world.walls_[f.wall].reaction -= f.force;
+  std::sort(breaks.begin(), breaks.end(), [](const auto& p, const auto& q) { return p.first.bond < q.first.bond; });
+  world.breaks_.resize(world.breaks_at_step_);
+  for (const auto& [br, d] : breaks) {
+    world.breaks_.push_back(br);
+    apply(world.bonds_[d.index], d);
+  }
+}
+
+void MpiDomain::gather_all(World& world, bool contacts) {
+  std::vector<char> buf;
+  Packer pk{buf};
+  std::uint64_t owned = 0, histories = 0, records = 0;
+  for (std::uint32_t i = 0; i < world.states_.size(); ++i) owned += world.infos_[i].alive && world.owns(i);
+  auto counts_for = [&](const World::ContactKey& key) {
+    const bool wall = (key.a & World::kWallFlag) != 0;
+    return world.owns(wall ? key.b : key.a);
+  };
+  for (const auto& e : world.history_) histories += counts_for(e.key);
+  pk.put(owned);
+  for (std::uint32_t i = 0; i < world.states_.size(); ++i) {
+    if (!world.infos_[i].alive || !world.owns(i)) continue;
+    pk.put(i);
+    pk.put(world.states_[i]);
+  }
+  pk.put(histories);
+  for (const auto& e : world.history_) {
+    if (counts_for(e.key)) pk.put(e);
+  }
+  std::uint64_t bonds = 0;
+  for (const auto& b : world.bonds_) bonds += world.owns(b.a);
+  pk.put(bonds);
+  for (std::size_t k = 0; k < world.bonds_.size(); ++k) {
+    if (world.owns(world.bonds_[k].a)) pk.put(dynamic_of(world.bonds_[k], k));
+  }
+  if (contacts) {
+    const auto& all = world.contacts();
+    for (const auto& c : all) records += world.owns(c.wall ? c.b : c.a);
+    pk.put(records);
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      const auto& c = all[k];
+      if (world.owns(c.wall ? c.b : c.a)) pk.put(RecordAt{c.wall ? 1u : 0u, c.a, c.b, k, c});
+    }
+  }
+  const auto in = all_gather(buf);
+  std::vector<World::HistoryEntry> history;
+  std::vector<RecordAt> gathered;
+  for (const auto& part : in) {
+    Unpacker up{part};
+    const auto bodies = up.get<std::uint64_t>();
+    for (std::uint64_t b = 0; b < bodies; ++b) {
+      const auto i = up.get<std::uint32_t>();
+      world.states_[i] = up.get<BodyState>();
+    }
+    const auto h = up.get<std::uint64_t>();
+    for (std::uint64_t e = 0; e < h; ++e) history.push_back(up.get<World::HistoryEntry>());
+    const auto nb = up.get<std::uint64_t>();
+    for (std::uint64_t b = 0; b < nb; ++b) {
+      const auto d = up.get<BondDynamic>();
+      apply(world.bonds_[d.index], d);
+    }
+    if (contacts) {
+      const auto nr = up.get<std::uint64_t>();
+      for (std::uint64_t r = 0; r < nr; ++r) gathered.push_back(up.get<RecordAt>());
+    }
+  }
+  std::sort(history.begin(), history.end(), [](const auto& p, const auto& q) { return p.key < q.key; });
+  world.history_ = std::move(history);
+  if (contacts) {
+    // One process's order: the pairs sorted by (A, B), each pair's contacts as found, then
+    // the walls' contacts wall by wall, body by body.
+    std::stable_sort(gathered.begin(), gathered.end(), [](const RecordAt& p, const RecordAt& q) {
+      return std::tie(p.group, p.first, p.second, p.order) < std::tie(q.group, q.first, q.second, q.order);
+    });
+    world.records_.clear();
+    for (const RecordAt& r : gathered) world.records_.push_back(r.record);
+    world.records_current_ = true;
+  }
+}
+
+double MpiDomain::sum(const physics::ExactSum& part) {
+  Timer timer(stats_.communication_seconds);
+  physics::ExactSum all = part;
+  MPI_Allreduce(MPI_IN_PLACE, all.digits().data(), physics::ExactSum::kDigits, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &all.special(), 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return all.value();
+}
+
+double MpiDomain::max(double part) {
+  max(std::span<double>(&part, 1));
+  return part;
+}
+
+void MpiDomain::max(std::span<double> parts) {
+  Timer timer(stats_.communication_seconds);
+  MPI_Allreduce(MPI_IN_PLACE, parts.data(), static_cast<int>(parts.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+}
+
+std::uint64_t MpiDomain::count(std::uint64_t part) {
+  Timer timer(stats_.communication_seconds);
+  std::uint64_t all = 0;
+  MPI_Allreduce(&part, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+  return all;
+}
+
+bool MpiDomain::any(bool part) {
+  Timer timer(stats_.communication_seconds);
+  int mine = part ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return all != 0;
+}
+
+std::string MpiDomain::first(const std::optional<std::string>& mine) {
+  int who = mine ? rank_ : size_, lowest = size_;
+  {
+    Timer timer(stats_.communication_seconds);
+    MPI_Allreduce(&who, &lowest, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  }
+  if (lowest == size_) return {};
+  std::string text = lowest == rank_ ? *mine : std::string();
+  int length = static_cast<int>(text.size());
+  MPI_Bcast(&length, 1, MPI_INT, lowest, MPI_COMM_WORLD);
+  text.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(text.data(), length, MPI_CHAR, lowest, MPI_COMM_WORLD);
+  return text;
+}
+
+std::vector<DomainStats> MpiDomain::all_stats() {
+  std::vector<char> buf;
+  Packer{buf}.put(stats_);
+  std::vector<DomainStats> all;
+  for (const auto& part : all_gather(buf)) all.push_back(Unpacker{part}.get<DomainStats>());
+  return all;
+}
+
+}  // namespace cleave::parallel
