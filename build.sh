@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 mode="${1:-demo}"
 build_dir="${CLEAVE_BUILD_DIR:-build}"
 asan_dir="${CLEAVE_ASAN_BUILD_DIR:-build-asan}"
-fuzz_seconds="${CLEAVE_FUZZ_SECONDS:-60}"  # per fuzz target
+fuzz_seconds="${CLEAVE_FUZZ_SECONDS:-30}"  # per fuzz target (CI: the four take 2 min; longer runs by hand)
 jobs="${CLEAVE_JOBS:-$(nproc)}"
 
 packages=(
@@ -80,7 +80,7 @@ sanitize_exclude="${CLEAVE_SANITIZE_EXCLUDE-^(BondedTest\.|QuasiStaticLoading\.|
 # there is one: under the sanitizers they take 20-70 times as long (physics loops of
 # thousands of steps), and the shorter tests that stay in walk the same code. They are
 # named in the log. CLEAVE_SANITIZE_LONG=0 keeps them all.
-sanitize_long="${CLEAVE_SANITIZE_LONG-1.0}"
+sanitize_long="${CLEAVE_SANITIZE_LONG-0.5}"
 
 long_tests_regex() {
   local cost="$build_dir/Testing/Temporary/CTestCostData.txt"

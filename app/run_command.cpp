@@ -87,15 +87,16 @@ int run_command(const RunOptions& options) {
     // What the decomposition cost, per process (a collective call: every process is here).
     const auto stats = domain->all_stats();
     if (domain->rank() == 0 && !options.quiet) {
-      const std::uint64_t steps = report.dynamics ? report.dynamics->steps : 0;
       fmt::print(stderr, "cleave: {} MPI processes (halo {:.4g} m):\n", stats.size(), domain->halo());
       for (std::size_t r = 0; r < stats.size(); ++r) {
         const auto& st = stats[r];
         fmt::print(stderr,
                    "  rank {}: {} bodies owned, {} ghosts; {} re-partitions ({} re-cut, {:.3f} s); "
-                   "{} bodies migrated; MPI {:.3f} s, {:.1f} kB sent per step\n",
+                   "{} bodies migrated; MPI {:.3f} s; {:.1f} kB of ghost states sent per exchange, {:.1f} MB sent in all\n",
                    r, st.owned, st.ghosts, st.repartitions, st.rebalances, st.rebalance_seconds, st.migrated,
-                   st.communication_seconds, steps ? static_cast<double>(st.bytes_sent) / 1e3 / static_cast<double>(steps) : 0.0);
+                   st.communication_seconds,
+                   st.exchanges ? static_cast<double>(st.ghost_bytes) / 1e3 / static_cast<double>(st.exchanges) : 0.0,
+                   static_cast<double>(st.bytes_sent) / 1e6);
       }
     }
   }

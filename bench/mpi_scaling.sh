@@ -5,9 +5,9 @@
 #   block: prisms stacked in layers on a floor under gravity, every face at contact distance
 #          (the settled state of a pile, built directly: pouring 10^5 grains takes hours);
 #   disc:  a bonded Brazilian disc loaded between platens (bonds made, then loaded).
-# Each run steps STEPS steps (--max-steps) after its set-up; the time per step is the
-# dynamics' wall time over its steps, as `cleave run` reports it, and each rank's MPI time
-# and volume come from the decomposition's own counters (printed at the end of the run).
+# The time per step is the difference of two runs' wall times (to 10 and to 10 + STEPS
+# steps) over STEPS; each rank's MPI time and volume are the decomposition's own counters
+# (printed at the end of the longer run; they include the set-up's and the end's gathers).
 #   bench/mpi_scaling.sh [BUILD_DIR] [STEPS] [block|disc|both] [SCALE]
 # SCALE (default 1) multiplies the specimen's edge: 0.5 gives an eighth of the grains.
 set -euo pipefail
@@ -134,23 +134,46 @@ wall_velocity = { bottom = [0.0, 0.01, 0.0], top = [0.0, -0.01, 0.0] }
 time = 60.0
 EOF
 
-# us/step of the dynamics, from the run's summary line ("(12.3 s, 456.7 us/step)").
-per_step() { grep -o '[0-9.]* us/step' "$1" | tail -1 | cut -d' ' -f1; }
-
-run_one() {  # name label launcher...
-  local name="$1" label="$2"
+# Wall time of a run to --max-steps N.
+timed() {  # log N launcher...
+  local log="$1" n="$2"
   shift 2
-  local log="$work/$name-$label.log"
-  local t0=$SECONDS
-  "$@" "$cleave" run "$work/$name.toml" -o "$work/out-$name-$label" --max-steps "$steps" > "$log" 2>&1 ||
-    { echo "mpi_scaling.sh: $name $label failed:" >&2; tail -5 "$log" >&2; exit 1; }
-  local us bodies
-  us="$(per_step "$log")"
-  bodies="$(grep -o 'bodies [0-9]*' "$log" | tail -1 | cut -d' ' -f2)"
-  printf '%-6s %-22s %8s bodies  %10s us/step  %6s steps/s  (%d s in all)\n' "$name" "$label" "${bodies:-?}" "$us" \
-    "$(python3 -c "print(round(1e6 / $us, 2))")" $((SECONDS - t0))
-  eval "us_${name}_${label//[^a-z0-9]/_}=$us"
-  grep '^  rank' "$log" | sed 's/^/         /' || true
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$@" "$cleave" run "$scenario" -o "$work/out" --max-steps "$n" > "$log" 2>&1 ||
+    { echo "mpi_scaling.sh: $label failed:" >&2; tail -5 "$log" >&2; exit 1; }
+  t1=$(date +%s.%N)
+  python3 -c "print($t1 - $t0)"
+}
+
+# Two independent one-thread runs side by side: what the machine's two cores give any
+# parallel version of this run at best (shared caches and memory bandwidth included).
+timed_pair() {  # log N
+  local log="$1" n="$2" t0 t1
+  t0=$(date +%s.%N)
+  OMP_NUM_THREADS=1 "$cleave" run "$scenario" -o "$work/out-a" --max-steps "$n" > "$log.a" 2>&1 &
+  OMP_NUM_THREADS=1 "$cleave" run "$scenario" -o "$work/out-b" --max-steps "$n" > "$log.b" 2>&1 &
+  wait
+  t1=$(date +%s.%N)
+  python3 -c "print($t1 - $t0)"
+}
+
+# The time of a step: two runs, to 10 and to 10 + STEPS steps, differ by STEPS steps and
+# nothing else (set-up, bonding, the first search, output are the same in both).
+run_one() {  # name label launcher...
+  local name="$1"
+  label="$2"
+  shift 2
+  scenario="$work/$name.toml"
+  local short long us bodies
+  short=$(timed "$work/$name-$label-short.log" 10 "$@")
+  long=$(timed "$work/$name-$label.log" $((10 + steps)) "$@")
+  us=$(python3 -c "print(round(($long - $short) / $steps * 1e6, 1))")
+  bodies="$(grep -o 'bodies [0-9]*' "$work/$name-1proc_1thread.log" 2>/dev/null | tail -1 | cut -d' ' -f2)"
+  printf '%-6s %-16s %8s bodies  %10s us/step  %7s steps/s  (runs of %.0f and %.0f s)\n' "$name" "$label" "${bodies:-?}" \
+    "$us" "$(python3 -c "print(round(1e6 / $us, 2))")" "$short" "$long"
+  eval "us_${name}_${label}=$us"
+  grep '^  rank' "$work/$name-$label.log" | sed 's/^/         /' || true
 }
 
 echo "cleave $("$cleave" --version | cut -d' ' -f2): strong scaling, $steps steps each, $(nproc) cores"
@@ -159,6 +182,11 @@ for name in block disc; do
   run_one "$name" "1proc_1thread" env OMP_NUM_THREADS=1
   run_one "$name" "2procs_1thread" env OMP_NUM_THREADS=1 mpirun -np 2 --bind-to core
   run_one "$name" "1proc_2threads" env OMP_NUM_THREADS=2
+  scenario="$work/$name.toml"
+  short=$(timed_pair "$work/$name-pair-short.log" 10)
+  long=$(timed_pair "$work/$name-pair.log" $((10 + steps)))
+  us_pair=$(python3 -c "print(round(($long - $short) / $steps * 1e6, 1))")
+  printf '%-6s %-16s %8s         %10s us/step for each of two runs side by side\n' "$name" "2 x 1proc_1thread" "" "$us_pair"
   eval "one=\$us_${name}_1proc_1thread two=\$us_${name}_2procs_1thread threads=\$us_${name}_1proc_2threads"
-  python3 -c "print('$name: 2 processes run {:.2f}x as fast as 1 (1 thread each); 2 OpenMP threads in one process {:.2f}x'.format($one / $two, $one / $threads))"
+  python3 -c "print('$name: 2 processes run {:.2f}x as fast as 1 (1 thread each); 2 OpenMP threads in one process {:.2f}x; the machine gives two runs side by side {:.2f}x the throughput of one (the ceiling)'.format($one / $two, $one / $threads, 2 * $one / $us_pair))"
 done

@@ -433,7 +433,9 @@ void MpiDomain::exchange_ghost_states(World& world) {
     MPI_Alltoallv(send_buffer_.data(), send_counts.data(), send_at.data(), MPI_BYTE, recv_buffer_.data(),
                   recv_counts.data(), recv_at.data(), MPI_BYTE, MPI_COMM_WORLD);
   }
-  stats_.bytes_sent += static_cast<std::uint64_t>(sent);
+  const std::uint64_t others = static_cast<std::uint64_t>(sent - send_counts[static_cast<std::size_t>(rank_)]);
+  stats_.bytes_sent += others;
+  stats_.ghost_bytes += others;
   const char* q = recv_buffer_.data();
   for (std::size_t r = 0; r < n; ++r) {
     for (const std::uint32_t i : recv_[r]) {

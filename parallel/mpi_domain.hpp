@@ -73,7 +73,8 @@ struct DomainStats {
   std::uint64_t rebalances = 0;      ///< ... of which with new cuts (imbalance past the threshold)
   double rebalance_seconds = 0.0;    ///< time in those re-partitions, this process
   double communication_seconds = 0.0;  ///< time in MPI calls, this process
-  std::uint64_t bytes_sent = 0;      ///< this process
+  std::uint64_t bytes_sent = 0;      ///< this process, every message
+  std::uint64_t ghost_bytes = 0;     ///< ... of which in the ghost exchanges between re-partitions
   std::uint64_t migrated = 0;        ///< bodies this process handed to another
   std::size_t owned = 0, ghosts = 0;  ///< now
 };
