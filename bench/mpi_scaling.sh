@@ -9,6 +9,7 @@
 # steps) over STEPS; each rank's MPI time and volume are the decomposition's own counters
 # (printed at the end of the longer run; they include the set-up's and the end's gathers).
 #   bench/mpi_scaling.sh [BUILD_DIR] [STEPS] [block|disc|both] [SCALE]
+# ONLY_CEILING=1: only the one-process run and the two runs side by side.
 # SCALE (default 1) multiplies the specimen's edge: 0.5 gives an eighth of the grains.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -179,14 +180,23 @@ run_one() {  # name label launcher...
 echo "cleave $("$cleave" --version | cut -d' ' -f2): strong scaling, $steps steps each, $(nproc) cores"
 for name in block disc; do
   [ "$which" = both ] || [ "$which" = "$name" ] || continue
-  run_one "$name" "1proc_1thread" env OMP_NUM_THREADS=1
-  run_one "$name" "2procs_1thread" env OMP_NUM_THREADS=1 mpirun -np 2 --bind-to core
-  run_one "$name" "1proc_2threads" env OMP_NUM_THREADS=2
+  if [ -n "${ONLY_CEILING:-}" ]; then  # just the two runs side by side, against one
+    run_one "$name" "1proc_1thread" env OMP_NUM_THREADS=1
+  else
+    run_one "$name" "1proc_1thread" env OMP_NUM_THREADS=1
+    run_one "$name" "2procs_1thread" env OMP_NUM_THREADS=1 mpirun -np 2 --bind-to core
+    run_one "$name" "1proc_2threads" env OMP_NUM_THREADS=2
+  fi
   scenario="$work/$name.toml"
   short=$(timed_pair "$work/$name-pair-short.log" 10)
   long=$(timed_pair "$work/$name-pair.log" $((10 + steps)))
   us_pair=$(python3 -c "print(round(($long - $short) / $steps * 1e6, 1))")
   printf '%-6s %-16s %8s         %10s us/step for each of two runs side by side\n' "$name" "2 x 1proc_1thread" "" "$us_pair"
+  if [ -n "${ONLY_CEILING:-}" ]; then
+    eval "one=\$us_${name}_1proc_1thread"
+    python3 -c "print('$name: two runs side by side give {:.2f}x the throughput of one (the ceiling)'.format(2 * $one / $us_pair))"
+    continue
+  fi
   eval "one=\$us_${name}_1proc_1thread two=\$us_${name}_2procs_1thread threads=\$us_${name}_1proc_2threads"
   python3 -c "print('$name: 2 processes run {:.2f}x as fast as 1 (1 thread each); 2 OpenMP threads in one process {:.2f}x; the machine gives two runs side by side {:.2f}x the throughput of one (the ceiling)'.format($one / $two, $one / $threads, 2 * $one / $us_pair))"
 done

@@ -42,6 +42,12 @@ struct Unpacker {
     at += sizeof(T);
     return v;
   }
+  /// A count, then that many T, each handed to `f`.
+  template <class T, class F>
+  void each(F&& f) {
+    const auto n = get<std::uint64_t>();
+    for (std::uint64_t k = 0; k < n; ++k) f(get<T>());
+  }
 };
 
 /// What a bond carries from step to step (its geometry at bonding is everywhere already).
@@ -71,6 +77,12 @@ void apply(physics::Bond& b, const BondDynamic& d) {
   b.shift = d.shift;
 }
 
+
+/// A body's slot and state, as gathered.
+struct OwnedState {
+  std::uint32_t slot;
+  BodyState state;
+};
 
 /// A contact record with its place in the one-process order: pairs by (A, B), then walls.
 struct RecordAt {
@@ -335,13 +347,8 @@ void MpiDomain::repartition(World& world, bool first) {
         const auto i = up.get<std::uint32_t>();
         world.states_[i] = up.get<BodyState>();
         roles[i] = Role::owned;
-        const auto histories = up.get<std::uint64_t>();
-        for (std::uint64_t h = 0; h < histories; ++h) arrived.push_back(up.get<World::HistoryEntry>());
-        const auto bonds = up.get<std::uint64_t>();
-        for (std::uint64_t b = 0; b < bonds; ++b) {
-          const auto d = up.get<BondDynamic>();
-          apply(world.bonds_[d.index], d);
-        }
+        up.each<World::HistoryEntry>([&](const auto& e) { arrived.push_back(e); });
+        up.each<BondDynamic>([&](const BondDynamic& d) { apply(world.bonds_[d.index], d); });
       }
     }
     if (!arrived.empty()) {
@@ -486,8 +493,7 @@ void MpiDomain::after_forces(World& world) {
   std::vector<std::pair<physics::BondBreak, BondDynamic>> breaks;
   for (const auto& part : in) {
     Unpacker up{part};
-    const auto count = up.get<std::uint64_t>();
-    for (std::uint64_t c = 0; c < count; ++c) forces.push_back(up.get<World::WallForceAt>());
+    up.each<World::WallForceAt>([&](const auto& f) { forces.push_back(f); });
     while (up.more()) {
       const auto br = up.get<physics::BondBreak>();
       breaks.emplace_back(br, up.get<BondDynamic>());
@@ -518,9 +524,7 @@ void MpiDomain::gather_all(World& world, bool contacts) {
   for (const auto& e : world.history_) histories += counts_for(e.key);
   pk.put(owned);
   for (std::uint32_t i = 0; i < world.states_.size(); ++i) {
-    if (!world.infos_[i].alive || !world.owns(i)) continue;
-    pk.put(i);
-    pk.put(world.states_[i]);
+    if (world.infos_[i].alive && world.owns(i)) pk.put(OwnedState{i, world.states_[i]});
   }
   pk.put(histories);
   for (const auto& e : world.history_) {
@@ -546,22 +550,10 @@ void MpiDomain::gather_all(World& world, bool contacts) {
   std::vector<RecordAt> gathered;
   for (const auto& part : in) {
     Unpacker up{part};
-    const auto bodies = up.get<std::uint64_t>();
-    for (std::uint64_t b = 0; b < bodies; ++b) {
-      const auto i = up.get<std::uint32_t>();
-      world.states_[i] = up.get<BodyState>();
-    }
-    const auto h = up.get<std::uint64_t>();
-    for (std::uint64_t e = 0; e < h; ++e) history.push_back(up.get<World::HistoryEntry>());
-    const auto nb = up.get<std::uint64_t>();
-    for (std::uint64_t b = 0; b < nb; ++b) {
-      const auto d = up.get<BondDynamic>();
-      apply(world.bonds_[d.index], d);
-    }
-    if (contacts) {
-      const auto nr = up.get<std::uint64_t>();
-      for (std::uint64_t r = 0; r < nr; ++r) gathered.push_back(up.get<RecordAt>());
-    }
+    up.each<OwnedState>([&](const OwnedState& b) { world.states_[b.slot] = b.state; });
+    up.each<World::HistoryEntry>([&](const auto& e) { history.push_back(e); });
+    up.each<BondDynamic>([&](const BondDynamic& d) { apply(world.bonds_[d.index], d); });
+    if (contacts) up.each<RecordAt>([&](const RecordAt& r) { gathered.push_back(r); });
   }
   std::sort(history.begin(), history.end(), [](const auto& p, const auto& q) { return p.key < q.key; });
   world.history_ = std::move(history);
