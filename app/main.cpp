@@ -12,6 +12,7 @@
 #include "parallel/mpi_domain.hpp"
 #endif
 
+#ifndef CLEAVE_HAVE_MPI
 namespace {
 /// The number of processes mpirun started (1 when it did not), from its environment.
 int mpirun_size() {
@@ -21,6 +22,7 @@ int mpirun_size() {
   return 1;
 }
 }  // namespace
+#endif
 
 int main(int argc, char** argv) {
   using namespace cleave::app;
@@ -135,10 +137,10 @@ int main(int argc, char** argv) {
 
   // Several processes: `cleave run` splits the specimen among them (parallel/); nothing
   // else does, and a build without MPI says so rather than running N copies.
-  const int processes = mpirun_size();
 #ifdef CLEAVE_HAVE_MPI
   std::unique_ptr<cleave::parallel::MpiSession> mpi;
   if (cleave::parallel::launched_by_mpirun()) mpi = std::make_unique<cleave::parallel::MpiSession>(argc, argv);
+  const int processes = mpi ? mpi->size() : 1;
   if (processes > 1 && !run_cmd->parsed() && !restart_cmd->parsed()) {
     if (!mpi || mpi->rank() == 0)
       fmt::print(stderr, "cleave: error: only `cleave run` runs on several MPI processes (mpirun -np {})\n", processes);
@@ -146,6 +148,7 @@ int main(int argc, char** argv) {
   }
   run.mpi_size = restart.mpi_size = mpi ? mpi->size() : 0;  // mpirun -np 1 too: the same code path
 #else
+  const int processes = mpirun_size();
   if (processes > 1) {
     fmt::print(stderr, "cleave: error: started by mpirun with {} processes, but this cleave was built without "
                        "MPI (install libopenmpi-dev and rebuild with -DCLEAVE_MPI=ON)\n", processes);

@@ -38,7 +38,7 @@ struct Unpacker {
   T get() {
     if (at + sizeof(T) > in.size()) throw std::logic_error("MpiDomain: a message ended early");
     T v;
-    std::memcpy(&v, in.data() + at, sizeof(T));
+    std::memcpy(static_cast<void*>(&v), in.data() + at, sizeof(T));
     at += sizeof(T);
     return v;
   }
@@ -446,7 +446,7 @@ void MpiDomain::exchange_ghost_states(World& world) {
   const char* q = recv_buffer_.data();
   for (std::size_t r = 0; r < n; ++r) {
     for (const std::uint32_t i : recv_[r]) {
-      std::memcpy(&world.states_[i], q, sizeof(BodyState));
+      std::memcpy(static_cast<void*>(&world.states_[i]), q, sizeof(BodyState));
       q += sizeof(BodyState);
     }
   }

@@ -381,7 +381,7 @@ class Dynamics::Runner {
     // A blown-up state with non-finite values makes no frame; the last good one stays.
     const bool garbage = sum_.ending == RunEnding::blew_up && !finite_state();
     if (domain()) domain()->gather_all(world_, true);  // every process holds the whole world
-    if (world_.steps() != last_frame_step_ && !garbage) write_frame();
+    if (world_.steps() != last_frame_step_ && !garbage) write_frame(true);
     write_tables();
     sum_.steps = world_.steps();
     sum_.time = world_.time();
@@ -936,22 +936,10 @@ class Dynamics::Runner {
   // the same points of the run.
   physics::Domain* domain() const { return world_.domain(); }
   double kinetic_energy() const {
-    if (!domain()) return world_.kinetic_energy();
-    physics::ExactSum e;
-    for (const physics::BodyId id : world_.body_ids()) {
-      if (!world_.owns(id.index)) continue;
-      const physics::BodyState& s = world_.state(id);
-      e.add(0.5 * world_.info(id).mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L));
-    }
-    return domain()->sum(e);
+    return domain() ? domain()->sum(world_.owned_kinetic_energy()) : world_.kinetic_energy();
   }
   double potential_energy() const {
-    if (!domain()) return world_.potential_energy();
-    physics::ExactSum e;
-    for (const physics::BodyId id : world_.body_ids()) {
-      if (world_.owns(id.index)) e.add(-world_.info(id).mass * world_.settings().gravity.dot(world_.state(id).x));
-    }
-    return domain()->sum(e);
+    return domain() ? domain()->sum(world_.owned_potential_energy()) : world_.potential_energy();
   }
   std::size_t contact_count() const {
     return domain() ? domain()->count(world_.owned_contact_count()) : world_.contacts().size();
@@ -1031,8 +1019,9 @@ class Dynamics::Runner {
     }
   }
 
-  void write_frame() {
-    if (domain()) domain()->gather_all(world_, true);  // the whole world, its contacts too
+  /// `gathered`: on several processes, the whole world is here already.
+  void write_frame(bool gathered = false) {
+    if (domain() && !gathered) domain()->gather_all(world_, true);  // the whole world, its contacts too
     const std::string stem = fmt::format("{:06d}", sum_.frames);
     const fs::path dir = "frames";
     io::write_vtp(out_ / dir / ("bodies_" + stem + ".vtp"), body_frame(world_, specimen_));

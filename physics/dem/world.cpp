@@ -1568,12 +1568,15 @@ BondCounts World::bond_counts() const {
   return c;
 }
 
+namespace {
+double kinetic(const BodyState& s, const BodyInfo& b) { return 0.5 * b.mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L); }
+double potential(const BodyState& s, const BodyInfo& b, const Eigen::Vector3d& g) { return -b.mass * g.dot(s.x); }
+}  // namespace
+
 double World::kinetic_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < states_.size(); ++i) {
-    if (!infos_[i].alive) continue;
-    const BodyState& s = states_[i];
-    e += 0.5 * infos_[i].mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L);
+    if (infos_[i].alive) e += kinetic(states_[i], infos_[i]);
   }
   return e;
 }
@@ -1581,7 +1584,23 @@ double World::kinetic_energy() const {
 double World::potential_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < states_.size(); ++i) {
-    if (infos_[i].alive) e -= infos_[i].mass * settings_.gravity.dot(states_[i].x);
+    if (infos_[i].alive) e += potential(states_[i], infos_[i], settings_.gravity);
+  }
+  return e;
+}
+
+ExactSum World::owned_kinetic_energy() const {
+  ExactSum e;
+  for (std::uint32_t i = 0; i < states_.size(); ++i) {
+    if (infos_[i].alive && owns(i)) e.add(kinetic(states_[i], infos_[i]));
+  }
+  return e;
+}
+
+ExactSum World::owned_potential_energy() const {
+  ExactSum e;
+  for (std::uint32_t i = 0; i < states_.size(); ++i) {
+    if (infos_[i].alive && owns(i)) e.add(potential(states_[i], infos_[i], settings_.gravity));
   }
   return e;
 }

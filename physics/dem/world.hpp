@@ -363,16 +363,10 @@ class World {
   [[nodiscard]] Eigen::Vector3d linear_momentum() const;
   [[nodiscard]] Eigen::Vector3d angular_momentum() const;  ///< about the world origin
 
-  /// Checkpoints (world_state.cpp): everything the world carries from one step to the
-  /// next, bit for bit: settings, shapes, bodies (with the forces of the last evaluation,
-  /// which the next step's first half-kick uses), free slots, walls, bonds with their state
-  /// and stored overlaps, bond breaks, contact histories and records, pair offsets, the
-  /// neighbour search's Verlet list, time and step count. A world that loads what another
-  /// saved steps on exactly as the other would have. `threads` is kept as this world's.
   /// Steps this world as one process of `domain` (null: the whole world here): only the
   /// owned bodies are integrated, only contacts and bonds with an owned body are evaluated.
-  /// `roles` by slot (empty: all owned). Periodic cells, thermal expansion, manifolds, stress
-  /// criteria and splits are single-process for now (refused by the caller).
+  /// `roles` by slot (empty: all owned). Periodic cells, thermal expansion, manifolds and stress
+  /// criteria are single-process for now (refused by the caller).
   void set_domain(Domain* domain, std::vector<Role> roles);
   void set_roles(std::vector<Role> roles);
   [[nodiscard]] Domain* domain() const { return domain_; }
@@ -381,7 +375,17 @@ class World {
   /// The contacts this process counts: body pairs whose A it owns, wall contacts whose body
   /// it owns (each contact of the whole world is counted by exactly one process).
   [[nodiscard]] std::size_t owned_contact_count() const;
+  /// kinetic_energy() and potential_energy() over the owned bodies, exactly (ExactSum): one
+  /// process's share of the whole world's.
+  [[nodiscard]] ExactSum owned_kinetic_energy() const;
+  [[nodiscard]] ExactSum owned_potential_energy() const;
 
+  /// Checkpoints (world_state.cpp): everything the world carries from one step to the
+  /// next, bit for bit: settings, shapes, bodies (with the forces of the last evaluation,
+  /// which the next step's first half-kick uses), free slots, walls, bonds with their state
+  /// and stored overlaps, bond breaks, contact histories and records, pair offsets, the
+  /// neighbour search's Verlet list, time and step count. A world that loads what another
+  /// saved steps on exactly as the other would have. `threads` is kept as this world's.
   void save_state(StateWriter& out) const;
   /// Replaces this world's state by a saved one; throws StateError on malformed data.
   void load_state(StateReader& in);

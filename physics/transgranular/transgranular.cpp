@@ -291,30 +291,22 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
       put(a);
       put(world.state(a.id));
     }
-    failing.clear();
-    std::vector<BodyState> parents;
+    std::vector<std::pair<CrackAssessment, BodyState>> all;
     for (const std::vector<char>& part : domain->all_gather(mine)) {
       constexpr std::size_t kOne = sizeof(CrackAssessment) + sizeof(BodyState);
       if (part.size() % kOne != 0) throw std::logic_error("transgranular_step: a split message is cut short");
       for (std::size_t at = 0; at < part.size(); at += kOne) {
-        CrackAssessment a;
-        BodyState s;
+        auto& [a, s] = all.emplace_back();
         std::memcpy(static_cast<void*>(&a), part.data() + at, sizeof a);
         std::memcpy(static_cast<void*>(&s), part.data() + at + sizeof a, sizeof s);
-        failing.push_back(a);
-        parents.push_back(s);
       }
     }
-    std::vector<std::size_t> order(failing.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t p, std::size_t q) { return failing[p].id.index < failing[q].id.index; });
-    std::vector<CrackAssessment> sorted;
-    for (const std::size_t k : order) {
-      world.state(failing[k].id) = parents[k];
-      sorted.push_back(failing[k]);
+    std::sort(all.begin(), all.end(), [](const auto& p, const auto& q) { return p.first.id.index < q.first.id.index; });
+    failing.clear();
+    for (const auto& [a, s] : all) {
+      world.state(a.id) = s;
+      failing.push_back(a);
     }
-    failing = std::move(sorted);
   }
   for (const CrackAssessment& a : failing) {
     SplitEvent split = book.split(world, a.id, a.plane);
