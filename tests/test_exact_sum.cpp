@@ -37,20 +37,46 @@ TEST(ExactSum, CancellationThatAPlainSumLosesIsExact) {
   EXPECT_EQ(exact_of({0.1, -0.1}), 0.0);
 }
 
-TEST(ExactSum, SmallIntegersAndDyadicFractionsSumAsIntegers) {
-  // Terms whose exact sum a double holds: the result is that sum, whatever the order.
+TEST(ExactSum, DyadicTermsGiveTheirIntegerSumCorrectlyRounded) {
+  // Terms n 2^e with |n| <= 10^6 and e in [-20, 20]: their exact sum, in units of 2^-20, is an
+  // integer of up to 68 bits, held by a 128-bit integer; the conversion of that integer to
+  // double rounds once, to nearest, which is what the exact sum must give, whatever the order.
   std::mt19937_64 rng(7);
   std::uniform_int_distribution<int> n(-1000000, 1000000), e(-20, 20);
-  for (int trial = 0; trial < 50; ++trial) {
+  int rounded = 0;  // trials whose sum a double cannot hold (else the rounding goes untested)
+  for (int trial = 0; trial < 200; ++trial) {
     std::vector<double> terms;
-    long double reference = 0;  // exact: every partial sum fits in 64 bits of mantissa
+    __int128 reference = 0;
     for (int k = 0; k < 200; ++k) {
-      const double t = std::ldexp(static_cast<double>(n(rng)), e(rng));
-      terms.push_back(t);
-      reference += static_cast<long double>(t);
+      const int mantissa = n(rng);  // drawn in sequence: an argument list's order is unspecified
+      const int exponent = e(rng);
+      terms.push_back(std::ldexp(static_cast<double>(mantissa), exponent));
+      reference += static_cast<__int128>(mantissa) << (exponent + 20);
     }
-    EXPECT_EQ(exact_of(terms), static_cast<double>(reference));
+    const double expected = std::ldexp(static_cast<double>(reference), -20);
+    if (static_cast<__int128>(std::ldexp(expected, 20)) != reference) ++rounded;
+    EXPECT_TRUE(same_bits(exact_of(terms), expected)) << trial << ": " << exact_of(terms) << " vs " << expected;
+    std::reverse(terms.begin(), terms.end());
+    EXPECT_TRUE(same_bits(exact_of(terms), expected)) << trial;
   }
+  EXPECT_GT(rounded, 50);
+}
+
+TEST(ExactSum, HalfwayCasesRoundToEvenAndAnythingPastHalfwayRoundsUp) {
+  const double two53 = std::ldexp(1.0, 53);
+  // 2^53 + 1 lies halfway between 2^53 and 2^53 + 2: to even, 2^53.
+  EXPECT_TRUE(same_bits(exact_of({two53, 1.0}), two53));
+  // 2^53 + 3 lies halfway between 2^53 + 2 and 2^53 + 4: to even, 2^53 + 4.
+  EXPECT_TRUE(same_bits(exact_of({two53, 3.0}), two53 + 4.0));
+  // A bit far below the halfway point breaks the tie: up, then down for the negative sum.
+  EXPECT_TRUE(same_bits(exact_of({two53, 1.0, std::ldexp(1.0, -900)}), two53 + 2.0));
+  EXPECT_TRUE(same_bits(exact_of({two53, 1.0, -std::ldexp(1.0, -900)}), two53));
+  EXPECT_TRUE(same_bits(exact_of({-two53, -1.0, -std::ldexp(1.0, -900)}), -two53 - 2.0));
+  // Rounding that carries into a new top bit: (2^53 - 1) 2 + 1 + tiny rounds to 2^54.
+  EXPECT_TRUE(same_bits(exact_of({two53 - 1.0, two53 - 1.0, 1.0, std::ldexp(1.0, -1074)}), 2.0 * two53));
+  // A subnormal result is exact.
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  EXPECT_TRUE(same_bits(exact_of({std::ldexp(1.0, -1022), -tiny}), std::ldexp(1.0, -1022) - tiny));
 }
 
 TEST(ExactSum, AnyOrderAndAnySplitIntoPartsGiveTheSameBits) {

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -43,8 +45,8 @@ class ExactSum {
     special_ += other.special_;
   }
 
-  /// The sum, rounded to a double (from its top 128 bits: a function of the exact sum
-  /// alone, so the same for every order of the terms).
+  /// The sum, correctly rounded to the nearest double (ties to even): a function of the
+  /// exact sum alone, so the same for every order of the terms.
   [[nodiscard]] double value() const {
     if (special_ != 0.0 || std::isnan(special_)) return special_;
     std::array<std::int64_t, kDigits> d = digits_;
@@ -63,8 +65,24 @@ class ExactSum {
     }
     int top = kDigits - 1;
     while (top > 0 && d[top] == 0) --top;
-    double r = 0.0;
-    for (int k = top; k >= 0 && k > top - 4; --k) r += std::ldexp(static_cast<double>(d[k]), 32 * k - 1074);
+    if (d[top] == 0) return 0.0;
+    const int length = 32 * top + std::bit_width(static_cast<std::uint64_t>(d[top]));  // bits of the magnitude
+    // The 64 bits below the top one's end, and whether any bit under them is set (sticky):
+    // converting those 64 bits, sticky or-ed into the lowest, rounds once, to nearest, as the
+    // exact magnitude would (11 bits below a double's 53 decide the rounding).
+    const int shift = std::max(0, length - 64);
+    auto digit = [&d](int k) -> unsigned __int128 {
+      return k < kDigits ? static_cast<unsigned __int128>(static_cast<std::uint64_t>(d[k])) : 0;
+    };
+    const int k = shift / 32, offset = shift % 32;
+    const unsigned __int128 window = digit(k) | digit(k + 1) << 32 | digit(k + 2) << 64;
+    auto bits = static_cast<std::uint64_t>(window >> offset);
+    bool sticky = (static_cast<std::uint64_t>(d[k]) & ((std::uint64_t{1} << offset) - 1)) != 0;
+    for (int j = 0; j < k && !sticky; ++j) sticky = d[j] != 0;
+    if (sticky) bits |= 1u;
+    // With shift > 0 the result is at least 2^(63 + shift - 1074), a normal double, so the
+    // scaling is exact; with shift = 0 a subnormal result is the integer itself, exact too.
+    const double r = std::ldexp(static_cast<double>(bits), shift - 1074);
     return negative ? -r : r;
   }
 
