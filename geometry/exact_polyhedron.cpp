@@ -477,8 +477,9 @@ ExactScalar ExactPolyhedron::volume() const {
 
 double ExactPolyhedron::volume_approx() const { return to_mesh().signed_volume(); }
 
-MassProperties ExactPolyhedron::mass_properties() const {
-  const ExactMoments m = exact_moments(*impl_, true);
+namespace {
+MassProperties compute_mass_properties(const Impl& p) {
+  const ExactMoments m = exact_moments(p, true);
   const ExactFT volume = m.six_volume / ExactFT(6);
   // Centroid relative to the reference vertex: c = first / V = (first24 / 24) / (six / 6).
   std::array<ExactFT, 3> c;
@@ -493,7 +494,7 @@ MassProperties ExactPolyhedron::mass_properties() const {
   }
   MassProperties mp;
   mp.volume = CGAL::to_double(volume);
-  const auto& o = CGAL::exact(impl_->vertices[0]);
+  const auto& o = CGAL::exact(p.vertices[0]);
   mp.centroid = {CGAL::to_double(o.x() + c[0]), CGAL::to_double(o.y() + c[1]),
                  CGAL::to_double(o.z() + c[2])};
   mp.inertia = S.trace() * Eigen::Matrix3d::Identity() - S;
@@ -502,6 +503,11 @@ MassProperties ExactPolyhedron::mass_properties() const {
   mp.principal_axes = eig.eigenvectors();
   if (mp.principal_axes.determinant() < 0.0) mp.principal_axes.col(2) *= -1.0;
   return mp;
+}
+}  // namespace
+
+MassProperties ExactPolyhedron::mass_properties() const {
+  return impl_->mass.get([this] { return compute_mass_properties(*impl_); });
 }
 
 ExactScalar total_volume(const std::vector<ExactPolyhedron>& parts) {
