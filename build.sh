@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 mode="${1:-demo}"
 build_dir="${CLEAVE_BUILD_DIR:-build}"
 asan_dir="${CLEAVE_ASAN_BUILD_DIR:-build-asan}"
-fuzz_seconds="${CLEAVE_FUZZ_SECONDS:-30}"  # per fuzz target (CI: the four take 2 min; longer runs by hand)
+fuzz_seconds="${CLEAVE_FUZZ_SECONDS:-20}"  # per fuzz target (CI: the four take 80 s, a check of the corpus and a short search; longer runs by hand)
 jobs="${CLEAVE_JOBS:-$(nproc)}"
 
 packages=(
@@ -48,7 +48,11 @@ install_missing() {
 build() {
   if [ ! -f "$build_dir/build.ninja" ]; then
     # Debian's python3 (numpy, pybind11), not whatever python3 comes first on PATH.
+    # Line tables, not full debug info (-g1): stack traces and perf keep file and line, and
+    # the build compiles 35-40 % faster (io/voxel_volume.cpp 81 s -> 49 s, a gtest file
+    # 13.5 s -> 9.4 s). CLEAVE_CXX_FLAGS replaces them (e.g. "-O2 -g" for gdb's variables).
     cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="${CLEAVE_BUILD_TYPE:-RelWithDebInfo}" \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="${CLEAVE_CXX_FLAGS:--O2 -g1 -DNDEBUG}" \
       -DPython3_EXECUTABLE=/usr/bin/python3
   fi
   cmake --build "$build_dir" -j "$jobs"

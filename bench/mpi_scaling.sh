@@ -133,6 +133,8 @@ distance = 0.08
 name = "loading"
 wall_velocity = { bottom = [0.0, 0.01, 0.0], top = [0.0, -0.01, 0.0] }
 time = 60.0
+frames = 0   # a stage's default, 10 frames over its steps, would be 10 frames of 10^5 bodies
+             # in any run cut by --max-steps: the two runs' difference would be theirs
 EOF
 
 # Wall time of a run to --max-steps N.

@@ -1022,6 +1022,11 @@ class Dynamics::Runner {
   /// `gathered`: on several processes, the whole world is here already.
   void write_frame(bool gathered = false) {
     if (domain() && !gathered) domain()->gather_all(world_, true);  // the whole world, its contacts too
+    if (!root_) {  // several processes: the first writes the frames
+      ++sum_.frames;
+      last_frame_step_ = world_.steps();
+      return;
+    }
     const std::string stem = fmt::format("{:06d}", sum_.frames);
     const fs::path dir = "frames";
     io::write_vtp(out_ / dir / ("bodies_" + stem + ".vtp"), body_frame(world_, specimen_));

@@ -123,6 +123,10 @@ struct Simulation::State {
   void say(const std::string& line) const {
     if (!options.quiet) fmt::print("{}\n", line);
   }
+  /// Several processes: only the first writes the meshes, geometry.exact and the tables
+  /// (the others work in a scratch folder that is removed; a 10^5-grain specimen's meshes
+  /// and exact store take most of its start).
+  bool writes_results() const { return !options.domain || options.domain->rank() == 0; }
   bool stop() const { return options.stop_requested && options.stop_requested(); }
   std::string stop_reason() const { return options.stop_reason ? options.stop_reason() : "stopped"; }
 
@@ -246,6 +250,10 @@ void Simulation::State::start() {
 
     if (stop()) return interrupted();
 
+    if (!writes_results()) {
+      if (scenario.dynamics.enabled) make_dynamics();
+      return;
+    }
     step = Stopwatch();
     std::vector<geometry::PolygonMesh> meshes;
     meshes.reserve(pieces.size());
@@ -367,7 +375,7 @@ RunReport Simulation::State::finish() {
         manifest.facts["bonds_broken_bending"] = std::to_string(c.bending);
         manifest.facts["bonds_broken_torsion"] = std::to_string(c.torsion);
       }
-      if (scenario.fracture.enabled) {
+      if (scenario.fracture.enabled && writes_results()) {
         // The result is now the pieces alive at the end: geometry.exact, fragments.csv and
         // the meshes describe them (each in its grain's place, as cut), so that `cleave
         // check volume` checks the run's own fragments.
