@@ -126,6 +126,14 @@ int calibrate_command(const CalibrateOptions& options) {
                                  setup.tolerance);
   if (setup.targets.flexural_strength && setup.flexural_tolerance)
     toml += fmt::format("flexural_tolerance = {}\n", *setup.flexural_tolerance);
+  if (!r.advice.empty()) {
+    std::string quoted;  // a TOML basic string: backslashes and quotes escaped
+    for (char c : r.advice) {
+      if (c == '\\' || c == '"') quoted += '\\';
+      quoted += c;
+    }
+    toml += fmt::format("advice = \"{}\"\n", quoted);
+  }
   toml += "\n[fit]   # set these in the test scenarios' [bond] (fracture.crack_length: in the SENB\n"
           "        # scenario's length unit, in its [fracture])\n";
   for (const auto& [key, value] : r.parameters) toml += fmt::format("\"{}\" = {:.9g}\n", key, value);
@@ -167,7 +175,9 @@ int calibrate_command(const CalibrateOptions& options) {
   fmt::print("  {} after {} trial runs in {:.0f} s:", r.converged ? "converged" : "NOT converged",
              r.trials.size(), r.wall_seconds);
   for (const auto& [key, value] : r.parameters) fmt::print(" {} = {:.5g}", key, value);
-  fmt::print("\n  -> {}/calibration.toml, calibration.csv, calibration.svg\n", setup.out.string());
+  fmt::print("\n");
+  if (!r.advice.empty()) fmt::print("  {}\n", r.advice);
+  fmt::print("  -> {}/calibration.toml, calibration.csv, calibration.svg\n", setup.out.string());
   return r.converged ? 0 : 1;
 }
 

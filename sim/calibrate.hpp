@@ -81,6 +81,9 @@ struct CalibrationResult {
   std::map<std::string, double> parameters;
   std::vector<CalibrationTrial> trials;      ///< in the order they ended
   double wall_seconds = 0.0;
+  /// What the calibration found that a user must act on or know (empty: nothing), e.g. that
+  /// the notched beam's K_Ic is carried by its bonds and what scale would fit it.
+  std::string advice;
 };
 
 /// Runs the loops (see the file comment). Throws io::ScenarioError / std::runtime_error

@@ -190,6 +190,8 @@ void run_strength_test(Simulation& sim, Measurement& m) {
     };
     std::vector<Sample> samples;
     const double t0 = world.time();
+    // A split adds bodies (nothing else does during a test); a break, a broken bond.
+    const std::size_t bodies0 = world.body_count(), broken0 = world.bond_counts().broken();
     double work = 0.0;
     while (!sim.done()) {
       if (sim.advance(chunk) == 0) break;
@@ -203,6 +205,10 @@ void run_strength_test(Simulation& sim, Measurement& m) {
         last_reaction[k] = w.reaction;
       }
       samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN});
+      if (m.first_crack.empty()) {
+        if (world.body_count() != bodies0) m.first_crack = "grain";
+        else if (world.bond_counts().broken() != broken0) m.first_crack = "bond";
+      }
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
@@ -439,8 +445,8 @@ std::string measurement_toml(const Measurement& m) {
     }
   }
   if (std::isfinite(m.peak_load)) {
-    out += fmt::format("peak_load_N = {}\npeak_displacement_m = {}\n", num(m.peak_load),
-                       num(m.peak_displacement));
+    out += fmt::format("peak_load_N = {}\npeak_displacement_m = {}\nfirst_crack = \"{}\"\n",
+                       num(m.peak_load), num(m.peak_displacement), m.first_crack);
   }
   out += fmt::format("section_width_m = {}\nsection_depth_m = {}\nsection_thickness_m = {}\n",
                      num(m.section.width), num(m.section.depth), num(m.section.thickness));

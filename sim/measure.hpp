@@ -77,6 +77,12 @@ struct Measurement {
   /// the loading stage's second half (strength tests: between half the time to the peak and
   /// the peak): how quasi-static the test was (small is good).
   double kinetic_ratio = NAN;
+  /// Strength tests: what cracked first in the loading stage, "bond" (a grain boundary) or
+  /// "grain" (a transgranular split; "grain" too when both came within one sample of the
+  /// load), empty when nothing did. In a brittle test the first crack is the one that sets
+  /// the peak: a notched beam whose first crack is a bond's has its K_Ic from the bonds,
+  /// whatever the grains' criterion.
+  std::string first_crack;
   RunReport report;
 };
 

@@ -2,7 +2,10 @@
 // measuring a specimen with known springs and strengths, the calibration starts far from
 // them, and it must find them again within its tolerance's reach.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include <filesystem>
 
@@ -26,6 +29,24 @@ sim::Measurement measured(sim::Test test, const char* file, const std::string& t
   std::vector<std::string> all = overrides;
   all.push_back("dynamics.threads=1");
   return sim::measure(test, kDir / file, o, all);
+}
+/// A copy of the scenario `file` without its [fracture] table, at time step `dt` (null:
+/// the file's): the bonds alone, as the strength loop's structure is about them.
+fs::path bonds_only(const char* file, const char* dt, const std::string& tag) {
+  std::ifstream in(kDir / file);
+  std::string line, text;
+  bool skipping = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '[') skipping = line.rfind("[fracture]", 0) == 0;
+    if (skipping) continue;
+    if (dt != nullptr && line.rfind("dt = ", 0) == 0) line = std::string("dt = ") + dt;
+    text += line + "\n";
+  }
+  const fs::path dir = fs::temp_directory_path() / ("cleave_test_calibrate_" + tag);
+  fs::create_directories(dir);
+  const fs::path out = dir / file;
+  std::ofstream(out) << text;
+  return out;
 }
 }  // namespace
 
@@ -59,16 +80,29 @@ TEST(MaterialTest, CalibrationRecoversKnownBondParametersFromTheirMeasuredValues
 
 TEST(MaterialTest, CalibrationFindsTheShearToNormalStrengthRatioThatGivesAFlexuralStrength) {
   // The truth: shear bonds twice as strong as normal ones, both weaker than the scenarios'.
+  // The disc and the bar of the SiC scenarios without grain fracture (which splits no grain
+  // before their peaks at the fit, but caps the bar at the equal strengths this starts from).
   const double tbn = 0.8e12, tbs = 1.6e12;
-  const std::vector<std::string> truth = {"bond.tbn=0.8e12", "bond.tbs=1.6e12"};
-  const sim::Measurement b = measured(sim::Test::brazilian, "sic_brazilian.toml", "truth_fb", truth);
-  const sim::Measurement f = measured(sim::Test::flexural, "sic_four_point.toml", "truth_ff", truth);
+  const std::vector<std::string> truth = {"bond.tbn=0.8e12", "bond.tbs=1.6e12", "dynamics.threads=1"};
+  // The time steps of the scenarios before grain fracture was on (the bar's is the grains').
+  const fs::path disc = bonds_only("sic_brazilian.toml", nullptr, "disc_bonds");
+  const fs::path bar = bonds_only("sic_four_point.toml", "2.1e-9", "bar_bonds");
+  sim::SimulationOptions o;
+  o.quiet = true;
+  o.out = fs::temp_directory_path() / "cleave_test_calibrate_truth_fb";
+  const sim::Measurement b = sim::measure(sim::Test::brazilian, disc, o, truth);
+  o.out = fs::temp_directory_path() / "cleave_test_calibrate_truth_ff";
+  const sim::Measurement f = sim::measure(sim::Test::flexural, bar, o, truth);
   sim::CalibrationSetup setup;
-  setup.brazilian = kDir / "sic_brazilian.toml";
-  setup.flexural = kDir / "sic_four_point.toml";
+  setup.brazilian = disc;
+  setup.flexural = bar;
   setup.targets.tensile_strength = b.value;
   setup.targets.flexural_strength = f.value;
-  setup.tolerance = 0.01;
+  // The calibration file's tolerances for SiC: the 7-row bar's reading jumps by up to 15 %
+  // with a few per cent of t_bn (its first tension-face break is the peak or is not), so
+  // 1 % on it is met only by chance (USER_GUIDE, "Bands").
+  setup.tolerance = 0.02;
+  setup.flexural_tolerance = 0.05;
   setup.quiet = true;
   setup.out = fs::temp_directory_path() / "cleave_test_calibrate_flexural";
   // Equal strengths, 50 % and 25 % off: the disc reads 6 % and the bar 25 % high there.
@@ -76,8 +110,8 @@ TEST(MaterialTest, CalibrationFindsTheShearToNormalStrengthRatioThatGivesAFlexur
   const sim::CalibrationResult r = sim::calibrate(setup);
   ASSERT_TRUE(r.converged) << r.trials.size() << " trials";
   const sim::CalibrationTrial& last = r.trials.back();
-  EXPECT_LE(std::abs(last.error), 0.01);
-  EXPECT_LE(std::abs(last.error_flexural), 0.01);
+  EXPECT_LE(std::abs(last.error), 0.02);
+  EXPECT_LE(std::abs(last.error_flexural), 0.05);
   // The disc, split by its bonds' shear, pins t_bs; the bar's strength moves little with
   // t_bn near the truth (the break on its tension face is a discrete event), so t_bn is
   // found more loosely: both within the reach the two targets allow.
@@ -110,16 +144,18 @@ TEST(CalibrationFile, AFlexuralTestWithoutABrazilianOneIsAnErrorNamingTheLineAnd
 }
 
 TEST(MaterialTest, CalibrationFindsTheCrackLengthThatGivesANotchedBeamItsToughness) {
-  // sic_senb.toml cracks through its grains (transgranular fracture on): its K_Ic goes as
-  // a^-1/2 in the criterion's crack length a (eq. 3.23). The target is what a = 20 um gives;
-  // the calibration starts at the scenario's 42 um and must find 20 um again.
+  // With a criterion crack length of 20 or 40 um, sic_senb.toml cracks through its grains
+  // before its bonds: its K_Ic goes as a^-1/2 (eq. 3.23). The target is what a = 20 um
+  // gives; the calibration starts at 40 um and must find 20 um again.
   const sim::Measurement truth =
       measured(sim::Test::senb, "sic_senb.toml", "truth_senb", {"fracture.crack_length=0.02"});
+  ASSERT_EQ(truth.first_crack, "grain") << "the notch must crack through its grains at a = 20 um";
   sim::CalibrationSetup setup;
   setup.senb = kDir / "sic_senb.toml";
   setup.targets.toughness = truth.value;
   setup.tolerance = 0.02;
   setup.quiet = true;
+  setup.start["fracture.crack_length"] = 0.04;
   setup.out = fs::temp_directory_path() / "cleave_test_calibrate_toughness";
   const sim::CalibrationResult r = sim::calibrate(setup);
   ASSERT_TRUE(r.converged) << r.trials.size() << " trials";
@@ -127,4 +163,25 @@ TEST(MaterialTest, CalibrationFindsTheCrackLengthThatGivesANotchedBeamItsToughne
   EXPECT_NEAR(r.parameters.at("fracture.crack_length") / 0.02, 1.0, 0.08);
   EXPECT_LE(r.trials.size(), 3u) << "K_Ic ~ a^-1/2 should need one correction, two at most";
   for (const auto& t : r.trials) EXPECT_EQ(t.loop, "toughness");
+  EXPECT_TRUE(r.advice.empty()) << r.advice;
+}
+
+TEST(MaterialTest, CalibrationSaysWhatScaleFitsAToughnessTheGrainBoundariesCarry) {
+  // The shipped sic_senb.toml cracks along its grain boundaries (a = 3 um: a bond breaks first, no grain splits
+  // before the peak), so no crack length can move its K_Ic. Asked for 2.0 MPa m^0.5, the
+  // calibration must stop after one trial, not converged, and name the scale that K ~
+  // sqrt(scale) gives: (2.0 / measured)^2.
+  sim::CalibrationSetup setup;
+  setup.senb = kDir / "sic_senb.toml";
+  setup.targets.toughness = 2.0e6;
+  setup.tolerance = 0.02;
+  setup.quiet = true;
+  setup.out = fs::temp_directory_path() / "cleave_test_calibrate_toughness_bonds";
+  const sim::CalibrationResult r = sim::calibrate(setup);
+  EXPECT_FALSE(r.converged);
+  ASSERT_EQ(r.trials.size(), 1u);
+  const double scale = std::pow(2.0e6 / r.trials[0].measured, 2);
+  EXPECT_NE(r.advice.find("grain boundaries"), std::string::npos) << r.advice;
+  EXPECT_NE(r.advice.find(fmt::format("{:.4g}", scale)), std::string::npos) << r.advice;
+  EXPECT_NE(r.advice.find("scale_scenario.py"), std::string::npos) << r.advice;
 }
