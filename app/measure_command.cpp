@@ -217,6 +217,11 @@ int measure_command(const MeasureOptions& options) {
                m.closed_form->poisson);
   }
   if (!compare.empty()) fmt::print("{}\n", compare);
+  if (std::isfinite(m.value_at_first_crack)) {
+    fmt::print("  first crack: a {}, at P = {:.5g} N, where the formula reads {:.4g} {}{}\n",
+               m.first_crack, m.first_crack_load, m.value_at_first_crack / r.scale, r.unit,
+               m.first_crack_load < 0.99 * m.peak_load ? " (the crack stopped; the load climbed on)" : "");
+  }
   if (std::isfinite(m.kinetic_ratio)) {
     fmt::print("  quasi-static: kinetic energy at most {:.2g} of the work done in the loading's second half\n",
                m.kinetic_ratio);

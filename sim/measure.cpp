@@ -204,11 +204,12 @@ void run_strength_test(Simulation& sim, Measurement& m) {
         last_origin[k] = w.origin;
         last_reaction[k] = w.reaction;
       }
-      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN});
       if (m.first_crack.empty()) {
         if (world.body_count() != bodies0) m.first_crack = "grain";
         else if (world.bond_counts().broken() != broken0) m.first_crack = "bond";
+        if (!m.first_crack.empty()) m.first_crack_load = samples.empty() ? 0.0 : samples.back().load;
       }
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN});
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
@@ -375,6 +376,10 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
     }
   }
   if (!sim->finished()) m.report = sim->finish();
+  // Every strength formula above is linear in the load.
+  if (std::isfinite(m.first_crack_load) && m.peak_load > 0.0 && std::isfinite(m.value)) {
+    m.value_at_first_crack = m.value * m.first_crack_load / m.peak_load;
+  }
   return m;
 }
 
@@ -447,6 +452,10 @@ std::string measurement_toml(const Measurement& m) {
   if (std::isfinite(m.peak_load)) {
     out += fmt::format("peak_load_N = {}\npeak_displacement_m = {}\nfirst_crack = \"{}\"\n",
                        num(m.peak_load), num(m.peak_displacement), m.first_crack);
+    if (std::isfinite(m.first_crack_load)) {
+      out += fmt::format("first_crack_load_N = {}\n{}_at_first_crack = {}\n", num(m.first_crack_load),
+                         value_key(m.test), num(m.value_at_first_crack));
+    }
   }
   out += fmt::format("section_width_m = {}\nsection_depth_m = {}\nsection_thickness_m = {}\n",
                      num(m.section.width), num(m.section.depth), num(m.section.thickness));

@@ -83,6 +83,11 @@ struct Measurement {
   /// the peak: a notched beam whose first crack is a bond's has its K_Ic from the bonds,
   /// whatever the grains' criterion.
   std::string first_crack;
+  /// Strength tests: the load on the last sample (1/400 of the loading stage) before the
+  /// first crack (N), and the value its formula gives there: the crack-initiation reading,
+  /// beside the peak's (the same when the first crack runs through). NaN without a crack.
+  double first_crack_load = NAN;
+  double value_at_first_crack = NAN;
   RunReport report;
 };
 

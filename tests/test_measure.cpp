@@ -227,6 +227,10 @@ TEST(MaterialTest, ToughnessOfANotchedBeamCrackedThroughItsGrainsIsProportionalT
     ASSERT_TRUE(m->report.dynamics.has_value());
     EXPECT_EQ(m->first_crack, "grain") << "the crack did not run through grains";
     EXPECT_GT(m->report.dynamics->splits, 0u);
+    // The reading at the first crack is the formula at the load just before it: at most the
+    // peak's, and (the formula being linear in P) in the ratio of the two loads.
+    EXPECT_LE(m->first_crack_load, m->peak_load);
+    EXPECT_NEAR(m->value_at_first_crack / m->value, m->first_crack_load / m->peak_load, 1e-12);
     EXPECT_EQ(m->report.dynamics->bond_counts.broken(), 0u) << "bonds broke: the criterion is not alone";
   }
   EXPECT_NEAR(half.value / full.value, 0.5, 0.025);
