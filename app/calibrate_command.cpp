@@ -18,6 +18,7 @@
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
+#include "io/toml_text.hpp"
 #include "sim/calibrate.hpp"
 
 namespace cleave::app {
@@ -126,14 +127,7 @@ int calibrate_command(const CalibrateOptions& options) {
                                  setup.tolerance);
   if (setup.targets.flexural_strength && setup.flexural_tolerance)
     toml += fmt::format("flexural_tolerance = {}\n", *setup.flexural_tolerance);
-  if (!r.advice.empty()) {
-    std::string quoted;  // a TOML basic string: backslashes and quotes escaped
-    for (char c : r.advice) {
-      if (c == '\\' || c == '"') quoted += '\\';
-      quoted += c;
-    }
-    toml += fmt::format("advice = \"{}\"\n", quoted);
-  }
+  if (!r.advice.empty()) toml += fmt::format("advice = {}\n", io::toml_basic_string(r.advice));
   toml += "\n[fit]   # set these in the test scenarios' [bond] (fracture.crack_length: in the SENB\n"
           "        # scenario's length unit, in its [fracture])\n";
   for (const auto& [key, value] : r.parameters) toml += fmt::format("\"{}\" = {:.9g}\n", key, value);

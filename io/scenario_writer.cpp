@@ -1,4 +1,5 @@
 #include "io/scenario_writer.hpp"
+#include "io/toml_text.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -17,26 +18,8 @@ std::string num(double x) {
   return s;
 }
 
-/// A TOML basic string: quoted, with backslash, quote and control characters escaped.
-std::string str(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-          out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
+/// A TOML basic string (io/toml_text.hpp).
+std::string str(const std::string& s) { return toml_basic_string(s); }
 
 std::string vec(const Eigen::Vector3d& v) {
   return fmt::format("[{}, {}, {}]", num(v.x()), num(v.y()), num(v.z()));
