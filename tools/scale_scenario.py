@@ -119,12 +119,12 @@ def scale_text(text, source, s, scale_crack_length=False):
                 raise ScaleError(f"{source}:{number}: table '{table}': scale_scenario does not know it")
             out.append(line)
             continue
-        key = KEY.match(body)
-        if not key or not body.strip() or body.lstrip().startswith("#"):
-            if body.strip() and not body.lstrip().startswith("#"):
-                raise ScaleError(f"{source}:{number}: a line scale_scenario cannot read (one key a line)")
+        if not body.strip() or body.lstrip().startswith("#"):
             out.append(line)
             continue
+        key = KEY.match(body)
+        if not key:
+            raise ScaleError(f"{source}:{number}: a line scale_scenario cannot read (one key a line)")
         indent, name, eq, value, space, comment = key.groups()
         where = f"{source}:{number}: key '{table}.{name}'"
         rules = RULES.get(table, {})
