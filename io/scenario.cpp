@@ -70,7 +70,8 @@
 ///   dt_safety ((0, 1], default 0.2), search ("bounding_box" | "basic"), threads (>= 0),
 ///   local_damping ([0, 1), default 0), density_scale (>= 1, default 1: masses and inertias
 ///   times this), manifold_tolerance ([0, 1), default 0: persistent contact manifolds, an
-///   approximation; see physics::WorldSettings). With [[stage]] tables, duration is left out.
+///   approximation; see physics::WorldSettings), in_plane (boolean, default false: motion in
+///   the xy plane only). With [[stage]] tables, duration is left out.
 ///   [[wall]]                   # any number: name, kind ("plane" | "platen" | "cylinder"),
 ///                              # point, normal, velocity (length unit/s), load_axis;
 ///                              # platen: u, size; cylinder: length, radius (length unit)
@@ -573,7 +574,8 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
 
 constexpr std::string_view kDynamicsKeys[] = {
     "dt",        "duration", "gravity", "lift",         "frames",       "settle_ratio",
-    "dt_safety", "search",   "threads", "local_damping", "density_scale", "manifold_tolerance"};
+    "dt_safety", "search",   "threads", "local_damping", "density_scale", "manifold_tolerance",
+    "in_plane"};
 
 void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool staged) {
   t.reject_unknown(kDynamicsKeys);
@@ -596,6 +598,10 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
   d.density_scale = t.number("density_scale", {.lo = 1.0}, 1.0).value;
   d.manifold_tolerance =
       t.number("manifold_tolerance", {.lo = 0.0, .hi = 1.0, .hi_open = true}, 0.0).value;
+  d.in_plane = t.boolean("in_plane", false);
+  if (const toml::node* node = t.find("in_plane")) {
+    d.in_plane_position = {line_of(node->source()), column_of(node->source())};
+  }
   if (t.find("gravity") != nullptr) {
     const auto g = t.numbers("gravity", 3, Range{});
     d.gravity = {g[0], g[1], g[2]};

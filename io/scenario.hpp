@@ -102,6 +102,10 @@ struct DynamicsDef {
   /// contacts are carried with its bodies while their relative motion stays under half this
   /// fraction of the pair's dilation radii (faster, approximate).
   double manifold_tolerance = 0.0;
+  /// Bodies move in the xy plane only (physics::WorldSettings::in_plane): for specimens one
+  /// grain thick. Default false.
+  bool in_plane = false;
+  SourcePosition in_plane_position;  ///< of the in_plane key, for its refusal
 };
 
 /// [bond]: the bonded-particle law of sec. 2.3.3 (eqs 2.9, 2.14), SI units.

@@ -131,6 +131,7 @@ std::string scenario_to_toml(const Scenario& s) {
     if (dyn.density_scale != 1.0) out += fmt::format("density_scale = {}\n", num(dyn.density_scale));
     if (dyn.manifold_tolerance != 0.0)
       out += fmt::format("manifold_tolerance = {}\n", num(dyn.manifold_tolerance));
+    if (dyn.in_plane) out += "in_plane = true\n";
   }
 
   for (const physics::Wall& w : s.walls) {
@@ -353,6 +354,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("dynamics.local_damping", da.local_damping, db.local_damping);
   d.same("dynamics.density_scale", da.density_scale, db.density_scale);
   d.same("dynamics.manifold_tolerance", da.manifold_tolerance, db.manifold_tolerance);
+  d.same("dynamics.in_plane", da.in_plane, db.in_plane);
 
   d.same("bond", a.bond.enabled, b.bond.enabled);
   d.same("bond.kbn", a.bond.params.kbn, b.bond.params.kbn);

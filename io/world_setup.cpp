@@ -148,6 +148,28 @@ void apply_thermal(const Scenario& scenario, physics::World& world) {
 
 namespace {
 Eigen::Vector3d specimen_def_size(const Scenario& scenario) { return scenario.specimen.voronoi.size; }
+/// [dynamics] in_plane holds each body to turning about z, which is its own motion only
+/// when z is one of its principal axes (a prism standing along z, and its slabs cut by
+/// planes through z): otherwise an angular momentum along z would still turn it about x or
+/// y. Refuses any other body (a Voronoi grain, a prism lying down).
+void check_in_plane(const Scenario& scenario, const physics::World& world) {
+  for (const physics::BodyId id : world.body_ids()) {
+    // z is a principal axis when the inertia tensor in world axes has no xz, yz products
+    // (whatever the principal frame an equal pair of moments left the shape with).
+    const Eigen::Matrix3d r = world.state(id).q.toRotationMatrix();  // principal -> world
+    const Eigen::Matrix3d inertia = r * world.info(id).inertia.asDiagonal() * r.transpose();
+    const double off = std::hypot(inertia(0, 2), inertia(1, 2)) / inertia.trace();
+    if (off > 1e-9) {
+      throw ScenarioError(scenario.source, scenario.dynamics.in_plane_position.line,
+                          scenario.dynamics.in_plane_position.column, "dynamics.in_plane",
+                          fmt::format("motion in the xy plane needs every grain to have a principal axis "
+                                      "along z (a prism standing along z); grain {} has not (products "
+                                      "of inertia with z {:.3g} of its trace): remove in_plane or use a "
+                                      "honeycomb specimen",
+                                      world.info(id).grain_id, off));
+    }
+  }
+}
 }  // namespace
 
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
@@ -163,6 +185,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   ws.threads = dyn.threads;
   ws.local_damping = dyn.local_damping;
   ws.manifold_tolerance = dyn.manifold_tolerance;
+  ws.in_plane = dyn.in_plane;
   physics::World world(ws);
   // World shape k is specimen shape k (sim/dynamics.cpp registers them so with the fracture book).
   std::vector<std::uint32_t> ids;
@@ -183,6 +206,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
     world.add_body(ids.at(k), grain_density(scenario), g.site.centre + shapes[k].centroid + lift,
                    shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
   }
+  if (dyn.in_plane) check_in_plane(scenario, world);
   if (scenario.periodic.enabled) {
     // The Voronoi box, lifted with its grains, is the periodic cell (the cells tile it).
     const Eigen::Vector3d lo = lift;

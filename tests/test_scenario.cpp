@@ -771,6 +771,21 @@ TEST(Scenario, ManifoldToleranceReadsBackAndIsRefusedOutsideItsRange) {
   }
 }
 
+TEST(Scenario, InPlaneReadsBackAndANonBooleanNamesItsKey) {
+  std::string text = kDropTest;
+  text.replace(text.find("duration = 0.5\n"), 15, "duration = 0.5\nin_plane = true\n");
+  const Scenario s = parse_scenario(text, "plane.toml");
+  EXPECT_TRUE(s.dynamics.in_plane);
+  EXPECT_EQ(s.dynamics.in_plane_position.line, line_of_last(text, "in_plane"));
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  EXPECT_TRUE(scenario_differences(s, again).empty());
+  EXPECT_TRUE(again.dynamics.in_plane);
+  EXPECT_FALSE(parse_scenario(kDropTest, "plain.toml").dynamics.in_plane);  // off by default
+  std::string bad = kDropTest;
+  bad.replace(bad.find("duration = 0.5\n"), 15, "duration = 0.5\nin_plane = 1\n");
+  EXPECT_SCENARIO_ERROR(bad, line_of_last(bad, "in_plane"), "dynamics.in_plane", "expected true or false");
+}
+
 TEST(Scenario, ThermalTableAndTemperatureStagesReadBackAndBadValuesNameTheirKey) {
   const std::string thermal = std::string(kDropTest) +
                               "[thermal]\ntemperature = 1773\nalpha_a = -2e-6\nalpha_c = 2e-5\nc_axis = \"random\"\n"

@@ -54,7 +54,7 @@ RULES = {
     "dynamics": {
         "dt": TIME, "duration": TIME, "gravity": -1, "lift": LENGTH, "frames": NONE,
         "settle_ratio": NONE, "dt_safety": NONE, "search": NONE, "threads": NONE,
-        "local_damping": NONE, "density_scale": NONE, "manifold_tolerance": NONE,
+        "local_damping": NONE, "density_scale": NONE, "manifold_tolerance": NONE, "in_plane": NONE,
     },
     "wall": {
         "name": NONE, "kind": NONE, "point": LENGTH, "normal": NONE, "velocity": NONE,

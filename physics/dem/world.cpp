@@ -394,6 +394,7 @@ void World::compute_forces() {
     for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
   }
   if (bond_params_.criterion != BondCriterion::limits && !bonds_.empty() && !bonds_held_) break_by_stress();
+  if (settings_.in_plane) hold_in_plane();
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
   if (domain_) domain_->after_forces(*this);
   forces_current_ = true;
@@ -1533,6 +1534,22 @@ void World::break_by_stress() {
     bd.moment.setZero();
     breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id, bd.point,
                        bd.normal, BondFailure::tension, at});
+  }
+}
+
+void World::hold_in_plane() {
+  // The momenta too, so that a body that had left the plane's motion (set by hand, or a
+  // split piece whose principal axes round off the grain's) is put back on it: the kick
+  // that follows derives w from L.
+  for (const std::uint32_t i : live_slots_) {
+    if (infos_[i].fixed) continue;
+    BodyState& s = states_[i];
+    s.f.z() = 0.0;
+    s.tau.x() = 0.0;
+    s.tau.y() = 0.0;
+    s.v.z() = 0.0;
+    s.L.x() = 0.0;
+    s.L.y() = 0.0;
   }
 }
 

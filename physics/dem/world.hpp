@@ -103,6 +103,16 @@ struct WorldSettings {
   /// tests bound the force error); the manifolds are part of the saved state, so a restart
   /// carries on bit for bit.
   double manifold_tolerance = 0.0;
+  /// Motion in the xy plane only: every free body's force along z and torque about x and y,
+  /// and its momentum along z and angular momentum about x and y, are dropped before the
+  /// kick, so that it keeps its z and turns about z alone (the
+  /// blocked degrees of freedom of Yade's blockedDOFs = "zXY", the setting of PFC2D).
+  /// For specimens one grain thick, whose bonds all sit at mid-thickness: a bond's bending
+  /// stiffness (eq. 2.9 over the section of eq. 2.10) is all that holds such a grain against
+  /// turning about an in-plane axis, and loaded slowly in compression the layer buckles out
+  /// of its plane (USER_GUIDE, "Quasi-static loading"). A choice of the run, like
+  /// manifold_tolerance: a restart takes it from the settings it is given, not the file.
+  bool in_plane = false;
 };
 
 /// A bond between two bodies (sec. 2.3.3): eqs 2.9-2.16 act at the bond point in parallel
@@ -424,6 +434,9 @@ class World {
   void sum_forces(int threads);
   void bond_forces(int threads);
   void apply_local_damping(int threads);
+  /// WorldSettings::in_plane: drops each free body's force and momentum along z and its
+  /// torque and angular momentum about x and y.
+  void hold_in_plane();
   struct BondFailureAt;
   /// BondLaw::beam: bond k's beam (bond_law.hpp, beam_force) from its bodies' poses.
   void beam_bond(Bond& bd, const BodyState& sa, const BodyState& sb, const BondParams& params,
