@@ -172,7 +172,29 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
 /// finished first, so that its folder holds the curve whatever is refused. On the way, the
 /// kinetic energy against the work the loading walls have done (each wall pushes with
 /// minus its reaction), sampled 400 times over the stage's length.
-void run_strength_test(Simulation& sim, Measurement& m) {
+/// Where a bending test's mid-span moment is taken (MomentProbe, below).
+struct MomentProbe {
+  std::vector<std::size_t> walls;  ///< the rollers
+  double x_mid = 0.0;              ///< the mid-span section
+  double y_ref = 0.0;              ///< its centre (the bar's mean grain centroid)
+};
+
+/// The sagging bending moment at the section x = x_mid (N m) from the probe's walls'
+/// contact forces on the specimen left of it, each about (x_mid, y_ref) where it acts:
+/// statics, so it holds whatever the rollers push with (friction, a corner off a roller's
+/// apex), where the formula's P (L - L_i) / 4 takes vertical forces at the rollers' axes.
+double mid_span_moment(const physics::World& world, const MomentProbe& probe) {
+  double moment = 0.0;
+  for (const physics::ContactRecord& c : world.contacts()) {
+    if (!c.wall || std::find(probe.walls.begin(), probe.walls.end(), c.a) == probe.walls.end()) continue;
+    if (!(c.point.x() < probe.x_mid)) continue;
+    // c.force is on the grain (B): its moment about the section, taken as sagging positive.
+    moment -= (c.point.x() - probe.x_mid) * c.force.y() - (c.point.y() - probe.y_ref) * c.force.x();
+  }
+  return moment;
+}
+
+void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe = nullptr) {
   const io::Scenario& s = sim.scenario();
   run_to_last_stage(sim);
   if (!sim.done()) {
@@ -186,7 +208,7 @@ void run_strength_test(Simulation& sim, Measurement& m) {
       last_reaction.push_back(world.walls()[w].reaction);
     }
     struct Sample {
-      double time, load, ratio;
+      double time, load, ratio, moment;
     };
     std::vector<Sample> samples;
     const double t0 = world.time();
@@ -207,13 +229,20 @@ void run_strength_test(Simulation& sim, Measurement& m) {
       if (m.first_crack.empty()) {
         if (world.body_count() != bodies0) m.first_crack = "grain";
         else if (world.bond_counts().broken() != broken0) m.first_crack = "bond";
-        if (!m.first_crack.empty()) m.first_crack_load = samples.empty() ? 0.0 : samples.back().load;
+        if (!m.first_crack.empty()) {
+          m.first_crack_load = samples.empty() ? 0.0 : samples.back().load;
+          m.moment_at_first_crack = samples.empty() ? 0.0 : samples.back().moment;
+        }
       }
-      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN});
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN,
+                         probe != nullptr ? mid_span_moment(world, *probe) : NAN});
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
     if (peak != samples.end()) {
+      for (const Sample& x : samples) {
+        if (std::isfinite(x.moment)) m.moment_max = std::isnan(m.moment_max) ? x.moment : std::max(m.moment_max, x.moment);
+      }
       for (auto it = samples.begin(); it <= peak; ++it) {
         if (it->time < 0.5 * peak->time || !std::isfinite(it->ratio)) continue;
         m.kinetic_ratio = std::isnan(m.kinetic_ratio) ? it->ratio : std::max(m.kinetic_ratio, it->ratio);
@@ -351,8 +380,16 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
       const double b = m.section.thickness, d = m.section.depth;
       if (test == Test::flexural) {
         const double inner = lx[1] - lx[0];
-        run_strength_test(*sim, m);
+        MomentProbe probe;
+        probe.walls = cylinders;
+        probe.x_mid = 0.5 * (lx[0] + lx[1]);
+        for (const physics::BodyId id : world.body_ids()) probe.y_ref += world.state(id).x.y();
+        probe.y_ref /= static_cast<double>(world.body_count());
+        run_strength_test(*sim, m, &probe);
         m.value = physics::four_point_flexural_strength(m.peak_load, span, inner, b, d);
+        // sigma = M c / I = 6 M / (b d^2) of the moment itself (the formula's, with M = P (L - L_i) / 4).
+        m.value_from_moment = 6.0 * m.moment_max / (b * d * d);
+        m.value_from_moment_at_first_crack = 6.0 * m.moment_at_first_crack / (b * d * d);
         m.formula = fmt::format(
             "sigma_f = 3P (L - L_i) / (2 b d^2) = 3 x {:.5g} N x ({:.4g} - {:.4g}) mm / (2 x {:.4g} mm "
             "x ({:.4g} mm)^2)",
@@ -456,6 +493,10 @@ std::string measurement_toml(const Measurement& m) {
       out += fmt::format("first_crack_load_N = {}\n{}_at_first_crack = {}\n", num(m.first_crack_load),
                          value_key(m.test), num(m.value_at_first_crack));
     }
+  }
+  if (std::isfinite(m.value_from_moment)) {
+    out += fmt::format("flexural_strength_from_moment_Pa = {}\nflexural_strength_from_moment_at_first_crack_Pa = {}\n",
+                       num(m.value_from_moment), num(m.value_from_moment_at_first_crack));
   }
   out += fmt::format("section_width_m = {}\nsection_depth_m = {}\nsection_thickness_m = {}\n",
                      num(m.section.width), num(m.section.depth), num(m.section.thickness));
