@@ -223,7 +223,7 @@ int measure_command(const MeasureOptions& options) {
                m.first_crack_load < 0.99 * m.peak_load ? " (the crack stopped; the load climbed on)" : "");
   }
   if (std::isfinite(m.value_from_moment)) {
-    fmt::print("  from the mid-span moment of the rollers' contact forces (6 M / (b d^2)): {:.4g} {} at most, "
+    fmt::print("  from the mid-span moment of the rollers' contact forces, where they act: {:.4g} {} at most, "
                "{:.4g} {} at the first crack\n",
                m.value_from_moment / r.scale, r.unit, m.value_from_moment_at_first_crack / r.scale, r.unit);
   }

@@ -376,15 +376,20 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
                                     want, want == 1 ? "" : "s", supports.size(), loaders.size()));
       }
       const auto sx = roller_x(world, supports), lx = roller_x(world, loaders);
+      // The section the moment is taken at: mid-span (the notch's, under the loading roller).
+      auto moment_probe = [&](double x_mid) {
+        MomentProbe probe;
+        probe.walls = cylinders;
+        probe.x_mid = x_mid;
+        for (const physics::BodyId id : world.body_ids()) probe.y_ref += world.state(id).x.y();
+        probe.y_ref /= static_cast<double>(world.body_count());
+        return probe;
+      };
       const double span = sx[1] - sx[0];
       const double b = m.section.thickness, d = m.section.depth;
       if (test == Test::flexural) {
         const double inner = lx[1] - lx[0];
-        MomentProbe probe;
-        probe.walls = cylinders;
-        probe.x_mid = 0.5 * (lx[0] + lx[1]);
-        for (const physics::BodyId id : world.body_ids()) probe.y_ref += world.state(id).x.y();
-        probe.y_ref /= static_cast<double>(world.body_count());
+        const MomentProbe probe = moment_probe(0.5 * (lx[0] + lx[1]));
         run_strength_test(*sim, m, &probe);
         m.value = physics::four_point_flexural_strength(m.peak_load, span, inner, b, d);
         // sigma = M c / I = 6 M / (b d^2) of the moment itself (the formula's, with M = P (L - L_i) / 4).
@@ -402,8 +407,13 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
         }
         const double a = m.section.notch;
         if (!(a > 0.0)) refuse(s, test, "its beam has no notch (notch_depth)");
-        run_strength_test(*sim, m);
+        const MomentProbe probe = moment_probe(lx[0]);
+        run_strength_test(*sim, m, &probe);
         m.value = physics::senb_stress_intensity(m.peak_load, span, b, d, a);
+        // The formula's P S is 4 M of a three-point moment: the same with the moment itself.
+        m.value_from_moment = physics::senb_stress_intensity(4.0 * m.moment_max / span, span, b, d, a);
+        m.value_from_moment_at_first_crack =
+            physics::senb_stress_intensity(4.0 * m.moment_at_first_crack / span, span, b, d, a);
         m.formula = fmt::format(
             "K_Ic = P S / (B W^1.5) Y(a/W) = {:.5g} N x {:.4g} mm / ({:.4g} mm x ({:.4g} mm)^1.5) x "
             "Y({:.3f}), Y = {:.4f} (ASTM C1421, S/W = 4)",
@@ -495,7 +505,7 @@ std::string measurement_toml(const Measurement& m) {
     }
   }
   if (std::isfinite(m.value_from_moment)) {
-    out += fmt::format("flexural_strength_from_moment_Pa = {}\nflexural_strength_from_moment_at_first_crack_Pa = {}\n",
+    out += fmt::format("{0}_from_moment = {1}\n{0}_from_moment_at_first_crack = {2}\n", value_key(m.test),
                        num(m.value_from_moment), num(m.value_from_moment_at_first_crack));
   }
   out += fmt::format("section_width_m = {}\nsection_depth_m = {}\nsection_thickness_m = {}\n",

@@ -88,10 +88,11 @@ struct Measurement {
   /// beside the peak's (the same when the first crack runs through). NaN without a crack.
   double first_crack_load = NAN;
   double value_at_first_crack = NAN;
-  /// Four-point bending: the sagging moment at mid-span from the rollers' contact forces
-  /// where they act (N m), the largest over the loading's samples (1/400 of the stage) and
-  /// the first crack's, and sigma = 6 M / (b d^2) of each. The formula's P (L - L_i) / 4
-  /// assumes vertical forces at the rollers' axes; a roller's friction, or a grain corner
+  /// Four-point bending and the notched beam: the sagging moment at mid-span (the notch's
+  /// section) from the rollers' contact forces where they act (N m), the largest over the
+  /// loading's samples (1/400 of the stage) and the first crack's, and the value of each:
+  /// sigma = 6 M / (b d^2), or K_Ic with the formula's P S replaced by 4 M. The formulas
+  /// assume vertical forces at the rollers' axes; a roller's friction, or a grain corner
   /// pushing off its apex, puts a couple against the bending that only this reading sees
   /// (USER_GUIDE, "Quasi-static loading").
   double moment_max = NAN;

@@ -289,4 +289,9 @@ TEST(MaterialTest, TheMidSpanMomentOfTheRollersContactForcesReadsTheBarsBendingS
   // The formula's peaks, which read the couple too, differ by a quarter (358 against 290 MPa).
   EXPECT_GT(rough.value / smooth.value, 1.15);
   EXPECT_GE(rough.value_from_moment, rough.value_from_moment_at_first_crack);
+  // The notched beam on frictionless rollers: its three-point moment under the loading
+  // roller is the formula's P S / 4 at its first crack, so K_Ic from it is the formula's.
+  const fs::path senb = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_senb.toml";
+  const sim::Measurement notched = run(sim::Test::senb, senb, "moment_senb", {"contact.particle_wall.mu_s=0"});
+  EXPECT_NEAR(notched.value_from_moment_at_first_crack / notched.value_at_first_crack, 1.0, 0.015);
 }
