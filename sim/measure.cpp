@@ -168,11 +168,7 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
   return m;
 }
 
-/// The loading stage to its end; its peak, refused unless the load dropped. The run is
-/// finished first, so that its folder holds the curve whatever is refused. On the way, the
-/// kinetic energy against the work the loading walls have done (each wall pushes with
-/// minus its reaction), sampled 400 times over the stage's length.
-/// Where a bending test's mid-span moment is taken (MomentProbe, below).
+/// Where a bending test's mid-span moment is taken (mid_span_moment).
 struct MomentProbe {
   std::vector<std::size_t> walls;  ///< the rollers
   double x_mid = 0.0;              ///< the mid-span section
@@ -194,6 +190,11 @@ double mid_span_moment(const physics::World& world, const MomentProbe& probe) {
   return moment;
 }
 
+/// The loading stage to its end; its peak, refused unless the load dropped. The run is
+/// finished first, so that its folder holds the curve whatever is refused. On the way, the
+/// kinetic energy against the work the loading walls have done (each wall pushes with
+/// minus its reaction), sampled 400 times over the stage's length, and with a
+/// `probe` the mid-span moment at each sample (its largest, and the first crack's).
 void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe = nullptr) {
   const io::Scenario& s = sim.scenario();
   run_to_last_stage(sim);
@@ -234,15 +235,13 @@ void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe
           m.moment_at_first_crack = samples.empty() ? 0.0 : samples.back().moment;
         }
       }
-      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN,
-                         probe != nullptr ? mid_span_moment(world, *probe) : NAN});
+      const double moment = probe != nullptr ? mid_span_moment(world, *probe) : NAN;
+      if (!(m.moment_max >= moment)) m.moment_max = moment;  // NaN until the first probed sample
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN, moment});
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
     if (peak != samples.end()) {
-      for (const Sample& x : samples) {
-        if (std::isfinite(x.moment)) m.moment_max = std::isnan(m.moment_max) ? x.moment : std::max(m.moment_max, x.moment);
-      }
       for (auto it = samples.begin(); it <= peak; ++it) {
         if (it->time < 0.5 * peak->time || !std::isfinite(it->ratio)) continue;
         m.kinetic_ratio = std::isnan(m.kinetic_ratio) ? it->ratio : std::max(m.kinetic_ratio, it->ratio);
