@@ -96,9 +96,11 @@ int calibrate_command(const CalibrateOptions& options) {
     if (setup.targets.tensile_strength)
       t.push_back(fmt::format("sigma_t = {:.4g} MPa", *setup.targets.tensile_strength / 1e6));
     if (setup.targets.flexural_strength)
-      t.push_back(fmt::format("sigma_f = {:.4g} MPa", *setup.targets.flexural_strength / 1e6));
+      t.push_back(fmt::format("sigma_f = {:.4g} MPa (the bar's first crack, from statics)",
+                              *setup.targets.flexural_strength / 1e6));
     if (setup.targets.toughness)
-      t.push_back(fmt::format("K_Ic = {:.4g} MPa m^0.5", *setup.targets.toughness / 1e6));
+      t.push_back(fmt::format("K_Ic = {:.4g} MPa m^0.5 (the notched beam's first crack, from statics)",
+                              *setup.targets.toughness / 1e6));
     fmt::print("cleave calibrate: {} -> {}\n  targets: {}", options.file.string(), setup.out.string(),
                fmt::join(t, ", "));
     if (setup.targets.flexural_strength && setup.flexural_tolerance)

@@ -98,6 +98,12 @@ int converge_command(sim::Test test, const MeasureOptions& options, const sim::S
     fmt::print("cleave measure {} --converge: {} at the scenario's loading rate, then half of it, "
                "until {} changes by less than {:g} %\n",
                options.test, options.scenario.string(), r.label, 100.0 * options.tolerance);
+    if (test == sim::Test::flexural) {
+      fmt::print("  ({}: the tension face's stress at the first crack, 6 M / (b d^2) + N / (b d) of the "
+                 "mid-span section's moment and axial force)\n", r.label);
+    } else if (test == sim::Test::senb) {
+      fmt::print("  ({}: at the first crack, from the notched section's moment and axial force)\n", r.label);
+    }
     fmt::print("  {:>10} {:>14} {:>14} {:>9} {:>12} {:>8}\n", "rate", "wall (mm/s)",
                fmt::format("{} ({})", r.label, r.unit), "change", "KE / work", "wall s");
     std::fflush(stdout);
@@ -118,7 +124,7 @@ int converge_command(sim::Test test, const MeasureOptions& options, const sim::S
     return *code;
   const std::filesystem::path out = study.points.front().out.parent_path();
   std::string csv = fmt::format("rate_scale,wall_speed_m_per_s,{},change,kinetic_ratio,wall_seconds,folder\n",
-                                sim::value_key(test));
+                                sim::judged_key(test));
   io::PlotSeries values{fmt::format("{} at each loading rate", r.label), {}, {}, "", true};
   for (const auto& p : study.points) {
     csv += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{:.3f},{}\n", p.rate_scale, p.wall_speed, p.value,
@@ -193,9 +199,12 @@ int measure_command(const MeasureOptions& options) {
     if (!s.material.preset_file.empty()) {
       const io::MaterialPreset preset = io::load_material(s.material.preset_file);
       const double want = preset.si(r.key);
-      compare = fmt::format("  {} of {}: {:.4g} {} ({:+.1f} %)", r.key, preset.name, want / r.scale,
-                            r.unit, 100.0 * (m.value / want - 1.0));
-      text += fmt::format("preset = \"{}\"\npreset_value = {:.9g}\n", preset.name, want);
+      const double judged = sim::judged_value(m);
+      compare = fmt::format("  {} of {}: {:.4g} {} ({:+.1f} %{})", r.key, preset.name, want / r.scale,
+                            r.unit, 100.0 * (judged / want - 1.0),
+                            judged == m.value ? "" : ", at the first crack");
+      text += fmt::format("preset = \"{}\"\npreset_value = {:.9g}\njudged = \"{}\"\n", preset.name, want,
+                          sim::judged_key(*test));
       if (*test == sim::Test::elastic) {
         const double nu = preset.si("poisson");
         compare += fmt::format("; nu {:.3f} ({:+.3f})", nu, m.poisson - nu);
@@ -206,11 +215,24 @@ int measure_command(const MeasureOptions& options) {
   }
   io::write_file_atomically(out / "measure.toml", text);
   if (*test == sim::Test::elastic) write_elastic_outputs(m, out);
-  fmt::print("  {} = {:.4g} {}", r.label, m.value / r.scale, r.unit);
+  const double judged = sim::judged_value(m);
+  fmt::print("  {} = {:.4g} {}", r.label, judged / r.scale, r.unit);
   if (*test == sim::Test::elastic) {
     fmt::print(", nu = {:.4f}; from the platens E = {:.4g} GPa", m.poisson, m.young_platens / 1e9);
   }
-  fmt::print("\n  {}\n", m.formula);
+  if (*test == sim::Test::flexural || *test == sim::Test::senb) {
+    // A bending test is judged at its first crack from the statics of its mid-span
+    // section; the formula's peak is printed beside it.
+    fmt::print(" at the first crack (a {}), from the mid-span section's statics: M = {:.5g} N m, N = {:.4g} N "
+               "(the rollers' contact forces where they act), {}\n  the formula at the peak load reads {:.4g} {}:\n"
+               "  {}\n",
+               m.first_crack, m.moment_at_first_crack, m.axial_at_first_crack,
+               *test == sim::Test::flexural ? "sigma = 6 M / (b d^2) + N / (b d)"
+                                            : "K_I = the formula's with P S = 4 M, plus an edge-notched strip's under N",
+               m.value / r.scale, r.unit, m.formula);
+  } else {
+    fmt::print("\n  {}\n", m.formula);
+  }
   if (m.closed_form) {
     fmt::print("  honeycomb closed form for these bond springs: E = {:.4g} GPa ({:+.2f} %), nu = {:.4f}\n",
                m.closed_form->young / 1e9, 100.0 * (m.value / m.closed_form->young - 1.0),
@@ -222,10 +244,9 @@ int measure_command(const MeasureOptions& options) {
                m.first_crack, m.first_crack_load, m.value_at_first_crack / r.scale, r.unit,
                m.first_crack_load < 0.99 * m.peak_load ? " (the crack stopped; the load climbed on)" : "");
   }
-  if (std::isfinite(m.value_from_moment)) {
-    fmt::print("  from the mid-span moment of the rollers' contact forces, where they act: {:.4g} {} at most, "
-               "{:.4g} {} at the first crack\n",
-               m.value_from_moment / r.scale, r.unit, m.value_from_moment_at_first_crack / r.scale, r.unit);
+  if (std::isfinite(m.value_from_statics)) {
+    fmt::print("  from the mid-span section's statics: {:.4g} {} at most, {:.4g} {} at the first crack\n",
+               m.value_from_statics / r.scale, r.unit, m.value_from_statics_at_first_crack / r.scale, r.unit);
   }
   if (std::isfinite(m.kinetic_ratio)) {
     fmt::print("  quasi-static: kinetic energy at most {:.2g} of the work done in the loading's second half\n",

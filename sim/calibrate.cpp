@@ -117,7 +117,8 @@ bool elastic_loop(Shared& sh, std::map<std::string, double> p, std::map<std::str
 /// sigma_t: the bond strengths scaled by target over measured, their ratio kept. With a
 /// sigma_f target as well, each trial also breaks the bar, and (ln t_bn, ln t_bs) move by
 /// Broyden's method on (ln sigma_t, ln sigma_f): the first Jacobian says that sigma_t grows
-/// with both strengths, half each, and sigma_f with t_bn alone (SiC's ratio study in
+/// with both strengths, half each, and sigma_f (the bar's first crack, on its tension face)
+/// with t_bn alone (SiC's ratio study in
 /// docs/USER_GUIDE.md, "Real materials": from t_bs = t_bn up the bar breaks in tension and
 /// the disc gains as t_bs^0.53); each trial's secant corrects it. Steps are at most a factor
 /// e^0.5 per strength, so that no trial leaves the scenarios' reach by much.
@@ -163,9 +164,18 @@ bool strength_loop(Shared& sh, std::map<std::string, double> p, std::map<std::st
     std::string bar;
     if (flexural) {
       t.wall_seconds = std::max(t.wall_seconds, bar_trial.wall_seconds);  // side by side
-      t.measured_flexural = bar_m.value;
-      t.error_flexural = bar_m.value / *flexural - 1.0;
-      bar = fmt::format(", sigma_f {:.4g} MPa ({:+.2f} %)", bar_m.value / 1e6, 100 * t.error_flexural);
+      // The bar's bending stress from the mid-span moment of its rollers' contact forces
+      // at its first crack (sim/measure.hpp): the formula's peak carries the rollers'
+      // friction couple and moves with the loading rate; this reading does neither.
+      t.measured_flexural = judged_value(bar_m);
+      if (!(t.measured_flexural > 0.0)) {
+        throw std::runtime_error(fmt::format("calibration trial {} ({}): the bar has no first crack to read "
+                                             "sigma_f at",
+                                             bar_trial.number, s.flexural.string()));
+      }
+      t.error_flexural = t.measured_flexural / *flexural - 1.0;
+      bar = fmt::format(", sigma_f {:.4g} MPa ({:+.2f} %; the formula's peak {:.4g})", t.measured_flexural / 1e6,
+                        100 * t.error_flexural, bar_m.value / 1e6);
     }
     record(sh, t, fmt::format("t_bn {:.5g} t_bs {:.5g}: sigma_t {:.4g} MPa ({:+.2f} %){}", p["bond.tbn"],
                               p["bond.tbs"], m.value / 1e6, 100 * t.error, bar));
@@ -213,12 +223,18 @@ bool toughness_loop(Shared& sh, std::map<std::string, double> p, double a, std::
     CalibrationTrial t;
     t.loop = "toughness";
     const Measurement m = trial(sh, Test::senb, s.senb, p, t);
-    t.measured = m.value;
-    t.error = m.value / target - 1.0;
+    // K_Ic at the first crack (judged_value): a crack that stops after it is the lattice's.
+    t.measured = judged_value(m);
+    if (!(t.measured > 0.0)) {
+      throw std::runtime_error(fmt::format("calibration trial {} ({}): the notched beam has no first crack to "
+                                           "read K_Ic at",
+                                           t.number, s.senb.string()));
+    }
+    t.error = t.measured / target - 1.0;
     const bool through_bonds = m.first_crack == "bond";
     record(sh, t,
            fmt::format("crack length a {:.5g}: K_Ic {:.4g} MPa m^0.5 ({:+.2f} %), first crack: {}", a,
-                       m.value / 1e6, 100 * t.error, m.first_crack.empty() ? "none" : m.first_crack));
+                       t.measured / 1e6, 100 * t.error, m.first_crack.empty() ? "none" : m.first_crack));
     fit["fracture.crack_length"] = a;
     if (std::abs(t.error) <= s.tolerance) {
       if (through_bonds) {
@@ -234,19 +250,19 @@ bool toughness_loop(Shared& sh, std::map<std::string, double> p, double a, std::
       // and the crack length cannot move K_Ic. A bonded model's K_Ic goes as sigma
       // sqrt(grain size) (Potyondy and Cundall 2004); the strengths stay under a geometric
       // scaling, so the scale is what fits it.
-      const double scale = (target / m.value) * (target / m.value);
+      const double scale = (target / t.measured) * (target / t.measured);
       sh.result.advice = fmt::format(
           "{}: the notched beam cracked along its grain boundaries (a bond broke before any "
           "grain split), so its K_Ic ({:.4g} MPa m^0.5) is set by the grain size, not by the crack "
           "length. K_Ic through bonds goes as the square root of the model's length scale, "
           "which leaves E, nu and the strengths as they are: scale every test scenario by "
           "{:.4g} (tools/scale_scenario.py SCENARIO {:.4g} -o OUT) and calibrate again",
-          s.senb.string(), m.value / 1e6, scale, scale);
+          s.senb.string(), t.measured / 1e6, scale, scale);
       return false;
     }
     // Eq. 3.23: K_I = sigma sqrt(pi a), so the splitting stress, and with it the beam's
     // K_Ic, goes as a^-1/2.
-    a *= std::clamp((m.value / target) * (m.value / target), 1.0 / 16.0, 16.0);
+    a *= std::clamp((t.measured / target) * (t.measured / target), 1.0 / 16.0, 16.0);
   }
   return false;
 }

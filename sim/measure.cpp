@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -168,32 +169,45 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
   return m;
 }
 
-/// Where a bending test's mid-span moment is taken (mid_span_moment).
+/// Where a bending test's section forces are taken (mid_span_forces), and what they read.
 struct MomentProbe {
   std::vector<std::size_t> walls;  ///< the rollers
   double x_mid = 0.0;              ///< the mid-span section
   double y_ref = 0.0;              ///< its centre (the bar's mean grain centroid)
+  /// The test's value from the section's moment (N m, sagging positive) and axial force
+  /// (N, tension positive).
+  std::function<double(double moment, double axial)> value;
 };
 
-/// The sagging bending moment at the section x = x_mid (N m) from the probe's walls'
-/// contact forces on the specimen left of it, each about (x_mid, y_ref) where it acts:
-/// statics, so it holds whatever the rollers push with (friction, a corner off a roller's
-/// apex), where the formula's P (L - L_i) / 4 takes vertical forces at the rollers' axes.
-double mid_span_moment(const physics::World& world, const MomentProbe& probe) {
-  double moment = 0.0;
+struct SectionForces {
+  double moment = 0.0;  ///< N m, sagging positive
+  double axial = 0.0;   ///< N, tension positive
+};
+
+/// The bending moment about (x_mid, y_ref) and the axial force at the section x = x_mid,
+/// from the probe's walls' contact forces on the specimen left of it, each where it acts:
+/// the statics of the left part, so it holds whatever the rollers push with (friction
+/// along the faces, a corner off a roller's apex), where the formulas take vertical forces
+/// at the rollers' axes and no axial force.
+SectionForces mid_span_forces(const physics::World& world, const MomentProbe& probe) {
+  SectionForces f;
   for (const physics::ContactRecord& c : world.contacts()) {
     if (!c.wall || std::find(probe.walls.begin(), probe.walls.end(), c.a) == probe.walls.end()) continue;
     if (!(c.point.x() < probe.x_mid)) continue;
-    // c.force is on the grain (B): its moment about the section, taken as sagging positive.
-    moment -= (c.point.x() - probe.x_mid) * c.force.y() - (c.point.y() - probe.y_ref) * c.force.x();
+    // c.force is on the grain (B). The right part holds the left one with N along +x (N > 0
+    // pulls: tension) and the sagging moment M: both balance the walls' forces on the left.
+    f.moment -= (c.point.x() - probe.x_mid) * c.force.y() - (c.point.y() - probe.y_ref) * c.force.x();
+    f.axial -= c.force.x();
   }
-  return moment;
+  return f;
 }
 
 /// The loading stage to its end; its peak, refused unless the load dropped. The run is
 /// finished first, so that its folder holds the curve whatever is refused. On the way, the
 /// kinetic energy against the work the loading walls have done (each wall pushes with
-/// minus its reaction), sampled 400 times over the stage's length, and with a
+/// minus its reaction), sampled 4,000 times over the stage's length (the first crack's
+/// reading is the sample before it: 1/4,000 of the stage, a few tenths of a per cent of
+/// the load in the SiC tests, where 1/400 was 1-2 %), and with a
 /// `probe` the mid-span moment at each sample (its largest, and the first crack's).
 void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe = nullptr) {
   const io::Scenario& s = sim.scenario();
@@ -202,14 +216,15 @@ void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe
     const io::StageDef& loading = s.stages.back();
     const physics::World& world = sim.dynamics()->world();
     const auto loaders = moving_walls(s, world);
-    const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps(s, loading) / 400);
+    const std::uint64_t chunk = std::max<std::uint64_t>(1, stage_steps(s, loading) / 4000);
     std::vector<Eigen::Vector3d> last_origin, last_reaction;
     for (std::size_t w : loaders) {
       last_origin.push_back(world.walls()[w].origin);
       last_reaction.push_back(world.walls()[w].reaction);
     }
     struct Sample {
-      double time, load, ratio, moment;
+      double time, load, ratio, value;  // value: the probe's reading (NaN without one)
+      SectionForces forces;
     };
     std::vector<Sample> samples;
     const double t0 = world.time();
@@ -232,12 +247,19 @@ void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe
         else if (world.bond_counts().broken() != broken0) m.first_crack = "bond";
         if (!m.first_crack.empty()) {
           m.first_crack_load = samples.empty() ? 0.0 : samples.back().load;
-          m.moment_at_first_crack = samples.empty() ? 0.0 : samples.back().moment;
+          if (probe != nullptr) {
+            const SectionForces f = samples.empty() ? SectionForces{} : samples.back().forces;
+            m.moment_at_first_crack = f.moment;
+            m.axial_at_first_crack = f.axial;
+            m.value_from_statics_at_first_crack = probe->value(f.moment, f.axial);
+          }
         }
       }
-      const double moment = probe != nullptr ? mid_span_moment(world, *probe) : NAN;
-      if (!(m.moment_max >= moment)) m.moment_max = moment;  // NaN until the first probed sample
-      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN, moment});
+      const SectionForces forces = probe != nullptr ? mid_span_forces(world, *probe) : SectionForces{};
+      const double value = probe != nullptr ? probe->value(forces.moment, forces.axial) : NAN;
+      // NaN until the first probed sample
+      if (!(m.value_from_statics >= value)) m.value_from_statics = value;
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN, value, forces});
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
@@ -376,10 +398,11 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
       }
       const auto sx = roller_x(world, supports), lx = roller_x(world, loaders);
       // The section the moment is taken at: mid-span (the notch's, under the loading roller).
-      auto moment_probe = [&](double x_mid) {
+      auto moment_probe = [&](double x_mid, std::function<double(double, double)> value) {
         MomentProbe probe;
         probe.walls = cylinders;
         probe.x_mid = x_mid;
+        probe.value = std::move(value);
         for (const physics::BodyId id : world.body_ids()) probe.y_ref += world.state(id).x.y();
         probe.y_ref /= static_cast<double>(world.body_count());
         return probe;
@@ -388,12 +411,13 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
       const double b = m.section.thickness, d = m.section.depth;
       if (test == Test::flexural) {
         const double inner = lx[1] - lx[0];
-        const MomentProbe probe = moment_probe(0.5 * (lx[0] + lx[1]));
+        // The tension face's stress: 6 M / (b d^2) (the formula's, with M = P (L - L_i) / 4)
+        // and N / (b d) of the axial force the rollers' friction puts on the section.
+        const MomentProbe probe = moment_probe(0.5 * (lx[0] + lx[1]), [b, d](double moment, double axial) {
+          return 6.0 * moment / (b * d * d) + axial / (b * d);
+        });
         run_strength_test(*sim, m, &probe);
         m.value = physics::four_point_flexural_strength(m.peak_load, span, inner, b, d);
-        // sigma = M c / I = 6 M / (b d^2) of the moment itself (the formula's, with M = P (L - L_i) / 4).
-        m.value_from_moment = 6.0 * m.moment_max / (b * d * d);
-        m.value_from_moment_at_first_crack = 6.0 * m.moment_at_first_crack / (b * d * d);
         m.formula = fmt::format(
             "sigma_f = 3P (L - L_i) / (2 b d^2) = 3 x {:.5g} N x ({:.4g} - {:.4g}) mm / (2 x {:.4g} mm "
             "x ({:.4g} mm)^2)",
@@ -406,13 +430,14 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
         }
         const double a = m.section.notch;
         if (!(a > 0.0)) refuse(s, test, "its beam has no notch (notch_depth)");
-        const MomentProbe probe = moment_probe(lx[0]);
+        // K_I of the notched section's moment (the formula's P S is 4 M of a three-point
+        // moment) and of its axial force (an edge-notched strip in tension), superposed.
+        const MomentProbe probe = moment_probe(lx[0], [span, b, d, a](double moment, double axial) {
+          return physics::senb_stress_intensity(4.0 * moment / span, span, b, d, a) +
+                 physics::edge_notch_tension_stress_intensity(axial, b, d, a);
+        });
         run_strength_test(*sim, m, &probe);
         m.value = physics::senb_stress_intensity(m.peak_load, span, b, d, a);
-        // The formula's P S is 4 M of a three-point moment: the same with the moment itself.
-        m.value_from_moment = physics::senb_stress_intensity(4.0 * m.moment_max / span, span, b, d, a);
-        m.value_from_moment_at_first_crack =
-            physics::senb_stress_intensity(4.0 * m.moment_at_first_crack / span, span, b, d, a);
         m.formula = fmt::format(
             "K_Ic = P S / (B W^1.5) Y(a/W) = {:.5g} N x {:.4g} mm / ({:.4g} mm x ({:.4g} mm)^1.5) x "
             "Y({:.3f}), Y = {:.4f} (ASTM C1421, S/W = 4)",
@@ -462,7 +487,7 @@ RateStudy converge_loading_rate(Test test, const std::filesystem::path& scenario
       throw std::runtime_error(fmt::format("the run at rate_scale {:g} did not finish: {}", scale,
                                            m.report.message));
     }
-    p.value = m.value;
+    p.value = judged_value(m);
     p.kinetic_ratio = m.kinetic_ratio;
     if (!study.points.empty()) p.change = p.value / study.points.back().value - 1.0;
     study.points.push_back(p);
@@ -473,6 +498,16 @@ RateStudy converge_loading_rate(Test test, const std::filesystem::path& scenario
     }
   }
   return study;
+}
+
+double judged_value(const Measurement& m) {
+  const bool bending = m.test == Test::flexural || m.test == Test::senb;
+  return bending ? m.value_from_statics_at_first_crack : m.value;
+}
+
+std::string judged_key(Test t) {
+  const bool bending = t == Test::flexural || t == Test::senb;
+  return bending ? std::string(value_key(t)) + "_from_statics_at_first_crack" : value_key(t);
 }
 
 const char* value_key(Test t) {
@@ -503,9 +538,9 @@ std::string measurement_toml(const Measurement& m) {
                          value_key(m.test), num(m.value_at_first_crack));
     }
   }
-  if (std::isfinite(m.value_from_moment)) {
-    out += fmt::format("{0}_from_moment = {1}\n{0}_from_moment_at_first_crack = {2}\n", value_key(m.test),
-                       num(m.value_from_moment), num(m.value_from_moment_at_first_crack));
+  if (std::isfinite(m.value_from_statics)) {
+    out += fmt::format("{0}_from_statics = {1}\n{0}_from_statics_at_first_crack = {2}\n", value_key(m.test),
+                       num(m.value_from_statics), num(m.value_from_statics_at_first_crack));
   }
   out += fmt::format("section_width_m = {}\nsection_depth_m = {}\nsection_thickness_m = {}\n",
                      num(m.section.width), num(m.section.depth), num(m.section.thickness));

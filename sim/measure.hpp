@@ -83,22 +83,25 @@ struct Measurement {
   /// the peak: a notched beam whose first crack is a bond's has its K_Ic from the bonds,
   /// whatever the grains' criterion.
   std::string first_crack;
-  /// Strength tests: the load on the last sample (1/400 of the loading stage) before the
+  /// Strength tests: the load on the last sample (1/4,000 of the loading stage) before the
   /// first crack (N), and the value its formula gives there: the crack-initiation reading,
   /// beside the peak's (the same when the first crack runs through). NaN without a crack.
   double first_crack_load = NAN;
   double value_at_first_crack = NAN;
-  /// Four-point bending and the notched beam: the sagging moment at mid-span (the notch's
-  /// section) from the rollers' contact forces where they act (N m), the largest over the
-  /// loading's samples (1/400 of the stage) and the first crack's, and the value of each:
-  /// sigma = 6 M / (b d^2), or K_Ic with the formula's P S replaced by 4 M. The formulas
-  /// assume vertical forces at the rollers' axes; a roller's friction, or a grain corner
-  /// pushing off its apex, puts a couple against the bending that only this reading sees
-  /// (USER_GUIDE, "Quasi-static loading").
-  double moment_max = NAN;
+  /// Four-point bending and the notched beam, from the statics of the section at mid-span
+  /// (the notch's): the sagging moment M (N m, about the specimen's mean grain centroid) and
+  /// the axial force N (N, tension positive) of the rollers' contact forces on the part left
+  /// of it, each force where it acts, at the first crack's sample; and the value they give,
+  /// the largest over the loading's samples (1/4,000 of the stage) and the first crack's:
+  /// the tension face's sigma = 6 M / (b d^2) + N / (b d), or K_I = the SENB formula's with
+  /// P S replaced by 4 M plus an edge-notched strip's K_I under N. The formulas assume
+  /// vertical forces at the rollers' axes; a roller's friction, or a grain corner pushing
+  /// off its apex, puts a couple against the bending and a push along the faces that only
+  /// this reading sees (USER_GUIDE, "Quasi-static loading").
   double moment_at_first_crack = NAN;
-  double value_from_moment = NAN;
-  double value_from_moment_at_first_crack = NAN;
+  double axial_at_first_crack = NAN;
+  double value_from_statics = NAN;
+  double value_from_statics_at_first_crack = NAN;
   RunReport report;
 };
 
@@ -111,6 +114,23 @@ Section specimen_section(const geometry::Specimen& specimen);
 Measurement measure(Test test, const std::filesystem::path& scenario, SimulationOptions options,
                     const std::vector<std::string>& overrides = {}, int samples = 25);
 
+/// The value a test is judged by, against its preset, in a calibration and in a loading-rate
+/// study. The bending tests are read at their first crack, as a brittle ceramic breaks at
+/// its first: the lattice, a few grains deep, stops a crack where its path turns, and the
+/// load that climbs on after it depends on the loading rate and which bonds go next
+/// (USER_GUIDE, "Quasi-static loading").
+/// - four-point bending: the tension face's stress from the section's statics at the first
+///   crack (value_from_statics_at_first_crack); the formula's peak also carries the
+///   rollers' friction couple;
+/// - the notched beam: K_Ic from the notched section's statics at the first crack
+///   (value_from_statics_at_first_crack), for the same reason;
+/// - the elastic test and the disc: `value`.
+double judged_value(const Measurement& m);
+
+/// The measure.toml key of judged_value: "flexural_strength_Pa_from_statics_at_first_crack",
+/// "k_ic_Pa_sqrt_m_from_statics_at_first_crack", or value_key.
+std::string judged_key(Test t);
+
 /// The key of the measured value in measure.toml and convergence.csv: "young_Pa",
 /// "tensile_strength_Pa", "flexural_strength_Pa" or "k_ic_Pa_sqrt_m".
 const char* value_key(Test t);
@@ -120,7 +140,7 @@ const char* value_key(Test t);
 struct RatePoint {
   double rate_scale = 1.0;
   double wall_speed = 0.0;     ///< m/s: the fastest loading wall's speed
-  double value = NAN;          ///< the measured property
+  double value = NAN;          ///< the measured property (judged_value)
   double kinetic_ratio = NAN;  ///< Measurement::kinetic_ratio
   double change = NAN;         ///< value / previous run's value - 1 (NaN for the first)
   double wall_seconds = 0.0;

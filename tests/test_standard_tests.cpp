@@ -52,6 +52,33 @@ TEST(SingleEdgeNotchedBeam, ADeepNotchIsTheLigamentInPureBending) {
   EXPECT_THROW((void)senb_geometry_factor(0.0), std::invalid_argument);
 }
 
+TEST(EdgeNotchedStripInTension, AShallowNotchIsTheEdgeCrackInTheRemoteStress) {
+  // a << W: K = 1.1215 sigma sqrt(pi a), sigma = N / (B W).
+  const double N = 100.0, B = 0.003, W = 0.004;
+  for (double alpha : {1e-5, 1e-4}) {
+    const double a = alpha * W;
+    const double edge = 1.1215 * N / (B * W) * std::sqrt(M_PI * a);
+    EXPECT_NEAR(edge_notch_tension_stress_intensity(N, B, W, a) / edge, 1.0, 2e-3) << alpha;
+  }
+}
+
+TEST(EdgeNotchedStripInTension, ADeepNotchIsItsLigamentUnderTheForceAndItsMomentAboutIt) {
+  // W - a = b << W: the ligament carries N and the moment N (W - b) / 2 of the force on the
+  // strip's centre line about the ligament's; the moment dominates, K -> 3.975 M / (B b^1.5)
+  // (Tada, Paris and Irwin's deep crack in bending, as the notched beam's test above).
+  const double N = 100.0, B = 0.003, W = 0.004;
+  for (double ligament : {1e-4, 1e-5}) {
+    const double b = ligament * W;
+    const double deep = 3.975 * (N * 0.5 * (W - b)) / (B * std::pow(b, 1.5));
+    EXPECT_NEAR(edge_notch_tension_stress_intensity(N, B, W, W - b) / deep, 1.0, 5e-3) << ligament;
+  }
+  // Linear in the force, compression closing the crack as tension opens it.
+  EXPECT_DOUBLE_EQ(edge_notch_tension_stress_intensity(-N, B, W, 0.5 * W),
+                   -edge_notch_tension_stress_intensity(N, B, W, 0.5 * W));
+  EXPECT_THROW((void)edge_notch_tension_stress_intensity(N, B, W, W), std::invalid_argument);
+  EXPECT_THROW((void)edge_notch_tension_stress_intensity(N, B, W, 0.0), std::invalid_argument);
+}
+
 TEST(HoneycombElasticity, MatchesABruteForceSumOverTheSixSprings) {
   // Energy per unit area of a uniform in-plane strain, summed spring by spring over the six
   // neighbours (each spring shared by two grains), against (lambda/2) tr^2 + mu eps:eps of

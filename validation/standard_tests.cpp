@@ -35,6 +35,18 @@ double senb_stress_intensity(double load, double span, double thickness, double 
   return load * span / (thickness * std::pow(depth, 1.5)) * senb_geometry_factor(crack / depth);
 }
 
+double edge_notch_tension_stress_intensity(double force, double thickness, double width, double crack) {
+  const double alpha = crack / width;
+  if (!(alpha > 0.0 && alpha < 1.0)) {
+    throw std::invalid_argument("edge_notch_tension_stress_intensity: a/W must lie in (0, 1), got " +
+                                std::to_string(alpha));
+  }
+  const double h = 0.5 * M_PI * alpha;
+  const double f = std::sqrt(std::tan(h) / h) * (0.752 + 2.02 * alpha + 0.37 * std::pow(1.0 - std::sin(h), 3)) /
+                   std::cos(h);
+  return force / (thickness * width) * std::sqrt(M_PI * crack) * f;
+}
+
 /// The triangular lattice of normal and shear springs (derivation in standard_tests.hpp):
 /// lambda = sqrt(3)/4 (K_n - K_s), mu = sqrt(3)/4 (K_n + K_s) per unit thickness.
 HoneycombElasticity honeycomb_elasticity(double kn, double ks, double thickness) {

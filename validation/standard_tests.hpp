@@ -43,6 +43,14 @@ double senb_geometry_factor(double alpha);
 double senb_stress_intensity(double load, double span, double thickness, double depth,
                              double crack);
 
+/// K_I of an edge crack of depth a in a strip of width W and thickness B pulled by a force N
+/// along the strip's centre line (N > 0: tension), free to bend: sigma sqrt(pi a) F(a/W),
+/// sigma = N / (B W), F(alpha) = sqrt(2 / (pi alpha) tan(pi alpha / 2)) [0.752 + 2.02 alpha +
+/// 0.37 (1 - sin(pi alpha / 2))^3] / cos(pi alpha / 2) (Tada, Paris and Irwin, The Stress
+/// Analysis of Cracks Handbook, single edge notch in tension: within 0.5 % for any a/W).
+/// Valid for 0 < a / W < 1.
+double edge_notch_tension_stress_intensity(double force, double thickness, double width, double crack);
+
 /// In-plane elasticity of a bonded honeycomb of thickness t (the prisms' length).
 struct HoneycombElasticity {
   double young = 0.0;    ///< E, Pa
