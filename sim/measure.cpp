@@ -170,7 +170,7 @@ Measurement measure_elastic(Simulation& sim, Measurement m, int samples) {
 }
 
 /// Where a bending test's section forces are taken (mid_span_forces), and what they read.
-struct MomentProbe {
+struct SectionProbe {
   std::vector<std::size_t> walls;  ///< the rollers
   double x_mid = 0.0;              ///< the mid-span section
   double y_ref = 0.0;              ///< its centre (the bar's mean grain centroid)
@@ -189,7 +189,7 @@ struct SectionForces {
 /// the statics of the left part, so it holds whatever the rollers push with (friction
 /// along the faces, a corner off a roller's apex), where the formulas take vertical forces
 /// at the rollers' axes and no axial force.
-SectionForces mid_span_forces(const physics::World& world, const MomentProbe& probe) {
+SectionForces mid_span_forces(const physics::World& world, const SectionProbe& probe) {
   SectionForces f;
   for (const physics::ContactRecord& c : world.contacts()) {
     if (!c.wall || std::find(probe.walls.begin(), probe.walls.end(), c.a) == probe.walls.end()) continue;
@@ -208,8 +208,9 @@ SectionForces mid_span_forces(const physics::World& world, const MomentProbe& pr
 /// minus its reaction), sampled 4,000 times over the stage's length (the first crack's
 /// reading is the sample before it: 1/4,000 of the stage, a few tenths of a per cent of
 /// the load in the SiC tests, where 1/400 was 1-2 %), and with a
-/// `probe` the mid-span moment at each sample (its largest, and the first crack's).
-void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe = nullptr) {
+/// `probe` its reading of the mid-span section's forces at each sample (the largest, and
+/// the first crack's).
+void run_strength_test(Simulation& sim, Measurement& m, const SectionProbe* probe = nullptr) {
   const io::Scenario& s = sim.scenario();
   run_to_last_stage(sim);
   if (!sim.done()) {
@@ -223,8 +224,8 @@ void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe
       last_reaction.push_back(world.walls()[w].reaction);
     }
     struct Sample {
-      double time, load, ratio, value;  // value: the probe's reading (NaN without one)
-      SectionForces forces;
+      double time, load, ratio;
+      SectionForces forces;  // zero without a probe
     };
     std::vector<Sample> samples;
     const double t0 = world.time();
@@ -259,7 +260,7 @@ void run_strength_test(Simulation& sim, Measurement& m, const MomentProbe* probe
       const double value = probe != nullptr ? probe->value(forces.moment, forces.axial) : NAN;
       // NaN until the first probed sample
       if (!(m.value_from_statics >= value)) m.value_from_statics = value;
-      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN, value, forces});
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN, forces});
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
@@ -397,9 +398,9 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
                                     want, want == 1 ? "" : "s", supports.size(), loaders.size()));
       }
       const auto sx = roller_x(world, supports), lx = roller_x(world, loaders);
-      // The section the moment is taken at: mid-span (the notch's, under the loading roller).
-      auto moment_probe = [&](double x_mid, std::function<double(double, double)> value) {
-        MomentProbe probe;
+      // The section the forces are taken at: mid-span (the notch's, under the loading roller).
+      auto section_probe = [&](double x_mid, std::function<double(double, double)> value) {
+        SectionProbe probe;
         probe.walls = cylinders;
         probe.x_mid = x_mid;
         probe.value = std::move(value);
@@ -413,7 +414,7 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
         const double inner = lx[1] - lx[0];
         // The tension face's stress: 6 M / (b d^2) (the formula's, with M = P (L - L_i) / 4)
         // and N / (b d) of the axial force the rollers' friction puts on the section.
-        const MomentProbe probe = moment_probe(0.5 * (lx[0] + lx[1]), [b, d](double moment, double axial) {
+        const SectionProbe probe = section_probe(0.5 * (lx[0] + lx[1]), [b, d](double moment, double axial) {
           return 6.0 * moment / (b * d * d) + axial / (b * d);
         });
         run_strength_test(*sim, m, &probe);
@@ -432,7 +433,7 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
         if (!(a > 0.0)) refuse(s, test, "its beam has no notch (notch_depth)");
         // K_I of the notched section's moment (the formula's P S is 4 M of a three-point
         // moment) and of its axial force (an edge-notched strip in tension), superposed.
-        const MomentProbe probe = moment_probe(lx[0], [span, b, d, a](double moment, double axial) {
+        const SectionProbe probe = section_probe(lx[0], [span, b, d, a](double moment, double axial) {
           return physics::senb_stress_intensity(4.0 * moment / span, span, b, d, a) +
                  physics::edge_notch_tension_stress_intensity(axial, b, d, a);
         });
