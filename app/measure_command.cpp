@@ -193,16 +193,17 @@ int measure_command(const MeasureOptions& options) {
   const std::filesystem::path out = m.report.out;
   const Reading r = reading_of(*test);
   std::string text = sim::measurement_toml(m);
+  const double judged = sim::judged_value(m);
+  const bool at_first_crack = sim::judged_at_first_crack(*test);
   std::string compare;
   try {
     const io::Scenario s = io::load_scenario(options.scenario);
     if (!s.material.preset_file.empty()) {
       const io::MaterialPreset preset = io::load_material(s.material.preset_file);
       const double want = preset.si(r.key);
-      const double judged = sim::judged_value(m);
       compare = fmt::format("  {} of {}: {:.4g} {} ({:+.1f} %{})", r.key, preset.name, want / r.scale,
                             r.unit, 100.0 * (judged / want - 1.0),
-                            judged == m.value ? "" : ", at the first crack");
+                            at_first_crack ? ", at the first crack" : "");
       text += fmt::format("preset = \"{}\"\npreset_value = {:.9g}\njudged = \"{}\"\n", preset.name, want,
                           sim::judged_key(*test));
       if (*test == sim::Test::elastic) {
@@ -215,12 +216,11 @@ int measure_command(const MeasureOptions& options) {
   }
   io::write_file_atomically(out / "measure.toml", text);
   if (*test == sim::Test::elastic) write_elastic_outputs(m, out);
-  const double judged = sim::judged_value(m);
   fmt::print("  {} = {:.4g} {}", r.label, judged / r.scale, r.unit);
   if (*test == sim::Test::elastic) {
     fmt::print(", nu = {:.4f}; from the platens E = {:.4g} GPa", m.poisson, m.young_platens / 1e9);
   }
-  if (*test == sim::Test::flexural || *test == sim::Test::senb) {
+  if (at_first_crack) {
     // A bending test is judged at its first crack from the statics of its mid-span
     // section; the formula's peak is printed beside it.
     fmt::print(" at the first crack (a {}), from the mid-span section's statics: M = {:.5g} N m, N = {:.4g} N "

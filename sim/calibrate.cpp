@@ -65,6 +65,17 @@ Measurement trial(Shared& sh, Test test, const std::filesystem::path& scenario,
   return m;
 }
 
+/// What trial `t` of `scenario` is judged by (judged_value); a bending test with no first
+/// crack to read it at is an error.
+double judged(const Measurement& m, const CalibrationTrial& t, const std::filesystem::path& scenario) {
+  const double v = judged_value(m);
+  if (!(v > 0.0)) {
+    throw std::runtime_error(fmt::format("calibration trial {} ({}): no first crack to read its {} at", t.number,
+                                         scenario.string(), to_string(m.test)));
+  }
+  return v;
+}
+
 void record(Shared& sh, const CalibrationTrial& t, const std::string& line) {
   std::lock_guard lock(sh.mutex);
   sh.result.trials.push_back(t);
@@ -164,15 +175,10 @@ bool strength_loop(Shared& sh, std::map<std::string, double> p, std::map<std::st
     std::string bar;
     if (flexural) {
       t.wall_seconds = std::max(t.wall_seconds, bar_trial.wall_seconds);  // side by side
-      // The bar's bending stress from the mid-span moment of its rollers' contact forces
-      // at its first crack (sim/measure.hpp): the formula's peak carries the rollers'
-      // friction couple and moves with the loading rate; this reading does neither.
-      t.measured_flexural = judged_value(bar_m);
-      if (!(t.measured_flexural > 0.0)) {
-        throw std::runtime_error(fmt::format("calibration trial {} ({}): the bar has no first crack to read "
-                                             "sigma_f at",
-                                             bar_trial.number, s.flexural.string()));
-      }
+      // The bar's tension-face stress at its first crack from its mid-span section's
+      // statics (judged_value): the formula's peak carries the rollers' friction couple and
+      // moves with the loading rate; this reading does neither.
+      t.measured_flexural = judged(bar_m, bar_trial, s.flexural);
       t.error_flexural = t.measured_flexural / *flexural - 1.0;
       bar = fmt::format(", sigma_f {:.4g} MPa ({:+.2f} %; the formula's peak {:.4g})", t.measured_flexural / 1e6,
                         100 * t.error_flexural, bar_m.value / 1e6);
@@ -224,12 +230,7 @@ bool toughness_loop(Shared& sh, std::map<std::string, double> p, double a, std::
     t.loop = "toughness";
     const Measurement m = trial(sh, Test::senb, s.senb, p, t);
     // K_Ic at the first crack (judged_value): a crack that stops after it is the lattice's.
-    t.measured = judged_value(m);
-    if (!(t.measured > 0.0)) {
-      throw std::runtime_error(fmt::format("calibration trial {} ({}): the notched beam has no first crack to "
-                                           "read K_Ic at",
-                                           t.number, s.senb.string()));
-    }
+    t.measured = judged(m, t, s.senb);
     t.error = t.measured / target - 1.0;
     const bool through_bonds = m.first_crack == "bond";
     record(sh, t,

@@ -36,8 +36,8 @@ struct CalibrationTargets {
   std::optional<double> young;             ///< E, Pa
   std::optional<double> poisson;           ///< nu
   std::optional<double> tensile_strength;  ///< sigma_t, Pa (Brazilian)
-  /// sigma_f, Pa (four-point bending), compared with the bar's 6 M / (b d^2) of its mid-span
-  /// moment at its first crack (Measurement::value_from_statics_at_first_crack); needs sigma_t
+  /// sigma_f, Pa (four-point bending), compared with the bar's tension-face stress at its
+  /// first crack from its mid-span section's statics (judged_value); needs sigma_t
   std::optional<double> flexural_strength;
   std::optional<double> toughness;         ///< K_Ic, Pa m^0.5 (SENB with [fracture])
 };
@@ -70,8 +70,8 @@ struct CalibrationTrial {
   std::map<std::string, double> parameters;
   double measured = 0.0, measured_poisson = 0.0;
   double error = 0.0, error_poisson = 0.0;   ///< relative to the target
-  /// Strength trials with a sigma_f target: the bar's bending stress at its first crack
-  /// from its mid-span moment, and its error (NaN otherwise).
+  /// Strength trials with a sigma_f target: the bar's judged_value (its tension-face stress
+  /// at its first crack) and its error (NaN otherwise).
   double measured_flexural = NAN, error_flexural = NAN;
   double wall_seconds = 0.0;  ///< a disc and a bar side by side: the longer of the two
 };

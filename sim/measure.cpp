@@ -225,8 +225,8 @@ void run_strength_test(Simulation& sim, Measurement& m, const SectionProbe* prob
     }
     struct Sample {
       double time, load, ratio;
-      SectionForces forces;  // zero without a probe
     };
+    SectionForces last_forces;  // the probe's, on the last sample (zero without a probe)
     std::vector<Sample> samples;
     const double t0 = world.time();
     // A split adds bodies (nothing else does during a test); a break, a broken bond.
@@ -249,18 +249,18 @@ void run_strength_test(Simulation& sim, Measurement& m, const SectionProbe* prob
         if (!m.first_crack.empty()) {
           m.first_crack_load = samples.empty() ? 0.0 : samples.back().load;
           if (probe != nullptr) {
-            const SectionForces f = samples.empty() ? SectionForces{} : samples.back().forces;
-            m.moment_at_first_crack = f.moment;
-            m.axial_at_first_crack = f.axial;
-            m.value_from_statics_at_first_crack = probe->value(f.moment, f.axial);
+            m.moment_at_first_crack = last_forces.moment;
+            m.axial_at_first_crack = last_forces.axial;
+            m.value_from_statics_at_first_crack = probe->value(last_forces.moment, last_forces.axial);
           }
         }
       }
-      const SectionForces forces = probe != nullptr ? mid_span_forces(world, *probe) : SectionForces{};
-      const double value = probe != nullptr ? probe->value(forces.moment, forces.axial) : NAN;
-      // NaN until the first probed sample
-      if (!(m.value_from_statics >= value)) m.value_from_statics = value;
-      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN, forces});
+      if (probe != nullptr) {
+        last_forces = mid_span_forces(world, *probe);
+        const double value = probe->value(last_forces.moment, last_forces.axial);
+        if (!(m.value_from_statics >= value)) m.value_from_statics = value;  // NaN until the first
+      }
+      samples.push_back({world.time() - t0, load, work > 0.0 ? world.kinetic_energy() / work : NAN});
     }
     const auto peak = std::max_element(samples.begin(), samples.end(),
                                        [](const Sample& a, const Sample& b) { return a.load < b.load; });
@@ -501,14 +501,14 @@ RateStudy converge_loading_rate(Test test, const std::filesystem::path& scenario
   return study;
 }
 
+bool judged_at_first_crack(Test t) { return t == Test::flexural || t == Test::senb; }
+
 double judged_value(const Measurement& m) {
-  const bool bending = m.test == Test::flexural || m.test == Test::senb;
-  return bending ? m.value_from_statics_at_first_crack : m.value;
+  return judged_at_first_crack(m.test) ? m.value_from_statics_at_first_crack : m.value;
 }
 
 std::string judged_key(Test t) {
-  const bool bending = t == Test::flexural || t == Test::senb;
-  return bending ? std::string(value_key(t)) + "_from_statics_at_first_crack" : value_key(t);
+  return judged_at_first_crack(t) ? std::string(value_key(t)) + "_from_statics_at_first_crack" : value_key(t);
 }
 
 const char* value_key(Test t) {

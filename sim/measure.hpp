@@ -127,6 +127,10 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
 /// - the elastic test and the disc: `value`.
 double judged_value(const Measurement& m);
 
+/// Whether test `t` is judged at its first crack from its mid-span section's statics (the
+/// bending tests) rather than by its formula's value.
+bool judged_at_first_crack(Test t);
+
 /// The measure.toml key of judged_value: "flexural_strength_Pa_from_statics_at_first_crack",
 /// "k_ic_Pa_sqrt_m_from_statics_at_first_crack", or value_key.
 std::string judged_key(Test t);
