@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
 
 #include "io/sweep.hpp"
 #include "physics/bonds/bond_law.hpp"
+#include "physics/bonds/tangent.hpp"
 
 using namespace cleave::physics;
 
@@ -151,3 +154,84 @@ TEST(BondStrengthFactor, IsTheSameForEitherOrderOfTheGrainsAndChangesWithTheSeed
 
 }  // namespace cleave::physics
 
+
+namespace {
+
+/// The bonded-particle law's increments and limits as they read with Eigen's vectors
+/// (cleave's form before vec3.hpp): the reference the scalar form must equal to the bit.
+BondResult eigen_bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
+                            const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin, BondState& b, double dt) {
+  BondResult out;
+  if (b.broken) return out;
+  const double Kbn = p.kbn * s.area(), Kbs = p.kbs * s.area();
+  const double Kbr = p.kbn * s.inertia(), Kbt = p.kbs * s.polar();
+  const double vn = velocity.dot(n);
+  const Eigen::Vector3d vs = velocity - vn * n;
+  const double wt = spin.dot(n);
+  const Eigen::Vector3d wr = spin - wt * n;
+  b.normal += Kbn * vn * dt;
+  b.shear = into_plane(b.shear, n) - Kbs * dt * vs;
+  b.bending = into_plane(b.bending, n) - Kbr * dt * wr;
+  b.torsion -= Kbt * dt * wt;
+  const double r = s.radius;
+  if (b.normal > p.tbn * s.area()) {
+    out.failure = BondFailure::tension;
+  } else if (b.shear.norm() > p.tbs * s.area()) {
+    out.failure = BondFailure::shear;
+  } else if (b.bending.norm() > p.tbn * s.inertia() / r) {
+    out.failure = BondFailure::bending;
+  } else if (std::abs(b.torsion) > p.tbs * s.polar() / r) {
+    out.failure = BondFailure::torsion;
+  }
+  if (out.failure != BondFailure::none) {
+    out.at_failure = b;
+    b = BondState{};
+    b.broken = true;
+    return out;
+  }
+  out.force = -b.normal * n + b.shear;
+  out.moment = b.bending + b.torsion * n;
+  return out;
+}
+
+bool same_bits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0;
+}
+
+}  // namespace
+
+TEST(BondLaw, ScalarFormGivesEigensBits) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-9.0, -3.0);
+  auto vec = [&](double scale) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    return Eigen::Vector3d(x * scale, y * scale, z * scale);
+  };
+  int failures[5] = {0, 0, 0, 0, 0};
+  for (int trial = 0; trial < 20000; ++trial) {
+    BondState b;
+    if (trial % 3 != 0) {  // a third start unloaded (zero springs: into_plane's early out)
+      b.normal = 1e-5 * u(rng);
+      b.shear = vec(2e-5 * std::abs(u(rng)));
+      b.bending = vec(2e-10 * std::abs(u(rng)));
+      b.torsion = 4e-10 * u(rng);
+    }
+    const Eigen::Vector3d n = vec(1.0).normalized();
+    const Eigen::Vector3d velocity = vec(std::pow(10.0, e(rng)) / kDt), spin = vec(std::pow(10.0, e(rng) + 3.0) / kDt);
+    BondState b_ref = b;
+    const BondResult got = bond_force(kParams, kSection, n, velocity, spin, b, kDt);
+    const BondResult want = eigen_bond_force(kParams, kSection, n, velocity, spin, b_ref, kDt);
+    ASSERT_EQ(got.failure, want.failure) << trial;
+    ASSERT_TRUE(same_bits(got.force, want.force)) << trial;
+    ASSERT_TRUE(same_bits(got.moment, want.moment)) << trial;
+    const BondState& got_s = got.failure == BondFailure::none ? b : got.at_failure;
+    const BondState& want_s = want.failure == BondFailure::none ? b_ref : want.at_failure;
+    ASSERT_TRUE(same_bits(got_s.shear, want_s.shear)) << trial;
+    ASSERT_TRUE(same_bits(got_s.bending, want_s.bending)) << trial;
+    ASSERT_EQ(std::memcmp(&got_s.normal, &want_s.normal, sizeof(double)), 0) << trial;
+    ASSERT_EQ(std::memcmp(&got_s.torsion, &want_s.torsion, sizeof(double)), 0) << trial;
+    ++failures[static_cast<int>(want.failure)];
+  }
+  // Intact bonds and every failure mode were met.
+  for (int mode = 0; mode < 5; ++mode) EXPECT_GT(failures[mode], 100) << "mode " << mode;
+}

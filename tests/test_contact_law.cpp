@@ -2,9 +2,13 @@
 // two prisms in a world: momentum, restitution from C_res, energy without damping.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
 
 #include "geometry/exact_polyhedron.hpp"
+#include "physics/bonds/tangent.hpp"
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/world.hpp"
 
@@ -164,4 +168,103 @@ INSTANTIATE_TEST_SUITE_P(Cres, HeadOnCollision, ::testing::Values(1.0, 2.0, 4.0)
 TEST(CriticalTimeStep, IsTwiceSqrtMassOverStiffness) {
   EXPECT_DOUBLE_EQ(critical_time_step(4.0, 1.0), 4.0);
   EXPECT_DOUBLE_EQ(critical_time_step(1e-6, 1e8), 2e-7);
+}
+
+namespace {
+
+/// The law as it reads with Eigen's vectors (cleave's form before vec3.hpp): the reference
+/// the scalar form must equal to the bit.
+ContactForce eigen_contact_force(const ContactParams& p, const ContactKinematics& k, ContactHistory& h, double dt) {
+  ContactForce out;
+  const Eigen::Vector3d& n = k.normal;
+  const double delta = std::max(0.0, k.overlap);
+  h.max_overlap = std::max(h.max_overlap, delta);
+  const double loading = p.kn * delta;
+  const double unloading = p.c_res * p.kn * (delta - h.max_overlap * (1.0 - 1.0 / p.c_res));
+  const double fn_spring = std::max(0.0, std::min(loading, unloading));
+  const double vn = k.velocity.dot(n);
+  const double cn = p.damping_ratio * std::sqrt(p.c_res * p.kn * k.m_crit);
+  const double fn = std::max(0.0, fn_spring - cn * vn);
+  out.force = fn * n;
+  const Eigen::Vector3d vt = k.velocity - vn * n;
+  h.shear = into_plane(h.shear, n) - p.ks * dt * vt;
+  const double cap = p.mu_s * fn;
+  const double fs = h.shear.norm();
+  if (fs >= cap && fs > 0.0) {
+    h.shear *= cap / fs;
+    out.sliding = true;
+    out.force += h.shear;
+  } else {
+    const double cs = p.damping_ratio * std::sqrt(p.ks * k.m_crit);
+    out.force += h.shear - cs * vt;
+  }
+  if (p.kr > 0.0 || p.kt > 0.0) {
+    const double wt = k.spin.dot(n);
+    const Eigen::Vector3d wr = k.spin - wt * n;
+    const double mcap = p.mu_r * fn * k.lever;
+    h.rolling = into_plane(h.rolling, n) - p.kr * dt * wr;
+    if (h.rolling.norm() > mcap) h.rolling *= mcap / h.rolling.norm();
+    h.torsion -= p.kt * dt * wt;
+    h.torsion = std::clamp(h.torsion, -mcap, mcap);
+    const double cr = p.damping_ratio * std::sqrt(p.kr * k.i_crit);
+    const double ct = p.damping_ratio * std::sqrt(p.kt * k.i_crit);
+    out.moment = h.rolling - cr * wr + (h.torsion - ct * wt) * n;
+  }
+  return out;
+}
+
+bool same_bits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0;
+}
+
+}  // namespace
+
+TEST(ContactLaw, ScalarFormGivesEigensBits) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-8.0, 0.0);
+  auto vec = [&](double scale) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    return Eigen::Vector3d(x * scale, y * scale, z * scale);
+  };
+  int sliding = 0, sticking = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    ContactParams p;
+    p.kn = 5e6 * (1.0 + u(rng));
+    p.ks = 2e6 * (1.0 + u(rng));
+    p.c_res = 1.0 + std::abs(u(rng));
+    p.mu_s = 0.3 + 0.2 * u(rng);
+    if (trial % 2) {  // rolling and torsion on every other trial
+      p.kr = 1e-3 * (1.0 + u(rng));
+      p.kt = 1e-3 * (1.0 + u(rng));
+      p.mu_r = 0.1;
+    }
+    ContactKinematics k;
+    k.normal = vec(1.0).normalized();
+    k.overlap = 1e-6 * u(rng);
+    k.velocity = vec(std::pow(10.0, e(rng)));
+    k.spin = vec(std::pow(10.0, e(rng)));
+    k.m_crit = 1e-6;
+    k.i_crit = 1e-12;
+    k.lever = 1e-4;
+    ContactHistory h;
+    if (trial % 3 != 0) {  // a third start fresh (zero springs: into_plane's early out)
+      h.shear = vec(10.0 * std::pow(10.0, e(rng) / 4.0));  // up to 10 N against caps of about 1 N
+      h.rolling = vec(1e-6 * std::pow(10.0, e(rng)));
+      h.torsion = 1e-7 * u(rng);
+      h.max_overlap = 1e-6 * std::abs(u(rng));
+    }
+    ContactHistory h_ref = h;
+    const ContactForce got = contact_force(p, k, h, 1e-6);
+    const ContactForce want = eigen_contact_force(p, k, h_ref, 1e-6);
+    ASSERT_TRUE(same_bits(got.force, want.force)) << trial;
+    ASSERT_TRUE(same_bits(got.moment, want.moment)) << trial;
+    ASSERT_EQ(got.sliding, want.sliding) << trial;
+    ASSERT_TRUE(same_bits(h.shear, h_ref.shear)) << trial;
+    ASSERT_TRUE(same_bits(h.rolling, h_ref.rolling)) << trial;
+    ASSERT_EQ(std::memcmp(&h.torsion, &h_ref.torsion, sizeof(double)), 0) << trial;
+    ASSERT_EQ(h.max_overlap, h_ref.max_overlap) << trial;
+    (want.sliding ? sliding : sticking) += 1;
+  }
+  EXPECT_GT(sliding, 1000);  // both branches of the Coulomb cap were taken
+  EXPECT_GT(sticking, 1000);
 }

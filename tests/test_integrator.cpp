@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
 
 #include "geometry/exact_polyhedron.hpp"
 #include "physics/dem/integrator.hpp"
@@ -185,4 +188,101 @@ TEST(World, ABodyInARemovedBodysSlotStartsWithoutItsContactHistory) {
   double fresh = 0.0;
   for (const auto& c : world.contacts()) fresh += std::abs(c.force.x());
   EXPECT_LT(fresh, 1e-3 * shear);
+}
+
+namespace {
+
+/// The splitting X(h/2) Y(h/2) Z(h) Y(h/2) X(h/2) written out plainly, with the library's
+/// sine and cosine at every sub-flow: the reference the integrator's shortcuts must equal.
+Eigen::Quaterniond reference_rotate_free(Eigen::Quaterniond q, const Eigen::Vector3d& L,
+                                         const Eigen::Vector3d& inv_inertia, double h) {
+  Eigen::Vector3d pi = rotated(q.conjugate(), L);
+  const int axes[5] = {0, 1, 2, 1, 0};
+  const double steps[5] = {0.5 * h, 0.5 * h, h, 0.5 * h, 0.5 * h};
+  for (int s = 0; s < 5; ++s) {
+    const int k = axes[s], i = (k + 1) % 3, j = (k + 2) % 3;
+    const double theta = steps[s] * pi[k] * inv_inertia[k];
+    const double ch = std::cos(0.5 * theta), sh = std::sin(0.5 * theta);
+    const double c = 1.0 - 2.0 * sh * sh, sn = 2.0 * sh * ch;
+    const double pi_i = pi[i], pi_j = pi[j];
+    pi[i] = c * pi_i + sn * pi_j;
+    pi[j] = -sn * pi_i + c * pi_j;
+    Eigen::Quaterniond r(ch, 0.0, 0.0, 0.0);
+    r.vec()[k] = sh;
+    q = q * r;
+  }
+  q.normalize();
+  return q;
+}
+
+bool same_bits(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  return std::memcmp(a.coeffs().data(), b.coeffs().data(), 4 * sizeof(double)) == 0;
+}
+
+bool same_bits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
+}
+
+/// A body of random pose and angular momentum whose sub-flows turn it by about 10^e rad.
+void random_body(std::mt19937_64& rng, BodyState& s, BodyInfo& b, double h, double e) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  s.x = {u(rng), u(rng), u(rng)};
+  s.v = {u(rng), u(rng), u(rng)};
+  s.q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
+  b.inv_inertia = Eigen::Vector3d(1.0 + 0.5 * u(rng), 2.0 + u(rng), 3.0 + u(rng)) * 1e9;
+  s.L = Eigen::Vector3d(u(rng), u(rng), u(rng)) * (std::pow(10.0, e) / (h * 3e9));
+}
+
+}  // namespace
+
+TEST(Integrator, TinyHalfAnglesSkipTheSineAndCosineWithTheSameBits) {
+  // Below 2^-27 the library's sine is the angle and its cosine 1, to the bit: the shortcut
+  // the integrator takes there.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> exponent(-320.0, std::log10(0x1p-27));
+  std::vector<double> xs = {0.0, -0.0, std::nextafter(0x1p-27, 0.0), -std::nextafter(0x1p-27, 0.0), 1e-310};
+  for (int k = 0; k < 20000; ++k) xs.push_back((k % 2 ? -1.0 : 1.0) * std::pow(10.0, exponent(rng)));
+  for (double x : xs) {
+    ASSERT_EQ(std::sin(x), x) << x;
+    ASSERT_EQ(std::cos(x), 1.0) << x;
+  }
+  // And a free rotation at any angle, tiny ones included, is the plain splitting's to the bit.
+  const double h = 1e-6;
+  int tiny = 0;
+  for (int k = 0; k < 6000; ++k) {
+    BodyState s;
+    BodyInfo b;
+    random_body(rng, s, b, h, -14.0 + 13.0 * (k % 14) / 13.0);
+    tiny += std::abs(0.5 * h * s.L.norm() * 3e9) < 0x1p-27;
+    const Eigen::Quaterniond want = reference_rotate_free(s.q, s.L, b.inv_inertia, h);
+    rotate_free(s.q, s.L, b.inv_inertia, h);
+    ASSERT_TRUE(same_bits(s.q, want)) << "body " << k;
+  }
+  EXPECT_GT(tiny, 1000);  // the shortcut was taken
+}
+
+TEST(Integrator, TheBatchDriftGivesEachBodyTheBitsOfItsOwnDrift) {
+  std::mt19937_64 rng(11);
+  const double h = 1e-6;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 1 + trial % kDriftBatch;
+    BodyState one[kDriftBatch], many[kDriftBatch];
+    BodyInfo info[kDriftBatch];
+    BodyState* ptr[kDriftBatch];
+    const BodyInfo* info_ptr[kDriftBatch];
+    for (int m = 0; m < n; ++m) {
+      random_body(rng, one[m], info[m], h, -12.0 + 12.0 * ((trial + m) % 7) / 6.0);
+      if ((trial + m) % 5 == 0) one[m].L.setZero();  // a body that does not turn
+      many[m] = one[m];
+      ptr[m] = &many[m];
+      info_ptr[m] = &info[m];
+      drift(one[m], info[m], h);
+    }
+    drift(ptr, info_ptr, n, h);
+    for (int m = 0; m < n; ++m) {
+      ASSERT_TRUE(same_bits(many[m].q, one[m].q)) << "trial " << trial << " body " << m;
+      ASSERT_TRUE(same_bits(many[m].x, one[m].x));
+      ASSERT_TRUE(same_bits(many[m].w, one[m].w));
+    }
+  }
 }

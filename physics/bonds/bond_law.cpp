@@ -1,14 +1,11 @@
 #include "physics/bonds/bond_law.hpp"
 #include "physics/bonds/tangent.hpp"
+#include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace cleave::physics {
-
-double BondSection::area() const { return M_PI * radius * radius; }
-double BondSection::inertia() const { return 0.25 * M_PI * (radius * radius) * (radius * radius); }
-double BondSection::polar() const { return 2.0 * inertia(); }
 
 BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
@@ -20,14 +17,18 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
   const double Kbs = p.kbs * s.area();
   const double Kbr = p.kbn * s.inertia();
   const double Kbt = p.kbs * s.polar();
-  // Increments (eqs 2.12, 2.13): opening along n is tension.
-  const double vn = velocity.dot(n);
-  const Eigen::Vector3d vs = velocity - vn * n;
-  const double wt = spin.dot(n);
-  const Eigen::Vector3d wr = spin - wt * n;
+  // Increments (eqs 2.12, 2.13): opening along n is tension. In plain doubles (vec3.hpp:
+  // Eigen's bits without its stalls on three-element vectors).
+  const V3 nn = v3(n), vel = v3(velocity), sp = v3(spin);
+  const double vn = dot(vel, nn);
+  const V3 vs = vel - vn * nn;
+  const double wt = dot(sp, nn);
+  const V3 wr = sp - wt * nn;
   b.normal += Kbn * vn * dt;
-  b.shear = into_plane(b.shear, n) - Kbs * dt * vs;
-  b.bending = into_plane(b.bending, n) - Kbr * dt * wr;
+  const V3 shear = into_plane(v3(b.shear), nn) - Kbs * dt * vs;
+  const V3 bending = into_plane(v3(b.bending), nn) - Kbr * dt * wr;
+  b.shear = eigen(shear);
+  b.bending = eigen(bending);
   b.torsion -= Kbt * dt * wt;
   if (p.law == BondLaw::cohesive) {
     const double A = s.area();
@@ -55,9 +56,9 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
   const double r = s.radius;
   if (b.normal > p.tbn * s.area()) {
     out.failure = BondFailure::tension;
-  } else if (b.shear.norm() > p.tbs * s.area()) {
+  } else if (norm(shear) > p.tbs * s.area()) {
     out.failure = BondFailure::shear;
-  } else if (b.bending.norm() > p.tbn * s.inertia() / r) {
+  } else if (norm(bending) > p.tbn * s.inertia() / r) {
     out.failure = BondFailure::bending;
   } else if (std::abs(b.torsion) > p.tbs * s.polar() / r) {
     out.failure = BondFailure::torsion;
@@ -69,8 +70,8 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
     return out;
   }
   // Tension pulls B back towards A.
-  out.force = -b.normal * n + b.shear;
-  out.moment = b.bending + b.torsion * n;
+  out.force = eigen(-b.normal * nn + shear);
+  out.moment = eigen(bending + b.torsion * nn);
   return out;
 }
 

@@ -1,5 +1,5 @@
 #include "physics/dem/contact_law.hpp"
-#include "physics/bonds/tangent.hpp"
+#include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@ namespace cleave::physics {
 
 ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
                            ContactHistory& h, double dt) {
-  ContactForce out;
-  const Eigen::Vector3d& n = k.normal;
+  // Plain doubles (vec3.hpp): Eigen's bits, without its stalls on three-element vectors.
+  const V3 n = v3(k.normal), v = v3(k.velocity);
   const double delta = std::max(0.0, k.overlap);
 
   // Normal spring with the unloading multiplier (eq 2.4 and the C_res of table 2.3).
@@ -19,37 +19,43 @@ ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
   const double fn_spring = std::max(0.0, std::min(loading, unloading));
 
   // Normal damping (eq 2.6): |U_n| / dt is the normal relative speed.
-  const double vn = k.velocity.dot(n);
+  const double vn = dot(v, n);
   const double cn = p.damping_ratio * std::sqrt(p.c_res * p.kn * k.m_crit);
   const double fn = std::max(0.0, fn_spring - cn * vn);
-  out.force = fn * n;
+  V3 force = fn * n;
 
   // Shear spring, incremental (eq 2.4): U_s = dt * v_t; Coulomb cap (eq 2.5).
-  const Eigen::Vector3d vt = k.velocity - vn * n;
-  h.shear = into_plane(h.shear, n) - p.ks * dt * vt;
+  const V3 vt = v - vn * n;
+  V3 shear = into_plane(v3(h.shear), n) - p.ks * dt * vt;
   const double cap = p.mu_s * fn;
-  const double fs = h.shear.norm();
+  const double fs = norm(shear);
+  ContactForce out;
   if (fs >= cap && fs > 0.0) {
-    h.shear *= cap / fs;
+    shear = shear * (cap / fs);
     out.sliding = true;
-    out.force += h.shear;
+    force = force + shear;
   } else {
     const double cs = p.damping_ratio * std::sqrt(p.ks * k.m_crit);
-    out.force += h.shear - cs * vt;  // shear damping (eq 2.6)
+    force = force + (shear - cs * vt);  // shear damping (eq 2.6)
   }
+  h.shear = eigen(shear);
+  out.force = eigen(force);
 
   // Rolling and torsional resistance (eqs 2.7, 2.8), capped by mu_r F_n lever (eq 2.5).
   if (p.kr > 0.0 || p.kt > 0.0) {
-    const double wt = k.spin.dot(n);
-    const Eigen::Vector3d wr = k.spin - wt * n;
+    const V3 spin = v3(k.spin);
+    const double wt = dot(spin, n);
+    const V3 wr = spin - wt * n;
     const double mcap = p.mu_r * fn * k.lever;
-    h.rolling = into_plane(h.rolling, n) - p.kr * dt * wr;
-    if (h.rolling.norm() > mcap) h.rolling *= mcap / h.rolling.norm();
+    V3 rolling = into_plane(v3(h.rolling), n) - p.kr * dt * wr;
+    const double rl = norm(rolling);
+    if (rl > mcap) rolling = rolling * (mcap / rl);
+    h.rolling = eigen(rolling);
     h.torsion -= p.kt * dt * wt;
     h.torsion = std::clamp(h.torsion, -mcap, mcap);
     const double cr = p.damping_ratio * std::sqrt(p.kr * k.i_crit);
     const double ct = p.damping_ratio * std::sqrt(p.kt * k.i_crit);
-    out.moment = h.rolling - cr * wr + (h.torsion - ct * wt) * n;
+    out.moment = eigen((rolling - cr * wr) + (h.torsion - ct * wt) * n);
   }
   return out;
 }

@@ -26,6 +26,14 @@ void kick_momenta(BodyState& s, const BodyInfo& b, double h);
 /// The drift: x += h v, and the free rotation of (q, L) over h.
 void drift(BodyState& s, const BodyInfo& b, double h);
 
+/// Bodies drifted together (see the batch drift below).
+constexpr int kDriftBatch = 4;
+
+/// The drift of n <= kDriftBatch bodies at once, each with the bits drift() gives it: their
+/// rotations are computed side by side, so that the sines and cosines of different bodies
+/// overlap (one body's five sub-rotations depend on each other).
+void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h);
+
 /// Free rigid-body rotation over h of orientation q (principal -> world) with constant
 /// world angular momentum L, by the symmetric splitting X(h/2) Y(h/2) Z(h) Y(h/2) X(h/2).
 void rotate_free(Eigen::Quaterniond& q, const Eigen::Vector3d& L, const Eigen::Vector3d& inv_inertia,

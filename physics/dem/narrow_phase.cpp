@@ -30,7 +30,7 @@ void PosedShape::update_frame(const RigidShape& shape, const BodyState& state) {
   rotation = state.q.toRotationMatrix();
 }
 
-void PosedShape::update_geometry() {
+void PosedShape::update_vertices() {
   const Eigen::Matrix3d& R = rotation;
   const auto& p = *primitives;
   vertices.resize(p.vertices.size());
@@ -40,6 +40,12 @@ void PosedShape::update_geometry() {
     lo = lo.cwiseMin(vertices[i]);
     hi = hi.cwiseMax(vertices[i]);
   }
+}
+
+void PosedShape::update_geometry() {
+  update_vertices();
+  const Eigen::Matrix3d& R = rotation;
+  const auto& p = *primitives;
   const std::size_t nf = p.faces.size(), stride = (nf + 1) & ~std::size_t{1};
   faces = nf;
   if (planes.size() != 4 * stride) planes.assign(4 * stride, 0.0);  // the padding stays 0

@@ -71,6 +71,8 @@ struct PosedShape {
   void update_frame(const RigidShape& shape, const BodyState& state);
   /// The vertices, face planes and box from the frame (what a search reads).
   void update_geometry();
+  /// The vertices and box alone (what a wall reads).
+  void update_vertices();
 };
 
 /// Feature codes: kind in the top bits, index below.

@@ -1,4 +1,5 @@
 #include "physics/dem/world.hpp"
+#include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -223,6 +224,7 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
   }
   std::sort(bonds_.begin(), bonds_.end(),
             [](const Bond& x, const Bond& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  body_bonds_stale_ = true;
   // The pieces meet along the new crack with their dilations overlapping by the sum of
   // their radii: that overlap, and the parent's stored ones, count as zero.
   auto offset = [&](std::uint32_t a, std::uint32_t b, double overlap) {
@@ -484,6 +486,7 @@ void World::body_contacts(int nt, bool stale) {
       pairs_[kept++] = pairs_[p];
     }
     pairs_.resize(kept);
+    body_pairs_stale_ = true;
     if (cell_on_) pair_image_.resize(kept);
     manifolds_.clear();
     if (settings_.manifold_tolerance > 0.0) {
@@ -527,6 +530,7 @@ void World::body_contacts(int nt, bool stale) {
     for (std::size_t p = 0; p < n; ++p) held_[p] = manifolds_[p].margin > 0.0;
   }
   if (manifolds) plan_pairs(nt);
+  pair_first_.resize(n);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     std::vector<FeatureContact> features;
@@ -539,6 +543,7 @@ void World::body_contacts(int nt, bool stale) {
       const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
       for (std::size_t p = begin; p < end; ++p) {
         const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
+        pair_first_[p] = static_cast<std::uint32_t>(out.size());
         features.clear();
         if (cell_on_) {
           // Every contact of the pair, in the pair's order, against B's image (searched in
@@ -621,8 +626,9 @@ bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double r
 
 void World::plan_pairs(int nt) {
   // Which pairs carry their manifold's contacts, which the near features hold apart, and
-  // which are searched; a body that a search or a wall will read gets its vertices and
-  // planes, the others keep their frame alone (PosedShape::update_frame).
+  // which are searched; a body that a search will read gets its vertices and planes, one
+  // that only a wall reads its vertices, the others keep their frame alone
+  // (PosedShape::update_frame).
   const std::size_t n = pairs_.size();
   plan_.resize(n);
   need_geometry_.assign(states_.size(), 0);
@@ -644,12 +650,16 @@ void World::plan_pairs(int nt) {
 #pragma omp parallel for num_threads(nt) schedule(static) if (live >= kParallelMin)
   for (std::ptrdiff_t k = 0; k < live; ++k) {
     const std::uint32_t slot = live_slots_[static_cast<std::size_t>(k)];
-    bool need = need_geometry_[slot] != 0;
-    for (const Wall& wall : walls_) {
-      if (need) break;
-      need = wall_within_reach(wall, posed_[slot].centre, shapes_[infos_[slot].shape].bounding_radius());
+    if (need_geometry_[slot] != 0) {
+      posed_[slot].update_geometry();
+      continue;
     }
-    if (need) posed_[slot].update_geometry();
+    for (const Wall& wall : walls_) {
+      if (wall_within_reach(wall, posed_[slot].centre, shapes_[infos_[slot].shape].bounding_radius())) {
+        posed_[slot].update_vertices();  // a wall reads its vertices alone
+        break;
+      }
+    }
   }
 }
 
@@ -664,15 +674,18 @@ void World::wall_contacts(int nt) {
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const auto [t, begin, end] = thread_block(slots);
-    for (std::uint32_t w = 0; w < walls_.size(); ++w) {
-      auto& out = wall_pending_[w * static_cast<std::size_t>(nt) + t];
-      const Wall& wall = walls_[w];
-      const std::uint32_t a = w | kWallFlag;
-      for (std::size_t k = begin; k < end; ++k) {
-        const std::uint32_t slot = live_slots_[k];
-        if (!owns(slot)) continue;  // a ghost's wall contacts are its owner's
-        const PosedShape& p = posed_[slot];
-        if (!wall_within_reach(wall, p.centre, shapes_[infos_[slot].shape].bounding_radius())) continue;
+    // Body by body, wall by wall within: one pass over the bodies; each wall's list still
+    // takes its contacts in body order.
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t slot = live_slots_[k];
+      if (!owns(slot)) continue;  // a ghost's wall contacts are its owner's
+      const PosedShape& p = posed_[slot];
+      const double bounding = shapes_[infos_[slot].shape].bounding_radius();
+      for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+        auto& out = wall_pending_[w * static_cast<std::size_t>(nt) + t];
+        const Wall& wall = walls_[w];
+        const std::uint32_t a = w | kWallFlag;
+        if (!wall_within_reach(wall, p.centre, bounding)) continue;
         for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
           if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
             out.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
@@ -771,26 +784,29 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
   ContactKinematics kin;
   kin.normal = c.normal;
   kin.overlap = c.penetration;
-  Eigen::Vector3d va_point, wa;
+  // The relative motion in plain doubles (vec3.hpp: Eigen's bits, without its stalls).
+  const V3 point = v3(c.point);
+  V3 va_point, wa;
   if (wall) {
-    va_point = walls_[a].velocity;
-    wa.setZero();
+    va_point = v3(walls_[a].velocity);
+    wa = {0.0, 0.0, 0.0};
     kin.m_crit = ib.mass;
     kin.i_crit = ib.inertia.minCoeff();
   } else {
     const BodyState& sa = states_[a];
     const BodyInfo& ia = infos_[a];
-    va_point = sa.v + sa.w.cross(c.point - sa.x);
-    wa = sa.w;
+    wa = v3(sa.w);
+    va_point = v3(sa.v) + cross(wa, point - v3(sa.x));
     kin.m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
     const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
     kin.i_crit = i1 * i2 / (i1 + i2);
   }
   // B's centroid, or in a periodic cell its image's; a moving cell moves the two apart at L d.
-  const Eigen::Vector3d xb = contact_shift_.empty() ? sb.x : Eigen::Vector3d(sb.x + contact_shift_[k]);
-  kin.velocity = sb.v + sb.w.cross(c.point - xb) - va_point;
-  if (!wall && moving_cell_) kin.velocity += gradient_ * (xb - states_[a].x);
-  kin.spin = sb.w - wa;
+  const V3 xb = contact_shift_.empty() ? v3(sb.x) : v3(sb.x) + v3(contact_shift_[k]);
+  const V3 wb = v3(sb.w);
+  kin.velocity = eigen((v3(sb.v) + cross(wb, point - xb)) - va_point);
+  if (!wall && moving_cell_) kin.velocity += gradient_ * (eigen(xb) - states_[a].x);
+  kin.spin = eigen(wb - wa);
   kin.lever = posed_[b].radius;
   bool bonded = false;
   if (!wall && (!bonds_.empty() || !offsets_.empty())) {
@@ -814,7 +830,7 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
       const Eigen::Quaterniond& q = states_[slot].q;
       return rotated(q, t.alpha * (q.conjugate() * arm - t.centre)) * d;
     };
-    Eigen::Vector3d opened = grown(b, c.point - xb);
+    Eigen::Vector3d opened = grown(b, c.point - eigen(xb));
     if (!wall) opened -= grown(a, c.point - states_[a].x);
     kin.overlap -= c.normal.dot(opened);
   }
@@ -831,38 +847,81 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
   next_history_[k] = {p.key, h};
 }
 
+void World::list_body_pairs() {
+  // A counting sort by body: pairs are taken in ascending order, so each body's list ascends.
+  body_pair_start_.assign(states_.size() + 1, 0);
+  for (const BodyPair& pr : pairs_) {
+    ++body_pair_start_[live_slots_[pr.first] + 1];
+    ++body_pair_start_[live_slots_[pr.second] + 1];
+  }
+  for (std::size_t i = 0; i < states_.size(); ++i) body_pair_start_[i + 1] += body_pair_start_[i];
+  body_pairs_.resize(body_pair_start_.back());
+  std::vector<std::uint32_t> fill(body_pair_start_.begin(), body_pair_start_.end() - 1);
+  for (std::uint32_t p = 0; p < pairs_.size(); ++p) {
+    body_pairs_[fill[live_slots_[pairs_[p].first]]++] = p << 1;
+    body_pairs_[fill[live_slots_[pairs_[p].second]]++] = (p << 1) | 1u;
+  }
+  body_pairs_stale_ = false;
+}
+
 void World::sum_forces(int nt) {
-  // Each thread sums onto the bodies of its own block of slots, going through all contacts
-  // in order: every body's force is summed in contact order, the same for any number of
-  // threads. Wall reactions are summed by the first thread.
+  // Every body's force and torque are summed in contact order, the same for any number of
+  // threads. A body's contacts with other bodies come first in the list, pair by pair in the
+  // pairs' order: each thread takes a block of bodies and walks each body's pairs
+  // (body_pairs_), summing in registers. The walls' contacts follow in the list: each thread
+  // then walks those and adds the ones of its bodies. Wall reactions are summed by the
+  // first thread.
   const std::size_t n = pending_count();
   records_current_ = false;  // contacts() makes them from this evaluation when asked
+  if (body_pairs_stale_ || body_pair_start_.size() != states_.size() + 1) list_body_pairs();
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   const std::size_t slots = states_.size();
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
+  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(slots);  // captured below: not a structured binding
     const std::size_t t = block.thread, lo = block.begin, hi = block.end;
-    for_pending(0, n, [&](std::size_t k, const Pending& p) {
-      const bool wall = (p.key.a & kWallFlag) != 0;
-      const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
-      const ContactForce& f = forces_[k];
-      if (b >= lo && b < hi) {
-        BodyState& sb = states_[b];
-        sb.f += f.force;
-        if (contact_shift_.empty()) {
-          sb.tau += (p.contact.point - sb.x).cross(f.force) + f.moment;
-        } else {
-          sb.tau += (p.contact.point - contact_shift_[k] - sb.x).cross(f.force) + f.moment;
+    // Plain doubles (vec3.hpp), with Eigen's bits.
+    for (std::size_t i = lo; i < hi; ++i) {
+      const std::uint32_t first = body_pair_start_[i], last = body_pair_start_[i + 1];
+      if (first == last) continue;
+      BodyState& s = states_[i];
+      const V3 x = v3(s.x);
+      V3 f = v3(s.f), tau = v3(s.tau);
+      for (std::uint32_t e = first; e < last; ++e) {
+        const std::uint32_t p = body_pairs_[e] >> 1;
+        const bool is_b = (body_pairs_[e] & 1u) != 0;
+        const std::size_t chunk = p / kPairChunk;
+        const std::vector<Pending>& list = chunk_pending_[chunk];
+        const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
+        const std::size_t base = part_start_[chunk];
+        for (std::size_t j = pair_first_[p]; j < stop; ++j) {
+          const ContactForce& fc = forces_[base + j];
+          const V3 force = v3(fc.force), moment = v3(fc.moment), point = v3(list[j].contact.point);
+          if (is_b) {
+            f = f + force;
+            const V3 arm = contact_shift_.empty() ? point - x : (point - v3(contact_shift_[base + j])) - x;
+            tau = tau + (cross(arm, force) + moment);
+          } else {
+            f = f - force;
+            tau = tau - (cross(point - x, force) + moment);
+          }
         }
       }
-      if (wall) {
-        if (t == 0) walls_[a].reaction -= f.force;
-      } else if (a >= lo && a < hi) {
-        BodyState& sa = states_[a];
-        sa.f -= f.force;
-        sa.tau -= (p.contact.point - sa.x).cross(f.force) + f.moment;
+      s.f = eigen(f);
+      s.tau = eigen(tau);
+    }
+    for_pending(wall_begin, n, [&](std::size_t k, const Pending& p) {
+      const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
+      const ContactForce& fc = forces_[k];
+      if (b >= lo && b < hi) {
+        BodyState& sb = states_[b];
+        const V3 force = v3(fc.force);
+        sb.f = eigen(v3(sb.f) + force);
+        sb.tau = eigen(v3(sb.tau) + (cross(v3(p.contact.point) - v3(sb.x), force) + v3(fc.moment)));
       }
+      if (t == 0) walls_[a].reaction -= fc.force;
     });
   }
   std::swap(history_, next_history_);
@@ -924,11 +983,24 @@ void World::step() {
   if (!forces_current_) compute_forces();
   const int nt = thread_count(settings_.threads);
   const auto slots = static_cast<std::ptrdiff_t>(states_.size());
-#pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
-  for (std::ptrdiff_t i = 0; i < slots; ++i) {
-    if (!infos_[i].alive || !owns(static_cast<std::uint32_t>(i))) continue;
-    if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
-    drift(states_[i], infos_[i], h);  // sets w
+#pragma omp parallel num_threads(nt) if (slots >= kParallelMin)
+  {
+    // The drifts go kDriftBatch bodies at a time (the batch drift: the same bits as one by one).
+    const Block block = thread_block(static_cast<std::size_t>(slots));
+    BodyState* batch[kDriftBatch];
+    const BodyInfo* batch_info[kDriftBatch];
+    int queued = 0;
+    for (std::size_t i = block.begin; i < block.end; ++i) {
+      if (!infos_[i].alive || !owns(static_cast<std::uint32_t>(i))) continue;
+      if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
+      batch[queued] = &states_[i];
+      batch_info[queued] = &infos_[i];
+      if (++queued == kDriftBatch) {
+        drift(batch, batch_info, queued, h);  // sets w
+        queued = 0;
+      }
+    }
+    if (queued > 0) drift(batch, batch_info, queued, h);
   }
   if (cell_on_) {
     if (moving_cell_) {
@@ -1208,6 +1280,7 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
     bd.normal = normal;
     bd.transmission = std::max(contact_polygon_area(features, normal), bd.section.area());
     bonds_.push_back(std::move(bd));
+    body_bonds_stale_ = true;
   }
   bond_params_ = params;
   // Bonded at this temperature: their rest state is the present one.
@@ -1279,11 +1352,15 @@ void World::bond_forces(int nt) {
       }
       // B's centroid, or its image's in a periodic cell (shift zero without one).
       if (cell_on_) bd.shift = cell_.shift(bd.image);
-      const Eigen::Vector3d xb = sb.x + bd.shift;
-      const Eigen::Vector3d pa = sa.x + rotated(sa.q, bd.arm_a), pb = xb + rotated(sb.q, bd.arm_b);
-      bd.point = 0.5 * (pa + pb);
-      bd.normal = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
-      Eigen::Vector3d velocity = sb.v + sb.w.cross(bd.point - xb) - (sa.v + sa.w.cross(bd.point - sa.x));
+      // In plain doubles (vec3.hpp: Eigen's bits, without its stalls).
+      const V3 xa = v3(sa.x), xb3 = v3(sb.x) + v3(bd.shift);
+      const V3 pa = xa + rotated(sa.q, v3(bd.arm_a)), pb = xb3 + rotated(sb.q, v3(bd.arm_b));
+      const V3 point = 0.5 * (pa + pb);
+      bd.point = eigen(point);
+      bd.normal = eigen(normalized(rotated(sa.q, v3(bd.normal_a)) + rotated(sb.q, v3(bd.normal_b))));
+      Eigen::Vector3d velocity =
+          eigen((v3(sb.v) + cross(v3(sb.w), point - xb3)) - (v3(sa.v) + cross(v3(sa.w), point - xa)));
+      const Eigen::Vector3d xb = eigen(xb3);
       if (cell_on_ && moving_cell_) velocity += gradient_ * (xb - sa.x);
       if (thermal_on_) {
         const Eigen::Vector3d free = thermal_free(bd, sa, sb);
@@ -1332,29 +1409,52 @@ void World::bond_forces(int nt) {
                          bd.point, bd.normal, f.failure, f.at});
     }
   }
-  // Sum onto the bodies as sum_forces does: each thread walks all bonds in order and adds
-  // to the bodies of its own block of slots, so every body's sum runs in bond order for any
-  // number of threads.
+  // Sum onto the bodies in bond order, whatever the number of threads: each thread takes a
+  // block of bodies and walks each body's bonds (body_bonds_), summing in registers.
+  if (body_bonds_stale_ || body_bond_start_.size() != states_.size() + 1) list_body_bonds();
   const std::size_t slots = states_.size();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(slots);
-    const std::size_t lo = block.begin, hi = block.end;
-    for (const Bond& bd : bonds_) {
-      const bool in_a = bd.a >= lo && bd.a < hi, in_b = bd.b >= lo && bd.b < hi;
-      if (!(in_a || in_b) || !bd.intact()) continue;
-      if (in_b) {
-        BodyState& sb = states_[bd.b];
-        sb.f += bd.force;
-        sb.tau += (bd.point - bd.shift - sb.x).cross(bd.force) + bd.moment;
+    for (std::size_t i = block.begin; i < block.end; ++i) {
+      const std::uint32_t first = body_bond_start_[i], last = body_bond_start_[i + 1];
+      if (first == last) continue;
+      BodyState& s = states_[i];
+      const V3 x = v3(s.x);
+      V3 f = v3(s.f), tau = v3(s.tau);
+      for (std::uint32_t e = first; e < last; ++e) {
+        const Bond& bd = bonds_[body_bonds_[e] >> 1];
+        if (!bd.intact()) continue;
+        const V3 force = v3(bd.force), moment = v3(bd.moment), point = v3(bd.point);
+        if ((body_bonds_[e] & 1u) != 0) {  // the bond's B
+          f = f + force;
+          tau = tau + (cross((point - v3(bd.shift)) - x, force) + moment);
+        } else {
+          f = f - force;
+          tau = tau - (cross(point - x, force) + moment);
+        }
       }
-      if (in_a) {
-        BodyState& sa = states_[bd.a];
-        sa.f -= bd.force;
-        sa.tau -= (bd.point - sa.x).cross(bd.force) + bd.moment;
-      }
+      s.f = eigen(f);
+      s.tau = eigen(tau);
     }
   }
+}
+
+void World::list_body_bonds() {
+  // A counting sort by body over the bonds in order: each body's list ascends.
+  body_bond_start_.assign(states_.size() + 1, 0);
+  for (const Bond& bd : bonds_) {
+    ++body_bond_start_[bd.a + 1];
+    ++body_bond_start_[bd.b + 1];
+  }
+  for (std::size_t i = 0; i < states_.size(); ++i) body_bond_start_[i + 1] += body_bond_start_[i];
+  body_bonds_.resize(body_bond_start_.back());
+  std::vector<std::uint32_t> fill(body_bond_start_.begin(), body_bond_start_.end() - 1);
+  for (std::uint32_t k = 0; k < bonds_.size(); ++k) {
+    body_bonds_[fill[bonds_[k].a]++] = k << 1;
+    body_bonds_[fill[bonds_[k].b]++] = (k << 1) | 1u;
+  }
+  body_bonds_stale_ = false;
 }
 
 void World::set_cell(const PeriodicCell& cell) {

@@ -525,6 +525,19 @@ class World {
   void for_pending(std::size_t begin, std::size_t end, F&& f) const;
   void join_pending();
   std::vector<ContactForce> forces_;
+  /// By pair: the index of its first contact in its chunk's list (body_contacts), so that a
+  /// pair's contacts are [part_start_[chunk] + pair_first_[p], the next pair's or the chunk's end).
+  std::vector<std::uint32_t> pair_first_;
+  /// By slot, the body's pairs in ascending order, each as (pair index << 1) | (1 if it is the
+  /// pair's B): sum_forces walks a body's contacts in list order through them. Made again
+  /// after each new pair list (body_pairs_stale_).
+  std::vector<std::uint32_t> body_pair_start_, body_pairs_;
+  bool body_pairs_stale_ = true;
+  void list_body_pairs();
+  /// The same for the bonds: by slot, (bond index << 1) | (1 if the body is the bond's B).
+  std::vector<std::uint32_t> body_bond_start_, body_bonds_;
+  bool body_bonds_stale_ = true;
+  void list_body_bonds();
   std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
   mutable std::vector<ContactRecord> records_;  // contacts(), made when first asked for
   mutable bool records_current_ = true;

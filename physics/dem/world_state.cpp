@@ -577,6 +577,7 @@ void World::load_state(StateReader& r) {
   searched_at_ = std::move(searched_at);
   searched_q_ = std::move(searched_q);
   pairs_ = std::move(pairs);
+  body_pairs_stale_ = true;
   cell_ = cell;
   cell_on_ = cell_on;
   cell_at_search_ = cell_at_search;
@@ -590,6 +591,7 @@ void World::load_state(StateReader& r) {
   records_ = std::move(records);
   records_current_ = true;
   bonds_ = std::move(bonds);
+  body_bonds_stale_ = true;
   offsets_ = std::move(offsets);
   bond_params_ = bp;
   breaks_ = std::move(breaks);
