@@ -331,6 +331,18 @@ Block thread_block(std::size_t n) {
   return {t, n * t / teams, n * (t + 1) / teams};
 }
 
+/// Broad test of a body (centre, bounding radius) against a wall's surface (planes) or axis
+/// (cylinders): false when no point of it can touch.
+bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double reach) {
+  if (wall.kind != Wall::Kind::cylinder) return !(wall.normal.dot(centre - wall.origin) > reach);
+  const Eigen::Vector3d rel = centre - wall.origin;
+  const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
+  return !((rel - s * wall.normal).norm() > reach + wall.radius);
+}
+
+/// Bit of wall w in a body's wall_reach_ word: walls from 31 on share the last bit.
+std::uint32_t wall_bit(std::size_t w) { return 1u << std::min<std::size_t>(w, 31); }
+
 int thread_count(int wanted) {
 #ifdef _OPENMP
   return wanted > 0 ? wanted : omp_get_max_threads();
@@ -349,6 +361,7 @@ void World::compute_forces() {
     if (infos_[i].alive && role(i) != Role::dormant) live_slots_.push_back(i);
   }
   posed_.resize(states_.size());
+  wall_reach_.resize(states_.size());
   const int nt = thread_count(settings_.threads);
   const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
   // The neighbour search's pairs hold every pair that can touch until some point of some
@@ -376,6 +389,13 @@ void World::compute_forces() {
     } else {
       posed_[i].update(shapes_[infos_[i].shape], states_[i]);
     }
+    // The walls that may touch it (walls have moved for this step already).
+    std::uint32_t reach = 0;
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      if (wall_within_reach(walls_[w], posed_[i].centre, shapes_[infos_[i].shape].bounding_radius()))
+        reach |= wall_bit(w);
+    }
+    wall_reach_[i] = reach;
     if (searched) {
       const auto j = static_cast<std::size_t>(k);
       const Eigen::Vector4d q = states_[i].q.coeffs(), q0 = searched_q_[j].coeffs();
@@ -613,17 +633,6 @@ void World::body_contacts(int nt, bool stale) {
   }
 }
 
-namespace {
-/// Broad test of a body (centre, bounding radius) against a wall's surface (planes) or axis
-/// (cylinders): false when no point of it can touch.
-bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double reach) {
-  if (wall.kind != Wall::Kind::cylinder) return !(wall.normal.dot(centre - wall.origin) > reach);
-  const Eigen::Vector3d rel = centre - wall.origin;
-  const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
-  return !((rel - s * wall.normal).norm() > reach + wall.radius);
-}
-}  // namespace
-
 void World::plan_pairs(int nt) {
   // Which pairs carry their manifold's contacts, which the near features hold apart, and
   // which are searched; a body that a search will read gets its vertices and planes, one
@@ -652,13 +661,8 @@ void World::plan_pairs(int nt) {
     const std::uint32_t slot = live_slots_[static_cast<std::size_t>(k)];
     if (need_geometry_[slot] != 0) {
       posed_[slot].update_geometry();
-      continue;
-    }
-    for (const Wall& wall : walls_) {
-      if (wall_within_reach(wall, posed_[slot].centre, shapes_[infos_[slot].shape].bounding_radius())) {
-        posed_[slot].update_vertices();  // a wall reads its vertices alone
-        break;
-      }
+    } else if (wall_reach_[slot] != 0) {
+      posed_[slot].update_vertices();  // a wall reads its vertices alone
     }
   }
 }
@@ -679,13 +683,15 @@ void World::wall_contacts(int nt) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t slot = live_slots_[k];
       if (!owns(slot)) continue;  // a ghost's wall contacts are its owner's
+      const std::uint32_t reach = wall_reach_[slot];
+      if (reach == 0) continue;
       const PosedShape& p = posed_[slot];
-      const double bounding = shapes_[infos_[slot].shape].bounding_radius();
       for (std::uint32_t w = 0; w < walls_.size(); ++w) {
         auto& out = wall_pending_[w * static_cast<std::size_t>(nt) + t];
         const Wall& wall = walls_[w];
         const std::uint32_t a = w | kWallFlag;
-        if (!wall_within_reach(wall, p.centre, bounding)) continue;
+        if ((reach & wall_bit(w)) == 0) continue;
+        if (w >= 31 && !wall_within_reach(wall, p.centre, shapes_[infos_[slot].shape].bounding_radius())) continue;
         for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
           if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
             out.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});

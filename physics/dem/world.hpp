@@ -505,7 +505,10 @@ class World {
   std::vector<unsigned char> held_;             // by pair: its manifold holds contacts
   enum : unsigned char { kCarried, kApart, kSearch };
   std::vector<unsigned char> plan_;           // by pair, with manifolds: what body_contacts does
-  std::vector<unsigned char> need_geometry_;  // by slot: a search or a wall reads its vertices
+  std::vector<unsigned char> need_geometry_;  // by slot: a search reads its vertices and planes
+  /// By slot, from the poses' loop: bit w set when wall w may touch the body (walls from 31
+  /// on share bit 31, and are tested again one by one).
+  std::vector<std::uint32_t> wall_reach_;
   void plan_pairs(int nt);
   std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
   std::vector<Eigen::Quaterniond> searched_q_;  // orientations at the last search, by live index
