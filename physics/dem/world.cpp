@@ -1321,6 +1321,7 @@ void World::bond_forces(int nt) {
     if (base.law == BondLaw::beam) base.sigma_f = std::numeric_limits<double>::infinity();
   }
   const bool beams = base.law == BondLaw::beam;
+  bond_push_.resize(n);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(n);
@@ -1337,13 +1338,28 @@ void World::bond_forces(int nt) {
       if (dta == 0.0 && dtb == 0.0) return Eigen::Vector3d::Zero();
       return rotated(sb.q, tb.alpha * (bd.arm_b - tb.centre)) * dtb - rotated(sa.q, ta.alpha * (bd.arm_a - ta.centre)) * dta;
     };
+    // What the bond adds to each body, for the sum below (the same arithmetic the sum did
+    // from the bond itself): a small record read by body, instead of the large bond.
+    auto push = [&](std::size_t k) {
+      const Bond& bd = bonds_[k];
+      BondPush& out = bond_push_[k];
+      out.live = bd.intact();
+      if (!out.live) return;
+      const V3 force = v3(bd.force), moment = v3(bd.moment), point = v3(bd.point);
+      out.force = force;
+      out.torque_b = cross((point - v3(bd.shift)) - v3(states_[bd.b].x), force) + moment;
+      out.torque_a = cross(point - v3(states_[bd.a].x), force) + moment;
+    };
     for (std::size_t k = block.begin; k < block.end; ++k) {
       Bond& bd = bonds_[k];
       if (!roles_.empty()) {
         // One process of a decomposition evaluates the bonds of the bodies it owns (those
         // across its boundary as their other owner does, bit for bit).
         const Role ra = roles_[bd.a], rb = roles_[bd.b];
-        if (ra != Role::owned && rb != Role::owned) continue;
+        if (ra != Role::owned && rb != Role::owned) {
+          push(k);  // its loads as last evaluated (the sum adds them to the ghosts, as before)
+          continue;
+        }
         if (bd.intact() && (ra == Role::dormant || rb == Role::dormant))
           throw std::logic_error("a bond reaches past this process's ghosts (the halo is too thin)");
       }
@@ -1354,6 +1370,7 @@ void World::bond_forces(int nt) {
           const Eigen::Vector3d n = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
           bd.thermal_gap += n.dot(thermal_free(bd, sa, sb));
         }
+        bond_push_[k].live = false;
         continue;
       }
       // B's centroid, or its image's in a periodic cell (shift zero without one).
@@ -1395,12 +1412,14 @@ void World::bond_forces(int nt) {
       }
       if (beams) {
         beam_bond(bd, sa, sb, *params, failed, k);
+        push(k);
         continue;
       }
       const BondResult r = bond_force(*params, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
       bd.force = r.force;
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});
+      push(k);
     }
   }
   // Log the breaks in bond order.
@@ -1408,6 +1427,7 @@ void World::bond_forces(int nt) {
     for (const BondFailureAt& f : list) {
       Bond& bd = bonds_[f.bond];
       bd.failure = f.failure;
+      bond_push_[f.bond].live = false;
       bd.broken_at = time_;
       bd.force.setZero();
       bd.moment.setZero();
@@ -1426,18 +1446,16 @@ void World::bond_forces(int nt) {
       const std::uint32_t first = body_bond_start_[i], last = body_bond_start_[i + 1];
       if (first == last) continue;
       BodyState& s = states_[i];
-      const V3 x = v3(s.x);
       V3 f = v3(s.f), tau = v3(s.tau);
       for (std::uint32_t e = first; e < last; ++e) {
-        const Bond& bd = bonds_[body_bonds_[e] >> 1];
-        if (!bd.intact()) continue;
-        const V3 force = v3(bd.force), moment = v3(bd.moment), point = v3(bd.point);
+        const BondPush& bp = bond_push_[body_bonds_[e] >> 1];
+        if (!bp.live) continue;
         if ((body_bonds_[e] & 1u) != 0) {  // the bond's B
-          f = f + force;
-          tau = tau + (cross((point - v3(bd.shift)) - x, force) + moment);
+          f = f + bp.force;
+          tau = tau + bp.torque_b;
         } else {
-          f = f - force;
-          tau = tau - (cross(point - x, force) + moment);
+          f = f - bp.force;
+          tau = tau - bp.torque_a;
         }
       }
       s.f = eigen(f);

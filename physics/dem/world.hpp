@@ -14,6 +14,7 @@
 
 #include "physics/dem/body.hpp"
 #include "physics/bonds/bond_law.hpp"
+#include "physics/bonds/vec3.hpp"
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/exact_sum.hpp"
 #include "physics/dem/narrow_phase.hpp"
@@ -539,6 +540,13 @@ class World {
   void list_body_pairs();
   /// The same for the bonds: by slot, (bond index << 1) | (1 if the body is the bond's B).
   std::vector<std::uint32_t> body_bond_start_, body_bonds_;
+  /// By bond, this step: what it adds to its bodies (force on B, torques on B and on A about
+  /// their centroids), written by the bond law, read by the sum.
+  struct BondPush {
+    V3 force, torque_b, torque_a;
+    bool live = false;  ///< intact: the sum adds it
+  };
+  std::vector<BondPush> bond_push_;
   bool body_bonds_stale_ = true;
   void list_body_bonds();
   std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
