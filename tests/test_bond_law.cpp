@@ -8,9 +8,11 @@
 
 #include "io/sweep.hpp"
 #include "physics/bonds/bond_law.hpp"
-#include "physics/bonds/tangent.hpp"
+#include "eigen_reference.hpp"
 
 using namespace cleave::physics;
+using cleave::test::eigen_into_plane;
+using cleave::test::same_bits;
 
 namespace {
 
@@ -170,8 +172,8 @@ BondResult eigen_bond_force(const BondParams& p, const BondSection& s, const Eig
   const double wt = spin.dot(n);
   const Eigen::Vector3d wr = spin - wt * n;
   b.normal += Kbn * vn * dt;
-  b.shear = into_plane(b.shear, n) - Kbs * dt * vs;
-  b.bending = into_plane(b.bending, n) - Kbr * dt * wr;
+  b.shear = eigen_into_plane(b.shear, n) - Kbs * dt * vs;
+  b.bending = eigen_into_plane(b.bending, n) - Kbr * dt * wr;
   b.torsion -= Kbt * dt * wt;
   const double r = s.radius;
   if (b.normal > p.tbn * s.area()) {
@@ -192,10 +194,6 @@ BondResult eigen_bond_force(const BondParams& p, const BondSection& s, const Eig
   out.force = -b.normal * n + b.shear;
   out.moment = b.bending + b.torsion * n;
   return out;
-}
-
-bool same_bits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0;
 }
 
 }  // namespace

@@ -8,12 +8,14 @@
 #include <random>
 
 #include "geometry/exact_polyhedron.hpp"
-#include "physics/bonds/tangent.hpp"
+#include "eigen_reference.hpp"
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/world.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
+using cleave::test::eigen_into_plane;
+using cleave::test::same_bits;
 
 namespace {
 ContactKinematics pressing(double overlap, double vn) {
@@ -187,7 +189,7 @@ ContactForce eigen_contact_force(const ContactParams& p, const ContactKinematics
   const double fn = std::max(0.0, fn_spring - cn * vn);
   out.force = fn * n;
   const Eigen::Vector3d vt = k.velocity - vn * n;
-  h.shear = into_plane(h.shear, n) - p.ks * dt * vt;
+  h.shear = eigen_into_plane(h.shear, n) - p.ks * dt * vt;
   const double cap = p.mu_s * fn;
   const double fs = h.shear.norm();
   if (fs >= cap && fs > 0.0) {
@@ -202,7 +204,7 @@ ContactForce eigen_contact_force(const ContactParams& p, const ContactKinematics
     const double wt = k.spin.dot(n);
     const Eigen::Vector3d wr = k.spin - wt * n;
     const double mcap = p.mu_r * fn * k.lever;
-    h.rolling = into_plane(h.rolling, n) - p.kr * dt * wr;
+    h.rolling = eigen_into_plane(h.rolling, n) - p.kr * dt * wr;
     if (h.rolling.norm() > mcap) h.rolling *= mcap / h.rolling.norm();
     h.torsion -= p.kt * dt * wt;
     h.torsion = std::clamp(h.torsion, -mcap, mcap);
@@ -211,10 +213,6 @@ ContactForce eigen_contact_force(const ContactParams& p, const ContactKinematics
     out.moment = h.rolling - cr * wr + (h.torsion - ct * wt) * n;
   }
   return out;
-}
-
-bool same_bits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0;
 }
 
 }  // namespace

@@ -7,12 +7,14 @@
 #include <random>
 #include <vector>
 
+#include "eigen_reference.hpp"
 #include "geometry/exact_polyhedron.hpp"
 #include "physics/dem/integrator.hpp"
 #include "physics/dem/world.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
+using cleave::test::same_bits;
 
 namespace {
 
@@ -217,10 +219,6 @@ Eigen::Quaterniond reference_rotate_free(Eigen::Quaterniond q, const Eigen::Vect
 
 bool same_bits(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return std::memcmp(a.coeffs().data(), b.coeffs().data(), 4 * sizeof(double)) == 0;
-}
-
-bool same_bits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
 }
 
 /// A body of random pose and angular momentum whose sub-flows turn it by about 10^e rad.

@@ -1,6 +1,5 @@
 #include "physics/bonds/bond_law.hpp"
 #include "physics/bonds/tangent.hpp"
-#include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
 #include <cmath>

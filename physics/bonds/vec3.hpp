@@ -40,8 +40,8 @@ struct V3 {
   const double s = std::sqrt(z);
   return {a.x / s, a.y / s, a.z / s};
 }
-/// q * v with the arithmetic of Eigen's QuaternionBase::_transformVector (as rotated() in
-/// physics/dem/body.hpp).
+/// q * v with the arithmetic of Eigen's QuaternionBase::_transformVector (the same bits);
+/// physics/dem/body.hpp's rotated() is this on Eigen vectors.
 [[gnu::always_inline]] inline V3 rotated(const Eigen::Quaterniond& q, const V3& v) {
   const double qx = q.x(), qy = q.y(), qz = q.z(), qw = q.w();
   double ux = qy * v.z - qz * v.y, uy = qz * v.x - qx * v.z, uz = qx * v.y - qy * v.x;
@@ -50,18 +50,6 @@ struct V3 {
   uz += uz;
   const double cx = qy * uz - qz * uy, cy = qz * ux - qx * uz, cz = qx * uy - qy * ux;
   return {(v.x + qw * ux) + cx, (v.y + qw * uy) + cy, (v.z + qw * uz) + cz};
-}
-[[gnu::always_inline]] inline bool is_zero(const V3& a) { return a.x == 0.0 && a.y == 0.0 && a.z == 0.0; }
-
-/// into_plane (physics/bonds/tangent.hpp) on V3: v turned into the plane across unit n,
-/// its length kept.
-[[gnu::always_inline]] inline V3 into_plane(const V3& v, const V3& n) {
-  const double len = norm(v);
-  if (len == 0.0) return v;
-  const V3 t = v - dot(v, n) * n;
-  const double tl = norm(t);
-  if (tl == 0.0) return {0.0, 0.0, 0.0};
-  return t * (len / tl);
 }
 
 }  // namespace cleave::physics

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 
+#include "physics/bonds/vec3.hpp"
+
 namespace cleave::physics {
 
 /// A stable handle: array slot + generation. A slot reused after its body was removed gets
@@ -30,15 +32,9 @@ struct BodyState {
 
 /// q * v, with the arithmetic of Eigen's QuaternionBase::_transformVector (the same bits),
 /// always inlined: GCC leaves Eigen's out of line at -O2, and the bond and integrator loops
-/// call it several times per item.
+/// call it several times per item (vec3.hpp's rotated on Eigen vectors).
 [[gnu::always_inline]] inline Eigen::Vector3d rotated(const Eigen::Quaterniond& q, const Eigen::Vector3d& v) {
-  const double qx = q.x(), qy = q.y(), qz = q.z(), qw = q.w();
-  double ux = qy * v.z() - qz * v.y(), uy = qz * v.x() - qx * v.z(), uz = qx * v.y() - qy * v.x();
-  ux += ux;
-  uy += uy;
-  uz += uz;
-  const double cx = qy * uz - qz * uy, cy = qz * ux - qx * uz, cz = qx * uy - qy * ux;
-  return {(v.x() + qw * ux) + cx, (v.y() + qw * uy) + cy, (v.z() + qw * uz) + cz};
+  return eigen(rotated(q, v3(v)));
 }
 
 /// A body's temperature and thermal expansion (seed 003's l0(T) rule, per crystal axis).

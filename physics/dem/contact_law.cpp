@@ -1,5 +1,5 @@
 #include "physics/dem/contact_law.hpp"
-#include "physics/bonds/vec3.hpp"
+#include "physics/bonds/tangent.hpp"
 
 #include <algorithm>
 #include <cmath>

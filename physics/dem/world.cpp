@@ -343,6 +343,29 @@ bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double r
 /// Bit of wall w in a body's wall_reach_ word: walls from 31 on share the last bit.
 std::uint32_t wall_bit(std::size_t w) { return 1u << std::min<std::size_t>(w, 31); }
 
+/// Items (pairs, bonds) listed by body: `ends(k)` gives item k's two slots (A, B); body i's
+/// entries are list[start[i] .. start[i + 1]), each (k << 1) | (1 if it is the item's B), in
+/// ascending k (a counting sort taking the items in order).
+template <class Ends>
+void list_by_body(std::size_t slots, std::size_t items, Ends&& ends, std::vector<std::uint32_t>& start,
+                  std::vector<std::uint32_t>& list) {
+  start.assign(slots + 1, 0);
+  for (std::size_t k = 0; k < items; ++k) {
+    const auto [a, b] = ends(k);
+    ++start[a + 1];
+    ++start[b + 1];
+  }
+  for (std::size_t i = 0; i < slots; ++i) start[i + 1] += start[i];
+  list.resize(start.back());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t k = 0; k < items; ++k) {
+    const auto [a, b] = ends(k);
+    const auto code = static_cast<std::uint32_t>(k << 1);
+    list[fill[a]++] = code;
+    list[fill[b]++] = code | 1u;
+  }
+}
+
 int thread_count(int wanted) {
 #ifdef _OPENMP
   return wanted > 0 ? wanted : omp_get_max_threads();
@@ -391,9 +414,9 @@ void World::compute_forces() {
     }
     // The walls that may touch it (walls have moved for this step already).
     std::uint32_t reach = 0;
+    const double bounding = shapes_[infos_[i].shape].bounding_radius();
     for (std::size_t w = 0; w < walls_.size(); ++w) {
-      if (wall_within_reach(walls_[w], posed_[i].centre, shapes_[infos_[i].shape].bounding_radius()))
-        reach |= wall_bit(w);
+      if (wall_within_reach(walls_[w], posed_[i].centre, bounding)) reach |= wall_bit(w);
     }
     wall_reach_[i] = reach;
     if (searched) {
@@ -854,19 +877,9 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
 }
 
 void World::list_body_pairs() {
-  // A counting sort by body: pairs are taken in ascending order, so each body's list ascends.
-  body_pair_start_.assign(states_.size() + 1, 0);
-  for (const BodyPair& pr : pairs_) {
-    ++body_pair_start_[live_slots_[pr.first] + 1];
-    ++body_pair_start_[live_slots_[pr.second] + 1];
-  }
-  for (std::size_t i = 0; i < states_.size(); ++i) body_pair_start_[i + 1] += body_pair_start_[i];
-  body_pairs_.resize(body_pair_start_.back());
-  std::vector<std::uint32_t> fill(body_pair_start_.begin(), body_pair_start_.end() - 1);
-  for (std::uint32_t p = 0; p < pairs_.size(); ++p) {
-    body_pairs_[fill[live_slots_[pairs_[p].first]]++] = p << 1;
-    body_pairs_[fill[live_slots_[pairs_[p].second]]++] = (p << 1) | 1u;
-  }
+  list_by_body(states_.size(), pairs_.size(),
+               [&](std::size_t p) { return std::pair{live_slots_[pairs_[p].first], live_slots_[pairs_[p].second]}; },
+               body_pair_start_, body_pairs_);
   body_pairs_stale_ = false;
 }
 
@@ -1465,19 +1478,8 @@ void World::bond_forces(int nt) {
 }
 
 void World::list_body_bonds() {
-  // A counting sort by body over the bonds in order: each body's list ascends.
-  body_bond_start_.assign(states_.size() + 1, 0);
-  for (const Bond& bd : bonds_) {
-    ++body_bond_start_[bd.a + 1];
-    ++body_bond_start_[bd.b + 1];
-  }
-  for (std::size_t i = 0; i < states_.size(); ++i) body_bond_start_[i + 1] += body_bond_start_[i];
-  body_bonds_.resize(body_bond_start_.back());
-  std::vector<std::uint32_t> fill(body_bond_start_.begin(), body_bond_start_.end() - 1);
-  for (std::uint32_t k = 0; k < bonds_.size(); ++k) {
-    body_bonds_[fill[bonds_[k].a]++] = k << 1;
-    body_bonds_[fill[bonds_[k].b]++] = (k << 1) | 1u;
-  }
+  list_by_body(states_.size(), bonds_.size(), [&](std::size_t k) { return std::pair{bonds_[k].a, bonds_[k].b}; },
+               body_bond_start_, body_bonds_);
   body_bonds_stale_ = false;
 }
 
