@@ -8,7 +8,8 @@
 // histories, in DIR/world-<N>.state (World::save_state; made again when its tile or the
 // state layout differs; another build reuses it, so two builds are timed from one state),
 // which saves the 2,000 settling steps of the tiles; --steps K times
-// K steps per case instead of 2e6/N (3 to 200).
+// K steps per case instead of 2e6/N (3 to 200); --phases prints, under each case, where its
+// timed steps went (World::set_timing: search, narrow phase, contact law, bonds, ...).
 // For each case, in its own child process (so peak memory is its own): build the world,
 // take a few warm-up steps, time a fixed number of steps at the stable time step in blocks
 // of 10 and print microseconds per step (of the median block), nanoseconds per primitive contact, touching body pairs and
@@ -48,6 +49,7 @@
 #include "io/result_dir.hpp"
 #include "physics/dem/state_codec.hpp"
 #include "physics/dem/world.hpp"
+#include "step_phases.hpp"
 
 using namespace cleave;
 
@@ -57,11 +59,13 @@ constexpr double kR = 1e-3, kT = 1e-3, kDilation = 0.05e-3, kRho = 3100.0;
 constexpr int kTile = 1000;  // bodies poured at once for the poured pile
 double g_feature_skin = 0.5;  // WorldSettings::feature_skin of every case (--full-search: 0)
 double g_manifold = 0.0;       // WorldSettings::manifold_tolerance (--manifold TOL)
+bool g_phases = false;         // --phases: where each case's step goes (World::set_timing)
 std::string g_pile_dir;        // --pile DIR, or empty
 int g_steps = 0;              // timed steps per case (0: 2e6/N, clamped to 3..200)
 
 struct Result {
   double us_per_step = 0, contacts = 0, touching_pairs = 0, bodies = 0, peak_mib = 0;
+  physics::StepTimings phases;  // --phases
 };
 
 /// Every case's contact parameters (table 2.3's particle set, mu_s = 0.3) and the stable
@@ -277,6 +281,7 @@ Result run_case(int n, Case kind, const Pile& tile) {
   physics::World world = kind == Case::poured ? poured_world(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
+  world.set_timing(g_phases);
   const int steps = g_steps > 0 ? g_steps : std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
   // Timed in blocks of 10 steps; the median block is reported, which a moment of
   // interference from elsewhere on the machine does not move.
@@ -307,6 +312,7 @@ Result run_case(int n, Case kind, const Pile& tile) {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   r.peak_mib = u.ru_maxrss / 1024.0;
+  r.phases = world.timings();
   return r;
 }
 
@@ -352,7 +358,7 @@ std::string as_bytes(const T& value) {
 
 int usage(const char* why) {
   std::fprintf(stderr,
-               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--manifold TOL] [--pile DIR] "
+               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--manifold TOL] [--pile DIR] [--phases] "
                "[--steps K] [poured|packed|falling ...] [N ...]\n",
                why);
   return 2;
@@ -363,7 +369,9 @@ int main(int argc, char** argv) {
   std::vector<Case> kinds;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--full-search") {
+    if (arg == "--phases") {
+      g_phases = true;
+    } else if (arg == "--full-search") {
       g_feature_skin = 0.0;
     } else if (arg == "--pile" || arg == "--steps" || arg == "--manifold") {
       if (i + 1 == argc) return usage(("'" + arg + "' needs a value").c_str());
@@ -441,6 +449,7 @@ int main(int argc, char** argv) {
                   r.contacts > 0 ? 1e3 * r.us_per_step / r.contacts : 0.0, r.touching_pairs,
                   r.contacts / r.bodies, r.touching_pairs > 0 ? r.us_per_step / r.touching_pairs : 0.0,
                   r.peak_mib);
+      if (g_phases) cleave::bench::print_phases("where the step goes (mean of the timed steps)", r.phases);
       std::fflush(stdout);
       fit.emplace_back(std::log(r.bodies), std::log(r.us_per_step));
     }

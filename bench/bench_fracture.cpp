@@ -1,7 +1,8 @@
 // Transgranular fracture costs (chapter 3):
 //   ./build/bench/cleave_bench_fracture [GRAINS] [K_IC] [GATE] [MANIFOLD]
 //   (defaults 10000, 0.5 Pa m^0.5, gate open; GATE: eq. 3.22's sigma_f_hyd in Pa; MANIFOLD:
-//   WorldSettings::manifold_tolerance, default 0, the exact search)
+//   WorldSettings::manifold_tolerance, default 0, the exact search; CLEAVE_BENCH_STEPS:
+//   timed steps, default 100; CLEAVE_BENCH_PHASES=1: where the step and the check go)
 // 1. One split inside a running world: the first cut of a (shape, plane) pair (exact CGAL
 //    split + mass properties of the pieces) and a repeated one (shared pieces), each with
 //    World::split_body, in microseconds.
@@ -20,12 +21,14 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include "geometry/specimen.hpp"
 #include "physics/transgranular/fracture_book.hpp"
 #include "physics/transgranular/transgranular.hpp"
 #include "physics/dem/world.hpp"
 #include "bench_disc.hpp"
+#include "step_phases.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
@@ -71,6 +74,9 @@ int main(int argc, char** argv) {
   if (manifold > 0.0) std::printf("persistent contact manifolds: tolerance %g (an approximation)\n", manifold);
   // CLEAVE_BENCH_STEPS: timed steps per case (default 100; more for a profile of the check).
   const char* steps_env = std::getenv("CLEAVE_BENCH_STEPS");
+  // CLEAVE_BENCH_PHASES=1: where each case's step goes (World::set_timing), and the check's.
+  const char* phases_env = std::getenv("CLEAVE_BENCH_PHASES");
+  const bool phases = phases_env != nullptr && std::string(phases_env) != "0";
   constexpr int kWarm = 20;
   const int kSteps = steps_env ? std::max(1, std::atoi(steps_env)) : 100;
   for (const bool fracture : {false, true}) {
@@ -85,12 +91,16 @@ int main(int argc, char** argv) {
     // Timed in blocks of 10 steps: the mean, and the fastest block (this machine's speed
     // swings by tens of percent within a minute; the fastest block is the least disturbed).
     constexpr int kBlock = 10;
-    double total = 0.0, best = std::numeric_limits<double>::infinity();
+    double total = 0.0, best = std::numeric_limits<double>::infinity(), check = 0.0;
+    d.world.set_timing(phases);
     for (int done = 0; done < kSteps; done += kBlock) {
       const auto t0 = Clock::now();
       for (int i = 0; i < kBlock; ++i) {
         d.world.step();
-        if (fracture) splits += transgranular_step(d.world, *d.book, p).size();
+        if (!fracture) continue;
+        const auto c0 = phases ? Clock::now() : Clock::time_point{};
+        splits += transgranular_step(d.world, *d.book, p).size();
+        if (phases) check += since(c0);
       }
       const double block = since(t0);
       total += block;
@@ -101,6 +111,12 @@ int main(int argc, char** argv) {
                 "fastest 10-step block %.2f ms/step (%.1f steps/s), %zu splits, %zu bodies at the end\n",
                 d.specimen.grains.size(), d.world.bonds().size(), fracture ? "on " : "off", ms, 1e3 / ms,
                 1e3 * best, 1.0 / best, splits, d.world.body_count());
+    if (phases) {
+      cleave::bench::print_phases("where the step goes", d.world.timings());
+      if (fracture)
+        std::printf("  and the transgranular check (transgranular_step): %.3f ms/step\n",
+                    1e3 * check / static_cast<double>(d.world.timings().steps));
+    }
   }
   return 0;
 }

@@ -10,6 +10,7 @@
 #include "geometry/exact_polyhedron.hpp"
 #include "physics/dem/world.hpp"
 #include "prism_row.hpp"
+#include "stress_sum_reference.hpp"
 
 using namespace cleave;
 using namespace cleave::physics;
@@ -493,3 +494,58 @@ TEST_P(StressCriterion, HeldBondsOutlastSigmaFAndBreakOnTheFirstStepReleased) {
 
 INSTANTIATE_TEST_SUITE_P(RankineAndHydrostatic, StressCriterion,
                          ::testing::Values(BondCriterion::rankine, BondCriterion::hydrostatic));
+
+TEST(GrainStressSums, ByBodyGiveTheBitsOfAWalkOverTheContactRecordsAndBonds) {
+  // A 30 x 20 bonded honeycomb block (600 prisms: the parallel paths run) pressed by a
+  // platen from above and pulled on its right column until bonds break: contacts between
+  // grains, with the platen, intact and broken bonds. World::stress_sums and forces_on,
+  // made from the step's lists by body or summed with the forces (want_stress_sums), must
+  // give every slot the bits of a walk over contacts() and bonds(), on 1 and 2 threads,
+  // and after a wall is added (lists stale: the records themselves).
+  for (const int threads : {1, 2}) {
+    WorldSettings ws;
+    ws.gravity.setZero();
+    ws.dt = 2e-7;
+    ws.particle_particle = contact_law();
+    ws.particle_wall = contact_law();
+    ws.local_damping = 0.3;
+    ws.threads = threads;
+    World world(ws);
+    const RigidShape shape = prism();
+    const auto sh = world.add_shape(shape);
+    const double pitch = kFlat + 2.0 * kDilation - 2e-6;
+    std::vector<BodyId> right;
+    double top = -1e9;
+    for (int j = 0; j < 20; ++j) {
+      for (int i = 0; i < 30; ++i) {
+        const Eigen::Vector3d x((i + 0.5 * (j % 2)) * pitch, j * pitch * std::sqrt(3.0) / 2.0, 0);
+        const BodyId id = world.add_body(sh, kRho, x, shape.orientation_for());
+        if (i == 0) world.set_fixed(id, true);
+        if (i == 29) right.push_back(id);
+        top = std::max(top, x.y());
+      }
+    }
+    world.initialise_bonds(table_2_5(), 0.0);
+    for (BodyId id : right) {
+      world.set_fixed(id, true);
+      world.state(id).v = {0.05, 0.0, 0.0};
+    }
+    // A platen touching the top row's dilated corners, closing on them.
+    world.add_wall(Wall::platen("top", {15 * pitch, top + kSide + kDilation - 2e-6, 0}, {0, -1, 0}, {1, 0, 0},
+                                20 * pitch, kThick));
+    world.wall(0).velocity = {0, -0.02, 0};
+    for (int i = 0; i < 300; ++i) world.step();
+    ASSERT_FALSE(world.bond_breaks().empty());
+    std::size_t on_wall = 0;
+    for (const ContactRecord& c : world.contacts()) on_wall += c.wall;
+    ASSERT_GT(on_wall, 0u);
+    expect_sums_match_the_records(world, threads == 1 ? "1 thread, by body" : "2 threads, by body");
+    world.want_stress_sums();  // the next step sums them with the forces
+    world.step();
+    expect_sums_match_the_records(world, threads == 1 ? "1 thread, with the forces" : "2 threads, with the forces");
+    world.add_wall(Wall::plane("far", {0, -1.0, 0}, {0, 1, 0}));  // lists stale until the next step
+    expect_sums_match_the_records(world, "after add_wall");
+    world.step();
+    expect_sums_match_the_records(world, "the step after");
+  }
+}

@@ -12,6 +12,7 @@
 #include "physics/dem/step_guard.hpp"
 #include "physics/dem/world.hpp"
 #include "prism_row.hpp"
+#include "stress_sum_reference.hpp"
 #include "validation/standard_tests.hpp"
 
 using namespace cleave;
@@ -275,6 +276,31 @@ TEST(PeriodicWorld, AHoneycombPulledThroughItsCellHasTheBulkYoungsModulus) {
   // No shear, and no stress through the thickness (the layer is free in z).
   EXPECT_LT(std::abs(sp(0, 1)), 1e-6 * sp(0, 0));
   EXPECT_LT(std::abs(sp(2, 2)), 1e-6 * sp(0, 0));
+}
+
+TEST(PeriodicWorld, StressSumsByBodyTakeBsLeverFromItsImageAsTheRecordsDo) {
+  // An 8 x 8 bonded cell squeezed along x: contacts and bonds across the periodic faces act
+  // on B's image. World::stress_sums and forces_on (from the lists by body) give every slot
+  // the bits of a walk over contacts() and bonds() with their shifts.
+  World world(settings());
+  const int n = 8;
+  const std::vector<BodyId> ids = honeycomb(world, n, n);
+  const double ly = n * kPitch * std::sqrt(3.0) / 2.0;
+  world.set_cell(PeriodicCell::box({0, 0, -0.5 * kThick}, {n * kPitch, ly, 0.5 * kThick}, {true, true, false}));
+  world.initialise_bonds(strong_bonds(), 1e-6);
+  Eigen::Matrix3d l = Eigen::Matrix3d::Zero();
+  l(0, 0) = -20.0;
+  world.set_velocity_gradient(l);
+  for (int s = 0; s < 300; ++s) world.step();
+  std::size_t across = 0, bonds_across = 0;
+  for (const ContactRecord& c : world.contacts()) across += !c.shift.isZero(0.0);
+  for (const Bond& bd : world.bonds()) bonds_across += !bd.shift.isZero(0.0);
+  ASSERT_GT(across, 0u);
+  ASSERT_GT(bonds_across, 0u);
+  expect_sums_match_the_records(world, "a squeezed periodic cell, by body");
+  world.want_stress_sums();
+  world.step();
+  expect_sums_match_the_records(world, "a squeezed periodic cell, with the forces");
 }
 
 TEST(PeriodicWorld, UnderStressControlAStrainedCellRelaxesToItsStressFreeSize) {

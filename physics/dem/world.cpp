@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <tuple>
+#include <type_traits>
 #include <stdexcept>
 #include <string>
 
@@ -340,6 +342,25 @@ bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double r
   return !((rel - s * wall.normal).norm() > reach + wall.radius);
 }
 
+/// Eq. 2.17's sum of one body in registers: m(r, c) += arm(r) force(c), each term rounded
+/// as Eigen's outer product added to a matrix rounds it (a product, then a sum).
+struct StressSum {
+  double m[9] = {};
+  [[gnu::always_inline]] void add(const V3& arm, const V3& force) {
+    const double a[3] = {arm.x, arm.y, arm.z}, g[3] = {force.x, force.y, force.z};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m[3 * r + c] += a[r] * g[c];
+  }
+  void load(const Eigen::Matrix3d& s) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m[3 * r + c] = s(r, c);
+  }
+  void store(Eigen::Matrix3d& s) const {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) s(r, c) = m[3 * r + c];
+  }
+};
+
 /// Bit of wall w in a body's wall_reach_ word: walls from 31 on share the last bit.
 std::uint32_t wall_bit(std::size_t w) { return 1u << std::min<std::size_t>(w, 31); }
 
@@ -376,9 +397,42 @@ int thread_count(int wanted) {
 }
 }  // namespace
 
+const char* to_string(StepPhase phase) {
+  static constexpr const char* kNames[kStepPhases] = {"kick_drift", "poses", "pair_search", "plan",
+                                                      "narrow", "walls", "contact_law", "contact_sums",
+                                                      "bond_law", "bond_sums", "damping", "closing_kick"};
+  const auto k = static_cast<std::size_t>(phase);
+  return k < kStepPhases ? kNames[k] : "unknown";
+}
+
+namespace {
+std::int64_t clock_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+void World::set_timing(bool on) {
+  timing_ = on;
+  if (on) timings_ = StepTimings{};
+}
+
+void World::lap_to(StepPhase phase) {
+  const std::int64_t now = clock_ns();
+  timings_.seconds[static_cast<std::size_t>(phase)] += 1e-9 * static_cast<double>(now - lap_ns_);
+  lap_ns_ = now;
+}
+
 void World::compute_forces() {
   if (domain_) domain_->before_forces(*this);  // ghosts current, roles set
   breaks_at_step_ = breaks_.size();
+  // Eq. 2.17's sums along with the forces (stress_sums), when asked for or read by the
+  // bonds' stress criterion below; not across processes (the ghosts' bonds change after).
+  stress_sums_current_ = false;
+  summing_stress_ = domain_ == nullptr &&
+                    (want_stress_sums_ || (bond_params_.criterion != BondCriterion::limits && !bonds_.empty()));
+  want_stress_sums_ = false;
+  if (summing_stress_) stress_sums_.resize(states_.size());
   live_slots_.clear();
   for (std::uint32_t i = 0; i < states_.size(); ++i) {
     if (infos_[i].alive && role(i) != Role::dormant) live_slots_.push_back(i);
@@ -429,11 +483,17 @@ void World::compute_forces() {
     }
   }
   for (auto& w : walls_) w.reaction.setZero();
+  lap(StepPhase::poses);
   body_contacts(nt, !searched || moved > 0 || !(limit > 0.0));
+  lap(StepPhase::narrow);
   wall_contacts(nt);
   join_pending();
+  lap(StepPhase::walls);
   evaluate_and_apply(nt);
   bond_forces(nt);
+  lap(StepPhase::bond_sums);
+  summed_ = true;
+  stress_sums_current_ = summing_stress_;
   // The temperatures the bonds (and a periodic cell) have followed up to now.
   if (thermal_on_) {
     for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
@@ -442,6 +502,8 @@ void World::compute_forces() {
   if (settings_.in_plane) hold_in_plane();
   if (settings_.local_damping > 0.0) apply_local_damping(nt);
   if (domain_) domain_->after_forces(*this);
+  lap(StepPhase::damping);
+  summed_ = false;
   forces_current_ = true;
 }
 
@@ -550,6 +612,7 @@ void World::body_contacts(int nt, bool stale) {
       searched_q_.push_back(states_[slot].q);
     }
     pairs_current_ = true;
+    lap(StepPhase::pair_search);
   }
   // The pairs in chunks of consecutive pairs, handed to the threads as they come free (the
   // cost of a pair varies a hundredfold); the chunks' contacts are joined in chunk order,
@@ -572,7 +635,10 @@ void World::body_contacts(int nt, bool stale) {
     held_.resize(n);
     for (std::size_t p = 0; p < n; ++p) held_[p] = manifolds_[p].margin > 0.0;
   }
-  if (manifolds) plan_pairs(nt);
+  if (manifolds) {
+    plan_pairs(nt);
+    lap(StepPhase::plan);
+  }
   pair_first_.resize(n);
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
@@ -801,7 +867,9 @@ void World::evaluate_and_apply(int nt) {
       evaluate_contact(p, k, cursor, bond_cursor);
     });
   }
+  lap(StepPhase::contact_law);
   sum_forces(nt);
+  lap(StepPhase::contact_sums);
 }
 
 void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& cursor, std::size_t& bond_cursor) {
@@ -901,13 +969,19 @@ void World::sum_forces(int nt) {
   {
     const Block block = thread_block(slots);  // captured below: not a structured binding
     const std::size_t t = block.thread, lo = block.begin, hi = block.end;
-    // Plain doubles (vec3.hpp), with Eigen's bits.
-    for (std::size_t i = lo; i < hi; ++i) {
+    // Plain doubles (vec3.hpp), with Eigen's bits. With summing_stress_, eq. 2.17's terms
+    // too (stress_sums: B's lever from its image, A's force negated).
+    auto body = [&](std::size_t i, auto stress) {
+      constexpr bool kStress = decltype(stress)::value;
       const std::uint32_t first = body_pair_start_[i], last = body_pair_start_[i + 1];
-      if (first == last) continue;
+      if (first == last) {
+        if constexpr (kStress) stress_sums_[i].setZero();
+        return;
+      }
       BodyState& s = states_[i];
       const V3 x = v3(s.x);
       V3 f = v3(s.f), tau = v3(s.tau);
+      StressSum m;
       for (std::uint32_t e = first; e < last; ++e) {
         const std::uint32_t p = body_pairs_[e] >> 1;
         const bool is_b = (body_pairs_[e] & 1u) != 0;
@@ -922,23 +996,37 @@ void World::sum_forces(int nt) {
             f = f + force;
             const V3 arm = contact_shift_.empty() ? point - x : (point - v3(contact_shift_[base + j])) - x;
             tau = tau + (cross(arm, force) + moment);
+            if constexpr (kStress) m.add(arm, force);
           } else {
             f = f - force;
             tau = tau - (cross(point - x, force) + moment);
+            if constexpr (kStress) m.add(point - x, -1.0 * force);
           }
         }
       }
       s.f = eigen(f);
       s.tau = eigen(tau);
+      if constexpr (kStress) m.store(stress_sums_[i]);
+    };
+    if (summing_stress_) {
+      for (std::size_t i = lo; i < hi; ++i) body(i, std::true_type{});
+    } else {
+      for (std::size_t i = lo; i < hi; ++i) body(i, std::false_type{});
     }
     for_pending(wall_begin, n, [&](std::size_t k, const Pending& p) {
       const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
       const ContactForce& fc = forces_[k];
       if (b >= lo && b < hi) {
         BodyState& sb = states_[b];
-        const V3 force = v3(fc.force);
+        const V3 force = v3(fc.force), arm = v3(p.contact.point) - v3(sb.x);
         sb.f = eigen(v3(sb.f) + force);
-        sb.tau = eigen(v3(sb.tau) + (cross(v3(p.contact.point) - v3(sb.x), force) + v3(fc.moment)));
+        sb.tau = eigen(v3(sb.tau) + (cross(arm, force) + v3(fc.moment)));
+        if (summing_stress_) {
+          StressSum m;
+          m.load(stress_sums_[b]);
+          m.add(arm, force);
+          m.store(stress_sums_[b]);
+        }
       }
       if (t == 0) walls_[a].reaction -= fc.force;
     });
@@ -969,6 +1057,10 @@ const std::vector<ContactRecord>& World::contacts() const {
 
 void World::step() {
   const double h = settings_.dt;
+  if (timing_) {
+    in_step_ = true;
+    lap_ns_ = clock_ns();
+  }
   if (cell_on_) {
     // The cell's velocity gradient this step: the one set, plus, when the grains expand,
     // their volume-mean expansion since the last evaluation over the step (the cell of a
@@ -999,7 +1091,14 @@ void World::step() {
     }
     moving_cell_ = !gradient_.isZero(0.0);
   }
-  if (!forces_current_) compute_forces();
+  if (!forces_current_) {
+    in_step_ = false;  // the first evaluation is not a step's
+    compute_forces();
+    if (timing_) {
+      in_step_ = true;
+      lap_ns_ = clock_ns();
+    }
+  }
   const int nt = thread_count(settings_.threads);
   const auto slots = static_cast<std::ptrdiff_t>(states_.size());
 #pragma omp parallel num_threads(nt) if (slots >= kParallelMin)
@@ -1033,6 +1132,7 @@ void World::step() {
     wrap_bodies();
   }
   for (auto& w : walls_) w.origin += h * w.velocity;
+  lap(StepPhase::kick_drift);
   compute_forces();
 #pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < slots; ++i) {
@@ -1040,28 +1140,144 @@ void World::step() {
     kick(states_[i], infos_[i], 0.5 * h);
   }
   if (conductivity_ > 0.0) conduct(h);
+  lap(StepPhase::closing_kick);
+  if (in_step_) ++timings_.steps;
+  in_step_ = false;
   time_ += h;
   ++steps_;
 }
 
-std::vector<Eigen::Matrix3d> World::body_stresses() const {
-  // Sum d (x) f per body from the contact records (contact order: deterministic), then
-  // symmetrise and divide by 2V (eq. 2.17).
-  std::vector<Eigen::Matrix3d> sum(states_.size(), Eigen::Matrix3d::Zero());
-  for (const ContactRecord& c : contacts()) {
-    sum[c.b] += (c.point - c.shift - states_[c.b].x) * c.force.transpose();
-    if (!c.wall) sum[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
-  }
-  for (const Bond& bd : bonds_) {  // bond forces are contact forces too
-    if (!bd.intact()) continue;
-    sum[bd.b] += (bd.point - bd.shift - states_[bd.b].x) * bd.force.transpose();
-    sum[bd.a] -= (bd.point - states_[bd.a].x) * bd.force.transpose();
-  }
-  for (std::size_t i = 0; i < sum.size(); ++i) {
-    if (!infos_[i].alive) {
-      sum[i].setZero();
-      continue;
+bool World::by_body_current() const {
+  // The per-body lists of the last evaluation (sum_forces, bond_forces) describe the contact
+  // lists and bonds as they are: nothing has been split, added or loaded since.
+  return (forces_current_ || summed_) && !body_pairs_stale_ && body_pair_start_.size() == states_.size() + 1 &&
+         (bonds_.empty() || (!body_bonds_stale_ && body_bond_start_.size() == states_.size() + 1));
+}
+
+template <class F>
+void World::for_forces_on(std::uint32_t slot, std::size_t wall_begin, std::size_t wall_end, bool walls,
+                          F&& f) const {
+  // Contacts with other bodies, pair by pair in the pairs' order (the contact order), then
+  // wall contacts (after every pair's in the list), then bonds in bond order: the order of
+  // a walk over contacts() and bonds(). A's side: the force negated; B's: its lever from
+  // its image.
+  for (std::uint32_t e = body_pair_start_[slot]; e < body_pair_start_[slot + 1]; ++e) {
+    const std::uint32_t p = body_pairs_[e] >> 1;
+    const bool is_b = (body_pairs_[e] & 1u) != 0;
+    const std::size_t chunk = p / kPairChunk;
+    const std::vector<Pending>& list = chunk_pending_[chunk];
+    const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
+    const std::size_t base = part_start_[chunk];
+    for (std::size_t j = pair_first_[p]; j < stop; ++j) {
+      const V3 force = v3(forces_[base + j].force), point = v3(list[j].contact.point);
+      if (is_b) {
+        f(contact_shift_.empty() ? point : point - v3(contact_shift_[base + j]), force);
+      } else {
+        f(point, -1.0 * force);
+      }
     }
+  }
+  if (walls) {
+    for_pending(wall_begin, wall_end, [&](std::size_t k, const Pending& p) {
+      if (p.key.b == slot) f(v3(p.contact.point), v3(forces_[k].force));
+    });
+  }
+  if (bonds_.empty()) return;
+  if (domain_ == nullptr) {
+    // From the bonds' small records (the bond law's, kept current by the breaks after it):
+    // the bond point and force, B's lever from its image only in a periodic cell (a zero
+    // shift subtracted changes no bit).
+    for (std::uint32_t e = body_bond_start_[slot]; e < body_bond_start_[slot + 1]; ++e) {
+      const std::uint32_t k = body_bonds_[e] >> 1;
+      const BondPush& bp = bond_push_[k];
+      if (!bp.live) continue;
+      if ((body_bonds_[e] & 1u) != 0) {
+        f(cell_on_ ? bp.point - v3(bonds_[k].shift) : bp.point, bp.force);
+      } else {
+        f(bp.point, -1.0 * bp.force);
+      }
+    }
+    return;
+  }
+  // Several processes: the ghosts' bonds are updated after the sums (MpiDomain).
+  for (std::uint32_t e = body_bond_start_[slot]; e < body_bond_start_[slot + 1]; ++e) {
+    const Bond& bd = bonds_[body_bonds_[e] >> 1];
+    if (!bd.intact()) continue;
+    if ((body_bonds_[e] & 1u) != 0) {
+      f(v3(bd.point) - v3(bd.shift), v3(bd.force));
+    } else {
+      f(v3(bd.point), -1.0 * v3(bd.force));
+    }
+  }
+}
+
+const std::vector<Eigen::Matrix3d>& World::stress_sums() const {
+  if (stress_sums_current_ && by_body_current()) return stress_sums_;
+  std::vector<Eigen::Matrix3d>& out = stress_sums_;
+  out.assign(states_.size(), Eigen::Matrix3d::Zero());
+  if (!by_body_current()) {
+    // Lists out of date (a split or a load since the last evaluation): from the records.
+    for (const ContactRecord& c : contacts()) {
+      out[c.b] += (c.point - c.shift - states_[c.b].x) * c.force.transpose();
+      if (!c.wall) out[c.a] -= (c.point - states_[c.a].x) * c.force.transpose();
+    }
+    for (const Bond& bd : bonds_) {
+      if (!bd.intact()) continue;
+      out[bd.b] += (bd.point - bd.shift - states_[bd.b].x) * bd.force.transpose();
+      out[bd.a] -= (bd.point - states_[bd.a].x) * bd.force.transpose();
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (!infos_[i].alive) out[i].setZero();
+    }
+    return out;
+  }
+  const std::size_t n = pending_count(), slots = states_.size();
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
+  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
+  const int nt = static_cast<std::ptrdiff_t>(slots) < kParallelMin ? 1 : thread_count(settings_.threads);
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::size_t i = 0; i < slots; ++i) {
+    if (!infos_[i].alive) continue;
+    const V3 x = v3(states_[i].x);
+    // sum(r, c) += arm(r) force(c), each term rounded as Eigen's outer product and sum do.
+    StressSum m;
+    const auto slot = static_cast<std::uint32_t>(i);
+    for_forces_on(slot, wall_begin, n, wall_reach_.size() == slots && wall_reach_[i] != 0,
+                  [&](const V3& point, const V3& force) { m.add(point - x, force); });
+    m.store(out[i]);
+  }
+  stress_sums_current_ = true;
+  return out;
+}
+
+void World::forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const {
+  out.clear();
+  if (slot >= states_.size() || !infos_[slot].alive) return;
+  if (!by_body_current()) {
+    for (const ContactRecord& c : contacts()) {
+      if (c.b == slot) out.push_back({c.point - c.shift, c.force});
+      if (!c.wall && c.a == slot) out.push_back({c.point, -c.force});
+    }
+    for (const Bond& bd : bonds_) {
+      if (!bd.intact()) continue;
+      if (bd.b == slot) out.push_back({bd.point - bd.shift, bd.force});
+      if (bd.a == slot) out.push_back({bd.point, -bd.force});
+    }
+    return;
+  }
+  const std::size_t n = pending_count();
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
+  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
+  for_forces_on(slot, wall_begin, n, wall_reach_.size() == states_.size() && wall_reach_[slot] != 0,
+                [&](const V3& point, const V3& force) { out.push_back({eigen(point), eigen(force)}); });
+}
+
+std::vector<Eigen::Matrix3d> World::body_stresses() const {
+  // Eq. 2.17: the sums of d (x) f per body (contact order: deterministic), symmetrised and
+  // divided by 2V.
+  std::vector<Eigen::Matrix3d> sum = stress_sums();
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    if (!infos_[i].alive) continue;
     const double volume = shapes_[infos_[i].shape].volume;
     sum[i] = (sum[i] + sum[i].transpose()) / (2.0 * volume);
   }
@@ -1360,6 +1576,7 @@ void World::bond_forces(int nt) {
       if (!out.live) return;
       const V3 force = v3(bd.force), moment = v3(bd.moment), point = v3(bd.point);
       out.force = force;
+      out.point = point;
       out.torque_b = cross((point - v3(bd.shift)) - v3(states_[bd.b].x), force) + moment;
       out.torque_a = cross(point - v3(states_[bd.a].x), force) + moment;
     };
@@ -1436,6 +1653,7 @@ void World::bond_forces(int nt) {
     }
   }
   // Log the breaks in bond order.
+  lap(StepPhase::bond_law);
   for (const auto& list : bond_failures_) {
     for (const BondFailureAt& f : list) {
       Bond& bd = bonds_[f.bond];
@@ -1455,24 +1673,37 @@ void World::bond_forces(int nt) {
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(slots);
-    for (std::size_t i = block.begin; i < block.end; ++i) {
+    auto body = [&](std::size_t i, auto stress) {
+      constexpr bool kStress = decltype(stress)::value;
       const std::uint32_t first = body_bond_start_[i], last = body_bond_start_[i + 1];
-      if (first == last) continue;
+      if (first == last) return;
       BodyState& s = states_[i];
       V3 f = v3(s.f), tau = v3(s.tau);
+      StressSum m;
+      const V3 x = v3(s.x);
+      if constexpr (kStress) m.load(stress_sums_[i]);
       for (std::uint32_t e = first; e < last; ++e) {
-        const BondPush& bp = bond_push_[body_bonds_[e] >> 1];
+        const std::uint32_t k = body_bonds_[e] >> 1;
+        const BondPush& bp = bond_push_[k];
         if (!bp.live) continue;
         if ((body_bonds_[e] & 1u) != 0) {  // the bond's B
           f = f + bp.force;
           tau = tau + bp.torque_b;
+          if constexpr (kStress) m.add((cell_on_ ? bp.point - v3(bonds_[k].shift) : bp.point) - x, bp.force);
         } else {
           f = f - bp.force;
           tau = tau - bp.torque_a;
+          if constexpr (kStress) m.add(bp.point - x, -1.0 * bp.force);
         }
       }
       s.f = eigen(f);
       s.tau = eigen(tau);
+      if constexpr (kStress) m.store(stress_sums_[i]);
+    };
+    if (summing_stress_) {
+      for (std::size_t i = block.begin; i < block.end; ++i) body(i, std::true_type{});
+    } else {
+      for (std::size_t i = block.begin; i < block.end; ++i) body(i, std::false_type{});
     }
   }
 }
@@ -1658,6 +1889,8 @@ void World::break_by_stress() {
     bd.broken_at = time_;
     bd.force.setZero();
     bd.moment.setZero();
+    if (k < bond_push_.size()) bond_push_[k].live = false;
+    stress_sums_current_ = false;  // the sums still hold this bond
     breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id, bd.point,
                        bd.normal, BondFailure::tension, at});
   }

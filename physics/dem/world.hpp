@@ -120,20 +120,29 @@ struct WorldSettings {
 /// with the contact law (quasi-parallel model). The bond point and normal are material:
 /// each is stored in both bodies' principal frames at bonding and followed as they move.
 struct Bond {
+  // What the bond law reads and writes every step comes first, in about five and a half
+  // cache lines of the record's nine (World::bond_forces walks 30,000 of them a step in a
+  // 10,000-grain disc: their bytes, not the arithmetic, set its pace); the rest after.
   std::uint32_t a = 0, b = 0;                       ///< body slots, a < b
+  BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
+  /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
+  /// 1 unless the scenario scatters them (bond_strength_factor).
+  double strength = 1.0;
+  /// In a periodic cell, the image of B the bond joins A to: B acts from x_B + H image
+  /// (World::cell), `shift` = H image as of the last evaluation. Zero without a cell.
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   Eigen::Vector3d arm_a = Eigen::Vector3d::Zero();  ///< bond point from A's centroid, A's frame
   Eigen::Vector3d arm_b = Eigen::Vector3d::Zero();  ///< bond point from B's centroid, B's frame
   Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
   Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
-  BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
-  /// In a periodic cell, the image of B the bond joins A to: B acts from x_B + H image
-  /// (World::cell), `shift` = H image as of the last evaluation. Zero without a cell.
-  Eigen::Vector3i image = Eigen::Vector3i::Zero();
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
-  /// 1 unless the scenario scatters them (bond_strength_factor).
-  double strength = 1.0;
   BondState state;
+  // Last force evaluation (world): the bond point, normal, and the force and moment on B.
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  // Read on a break, a split, a periodic image's change, or by the other laws.
+  Eigen::Vector3i image = Eigen::Vector3i::Zero();  ///< B's image (see `shift`)
   BondFailure failure = BondFailure::none;  ///< the mode it broke in
   double broken_at = -1.0;                   ///< simulated time of the break, s
   /// The physical overlap of each touching feature pair at bonding (end of 2.3.3): later
@@ -164,11 +173,6 @@ struct Bond {
     double rest_length = 0.0;
   };
   Beam beam;
-  // Last force evaluation (world): the bond point, normal, and the force and moment on B.
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
   [[nodiscard]] bool intact() const { return !state.broken; }
 };
 
@@ -215,6 +219,37 @@ struct ContactRecord {
   /// In a periodic cell, where B's image sits: B acts from x_B + shift, so its lever arm is
   /// point - shift - x_B (zero without a cell, and for walls).
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+};
+
+/// The parts of World::step that World::set_timing clocks, in the order a step runs them.
+enum class StepPhase : unsigned char {
+  kick_drift,    ///< first half kick and drift (and a periodic cell's deformation)
+  poses,         ///< bodies posed, walls in reach, the search's staleness test
+  pair_search,   ///< the neighbour search, when the skin is used up
+  plan,          ///< manifolds: which pairs carry their contacts, which bodies need vertices
+  narrow,        ///< the narrow phase (or carried contacts), pair by pair
+  walls,         ///< wall contacts, the contact lists joined
+  contact_law,   ///< eqs 2.3-2.8 on every contact
+  contact_sums,  ///< contact forces and torques summed onto the bodies
+  bond_law,      ///< eqs 2.9-2.16 on every bond (and the breaks logged)
+  bond_sums,     ///< bond forces and torques summed onto the bodies
+  damping,       ///< stress-criterion breaks, in-plane hold, local damping, domain exchange
+  closing_kick,  ///< second half kick, heat conduction
+};
+inline constexpr std::size_t kStepPhases = 12;
+/// Lower-case name of a phase ("narrow", "bond_law", ...).
+const char* to_string(StepPhase phase);
+
+/// Wall-clock seconds spent in each part of World::step while timing was on (Yade's
+/// timing.stats(), for one world): `seconds[phase]`, and the steps they cover.
+struct StepTimings {
+  double seconds[kStepPhases] = {};
+  std::uint64_t steps = 0;
+  [[nodiscard]] double total() const {
+    double t = 0.0;
+    for (double s : seconds) t += s;
+    return t;
+  }
 };
 
 class World {
@@ -356,6 +391,10 @@ class World {
 
   /// Advances the world by one time step.
   void step();
+  /// Clocks the parts of each step from now on (true) or stops (false); switching on starts
+  /// the sums from zero. Off by default: a clock read per part and step when on.
+  void set_timing(bool on);
+  [[nodiscard]] const StepTimings& timings() const { return timings_; }
   /// Contacts of the last force evaluation.
   /// (Made from the last evaluation on the first call after it: not for concurrent calls.)
   [[nodiscard]] const std::vector<ContactRecord>& contacts() const;
@@ -364,6 +403,25 @@ class World {
   /// The averaged stress (eq. 2.17, grain_stress.hpp) of every body from the contacts of
   /// the last force evaluation, indexed by slot (zero for slots without a live body).
   [[nodiscard]] std::vector<Eigen::Matrix3d> body_stresses() const;
+  /// One force of the last evaluation acting on a body at a point (world axes): a contact's
+  /// or an intact bond's (B's point taken at its image in a periodic cell).
+  struct AppliedForce {
+    Eigen::Vector3d point, force;
+  };
+  /// Eq. 2.17's sum before it is symmetrised, for every body slot: the sum of
+  /// (point - centroid) (x) force over the forces acting on the body, its contacts in the
+  /// order contacts() lists them, then its intact bonds in bonds()' order (zero for slots
+  /// without a live body). The same bits as a walk over contacts() and bonds(), without
+  /// making the records: summed with the forces when the evaluation was asked for them
+  /// (want_stress_sums), otherwise in parallel by body from the lists the step keeps.
+  /// (Made on the first call after an evaluation: not for concurrent calls.)
+  [[nodiscard]] const std::vector<Eigen::Matrix3d>& stress_sums() const;
+  /// The next force evaluation sums eq. 2.17's terms body by body along with the forces
+  /// (about a tenth of a separate pass), for a stress_sums() after it: the transgranular
+  /// check asks before the step it reads. Once; a stress criterion for bonds always does.
+  void want_stress_sums() { want_stress_sums_ = true; }
+  /// The forces acting on body `slot`, in stress_sums' order (cleared first).
+  void forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const;
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::uint64_t steps() const { return steps_; }
   [[nodiscard]] const WorldSettings& settings() const { return settings_; }
@@ -544,6 +602,7 @@ class World {
   /// their centroids), written by the bond law, read by the sum.
   struct BondPush {
     V3 force, torque_b, torque_a;
+    V3 point;           ///< the bond point (stress_sums' lever)
     bool live = false;  ///< intact: the sum adds it
   };
   std::vector<BondPush> bond_push_;
@@ -575,6 +634,29 @@ class World {
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
   bool forces_current_ = false;
+  // set_timing: the sums, and the clock at the last lap (a lap only counts inside step()).
+  StepTimings timings_;
+  bool timing_ = false, in_step_ = false;
+  std::int64_t lap_ns_ = 0;
+  /// Adds the time since the last lap to `phase` (when timing inside a step).
+  void lap(StepPhase phase) {
+    if (timing_ && in_step_) lap_to(phase);
+  }
+  void lap_to(StepPhase phase);
+  /// stress_sums and forces_on: whether the step's lists by body still describe the world.
+  [[nodiscard]] bool by_body_current() const;
+  /// Inside compute_forces, once the contacts and bonds are summed (break_by_stress reads
+  /// the stresses from the lists by body).
+  bool summed_ = false;
+  /// stress_sums(): the sums, whether they are this evaluation's, whether the next
+  /// evaluation should make them with the forces, and whether this one does.
+  mutable std::vector<Eigen::Matrix3d> stress_sums_;
+  mutable bool stress_sums_current_ = false;
+  bool want_stress_sums_ = false, summing_stress_ = false;
+  /// Calls f(point, force) (plain doubles) for each force acting on `slot`, in the order of
+  /// a walk over contacts() and bonds(); `walls`: whether it may touch a wall.
+  template <class F>
+  void for_forces_on(std::uint32_t slot, std::size_t wall_begin, std::size_t wall_end, bool walls, F&& f) const;
 };
 
 }  // namespace cleave::physics

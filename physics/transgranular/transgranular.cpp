@@ -87,94 +87,32 @@ std::vector<Eigen::Vector3d> section(const PosedFaces& faces, const CrackPlane& 
 
 namespace {
 
-/// Every contact and bond force of the last force evaluation, by body slot.
-/// The point forces on each body (contacts and intact bonds), grouped by slot in one array:
-/// body slot i's are at [start[i], start[i + 1]), in contact order, then bond order.
-struct ForcesByBody {
-  std::vector<std::size_t> start;
-  std::vector<PointForce> forces;
-  std::span<const PointForce> of(std::uint32_t slot) const {
-    if (slot + 1 >= start.size()) return {};
-    return {forces.data() + start[slot], start[slot + 1] - start[slot]};
-  }
-};
-
 int check_threads(const World& world) {
   const int wanted = world.settings().threads;
   return wanted > 0 ? wanted : omp_get_max_threads();
 }
 
-ForcesByBody forces_by_body(const World& world) {
-  ForcesByBody out;
-  const std::vector<ContactRecord>& contacts = world.contacts();
-  const std::vector<Bond>& bonds = world.bonds();
-  const std::size_t slots = world.slot_states().size();
-  out.start.assign(slots + 1, 0);
-  // The items are the contacts, then the bonds, each giving one force to B and one to A
-  // (not to a wall, not from a broken bond). Each thread counts the forces of its own block
-  // of items per body, then places them after those of the blocks before it: every body's
-  // forces land in item order, for any number of threads.
-  const std::size_t nc = contacts.size(), items = nc + bonds.size();
-  auto each = [&](std::size_t begin, std::size_t end, auto&& put) {
-    for (std::size_t k = begin; k < std::min(end, nc); ++k) {
-      const ContactRecord& c = contacts[k];
-      put(c.b, Eigen::Vector3d(c.point - c.shift), c.force);  // (shift: B's image in a periodic cell)
-      if (!c.wall) put(c.a, c.point, Eigen::Vector3d(-c.force));
-    }
-    for (std::size_t k = std::max(begin, nc); k < end; ++k) {
-      const Bond& b = bonds[k - nc];
-      if (!b.intact()) continue;
-      put(b.b, Eigen::Vector3d(b.point - b.shift), b.force);
-      put(b.a, b.point, Eigen::Vector3d(-b.force));
-    }
-  };
-  const int nt = items < 4096 ? 1 : check_threads(world);
-  std::vector<std::vector<std::size_t>> next(static_cast<std::size_t>(nt));
-#pragma omp parallel num_threads(nt) if (nt > 1)
-  {
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-    const auto teams = static_cast<std::size_t>(omp_get_num_threads());
-    const std::size_t begin = items * t / teams, end = items * (t + 1) / teams;
-    std::vector<std::size_t>& mine = next[t];
-    mine.assign(slots, 0);
-    each(begin, end, [&](std::uint32_t slot, const Eigen::Vector3d&, const Eigen::Vector3d&) { ++mine[slot]; });
-#pragma omp barrier
-#pragma omp single
-    {
-      // Body by body, the blocks in thread order: where each block's forces start.
-      std::size_t at = 0;
-      for (std::size_t slot = 0; slot < slots; ++slot) {
-        out.start[slot] = at;
-        for (std::size_t u = 0; u < teams; ++u) {
-          const std::size_t count = next[u][slot];
-          next[u][slot] = at;
-          at += count;
-        }
-      }
-      out.start[slots] = at;
-      out.forces.resize(at);
-    }
-    each(begin, end, [&](std::uint32_t slot, const Eigen::Vector3d& point, const Eigen::Vector3d& force) {
-      out.forces[mine[slot]++] = {point, force};
-    });
-  }
-  return out;
-}
-
-/// Eq. 2.17 from the body's forces: sum (point - centroid) (x) force, symmetrised, over 2V.
-/// The same sums in the same order as World::body_stresses (its A-side terms subtracted,
-/// these added negated: the same bits).
-Eigen::Matrix3d stress_of(const World& world, std::uint32_t slot, std::span<const PointForce> acting) {
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  const Eigen::Vector3d& x = world.slot_states()[slot].x;
-  for (const PointForce& f : acting) sum += (f.point - x) * f.force.transpose();
+/// Eq. 2.17 from the body's sum of (point - centroid) (x) force (World::stress_sums):
+/// symmetrised, over 2V (the bits of World::body_stresses).
+Eigen::Matrix3d stress_from(const World& world, std::uint32_t slot, const Eigen::Matrix3d& sum) {
   const double volume = world.shape(world.slot_infos()[slot].shape).volume;
   return (sum + sum.transpose()) / (2.0 * volume);
 }
 
+/// The forces acting on a body (World::forces_on) as the traction code takes them.
+std::span<const PointForce> forces_of(const World& world, std::uint32_t slot, std::vector<World::AppliedForce>& applied,
+                                      std::vector<PointForce>& out) {
+  world.forces_on(slot, applied);
+  out.clear();
+  for (const auto& f : applied) out.push_back({f.point, f.force});
+  return out;
+}
+
+/// `acting()`: the forces on the body, asked for only past the gate.
+template <class Acting>
 std::vector<CrackAssessment> assess_with(const World& world, const FractureBook& book, BodyId id,
                                          const FractureParams& params, const Eigen::Matrix3d& sigma,
-                                         std::span<const PointForce> acting) {
+                                         Acting&& acting) {
   std::vector<CrackAssessment> out;
   if (!book.knows(id)) return out;
   if (params.criterion != GrainCriterion::lefm) {
@@ -213,7 +151,7 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
   if (candidates.empty()) return out;
 
   PosedFaces faces = pose_faces(world, id);
-  for (const PointForce& f : acting) faces.forces[face_of(faces, f.point)].push_back(f);
+  for (const PointForce& f : acting()) faces.forces[face_of(faces, f.point)].push_back(f);
   // Eq. 3.15 on every face.
   std::vector<FaceGeometry> geometry;
   std::vector<FaceTractions> tractions;
@@ -249,36 +187,49 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
 std::vector<CrackAssessment> assess(const World& world, const FractureBook& book, BodyId id,
                                     const FractureParams& params,
                                     const std::vector<Eigen::Matrix3d>& stresses) {
-  const ForcesByBody forces = forces_by_body(world);
-  return assess_with(world, book, id, params, stresses.at(id.index), forces.of(id.index));
+  std::vector<World::AppliedForce> applied;
+  std::vector<PointForce> acting;
+  return assess_with(world, book, id, params, stresses.at(id.index),
+                     [&] { return forces_of(world, id.index, applied, acting); });
 }
 
 std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& book,
                                                    const FractureParams& params) {
   std::vector<TransgranularEvent> events;
   if (world.body_count() == 0) return events;
-  const ForcesByBody forces = forces_by_body(world);
+  // Eq. 2.17's sums for every body (summed with the forces when this check asked for them
+  // at its last call, World::want_stress_sums); the forces on a body are gathered only
+  // when its stress passes the gate.
+  const std::vector<Eigen::Matrix3d>& sums = world.stress_sums();
   // Decide on the state of this step for every body (each on its own, in parallel: the
-  // world and the book are only read), then cut, in body order.
-  const std::vector<BodyId> ids = world.body_ids();
-  std::vector<std::optional<CrackAssessment>> worst(ids.size());
-  const auto n = static_cast<std::ptrdiff_t>(ids.size());
-#pragma omp parallel for schedule(dynamic, 64) num_threads(check_threads(world)) if (n >= 512)
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    const BodyId id = ids[static_cast<std::size_t>(k)];
-    if (!book.knows(id) || !world.owns(id.index)) continue;  // one process of several: its own bodies
-    const std::span<const PointForce> acting = forces.of(id.index);
-    const std::vector<CrackAssessment> found =
-        assess_with(world, book, id, params, stress_of(world, id.index, acting), acting);
-    for (const auto& a : found) {
-      auto& w = worst[static_cast<std::size_t>(k)];
-      if (a.result.fails && (!w || a.result.criterion > w->result.criterion)) w = a;
+  // world and the book are only read), then cut, in body order: each thread lists the
+  // failing bodies of its blocks of slots, and the lists are merged by slot.
+  const auto slots = static_cast<std::ptrdiff_t>(world.slot_states().size());
+  const int nt = slots >= 512 ? check_threads(world) : 1;
+  std::vector<std::vector<CrackAssessment>> found_by(static_cast<std::size_t>(nt));
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    std::vector<World::AppliedForce> applied;
+    std::vector<PointForce> acting;
+    std::vector<CrackAssessment>& mine = found_by[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 256)
+    for (std::ptrdiff_t k = 0; k < slots; ++k) {
+      const auto slot = static_cast<std::uint32_t>(k);
+      if (!world.slot_infos()[slot].alive) continue;
+      const BodyId id{slot, world.slot_infos()[slot].generation};
+      if (!book.knows(id) || !world.owns(slot)) continue;  // one process of several: its own bodies
+      std::optional<CrackAssessment> worst;
+      for (const auto& a : assess_with(world, book, id, params, stress_from(world, slot, sums[slot]),
+                                       [&] { return forces_of(world, slot, applied, acting); })) {
+        if (a.result.fails && (!worst || a.result.criterion > worst->result.criterion)) worst = a;
+      }
+      if (worst) mine.push_back(*worst);
     }
   }
   std::vector<CrackAssessment> failing;
-  for (const auto& w : worst) {
-    if (w) failing.push_back(*w);
-  }
+  for (const auto& list : found_by) failing.insert(failing.end(), list.begin(), list.end());
+  std::sort(failing.begin(), failing.end(),
+            [](const CrackAssessment& p, const CrackAssessment& q) { return p.id.index < q.id.index; });
   if (Domain* domain = world.domain()) {
     // Several processes: each decided for its own bodies; every process makes every split,
     // in body order, from the owner's state of the parent (the same slots everywhere).
@@ -312,6 +263,8 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
     SplitEvent split = book.split(world, a.id, a.plane);
     if (!split.ids.empty()) events.push_back({std::move(split), a});
   }
+  // The next check reads the next evaluation's sums: they are summed with its forces.
+  world.want_stress_sums();
   return events;
 }
 }  // namespace cleave::physics
