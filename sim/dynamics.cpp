@@ -568,6 +568,10 @@ class Dynamics::Runner {
     }
     guard_.before_step(world_);
     bool completed = true;
+    // A step whose end the transgranular check reads sums eq. 2.17's terms with its forces.
+    if (book_ && !stage.hold_cracks &&
+        (world_.steps() + 1) % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0)
+      world_.want_stress_sums();
     try {
       world_.step();
     } catch (const std::exception&) {

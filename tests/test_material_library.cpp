@@ -95,7 +95,9 @@ TEST(MaterialLibrary, EveryPresetReadsBackInSiWithTheUnitItWasWrittenInAndASourc
                             "flexural_strength", "k_ic"}) {
       EXPECT_NE(m.find(key), nullptr) << key;
     }
-    if (!m.amorphous) EXPECT_NE(m.find("grain_size"), nullptr);
+    if (!m.amorphous) {
+      EXPECT_NE(m.find("grain_size"), nullptr);
+    }
     for (const auto& p : m.properties) {
       SCOPED_TRACE(p.key);
       ASSERT_TRUE(kUnitSize.count(p.unit)) << p.unit;

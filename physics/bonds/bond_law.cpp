@@ -6,16 +6,33 @@
 
 namespace cleave::physics {
 
+BondConstants bond_constants(const BondParams& p, const BondSection& s) {
+  BondConstants k;
+  // Spring stiffnesses from the continuum ones (eqs 2.10, 2.11).
+  k.kbn = p.kbn * s.area();
+  k.kbs = p.kbs * s.area();
+  k.kbr = p.kbn * s.inertia();
+  k.kbt = p.kbs * s.polar();
+  // Limits (eq. 2.15).
+  const double r = s.radius;
+  k.tension = p.tbn * s.area();
+  k.shear = p.tbs * s.area();
+  k.bending = p.tbn * s.inertia() / r;
+  k.torsion = p.tbs * s.polar() / r;
+  return k;
+}
+
 BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
                       BondState& b, double dt) {
+  return bond_force(p, bond_constants(p, s), s, n, velocity, spin, b, dt);
+}
+
+BondResult bond_force(const BondParams& p, const BondConstants& k, const BondSection& s, const Eigen::Vector3d& n,
+                      const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin, BondState& b, double dt) {
   BondResult out;
   if (b.broken) return out;
-  // Spring stiffnesses from the continuum ones (eqs 2.10, 2.11).
-  const double Kbn = p.kbn * s.area();
-  const double Kbs = p.kbs * s.area();
-  const double Kbr = p.kbn * s.inertia();
-  const double Kbt = p.kbs * s.polar();
+  const double Kbn = k.kbn, Kbs = k.kbs, Kbr = k.kbr, Kbt = k.kbt;
   // Increments (eqs 2.12, 2.13): opening along n is tension. In plain doubles (vec3.hpp:
   // Eigen's bits without its stalls on three-element vectors).
   const V3 nn = v3(n), vel = v3(velocity), sp = v3(spin);
@@ -52,14 +69,13 @@ BondResult bond_force(const BondParams& p, const BondSection& s, const Eigen::Ve
     return out;
   }
   // Limits (eq. 2.15) and failure (eq. 2.16), checked in this order.
-  const double r = s.radius;
-  if (b.normal > p.tbn * s.area()) {
+  if (b.normal > k.tension) {
     out.failure = BondFailure::tension;
-  } else if (norm(shear) > p.tbs * s.area()) {
+  } else if (norm(shear) > k.shear) {
     out.failure = BondFailure::shear;
-  } else if (norm(bending) > p.tbn * s.inertia() / r) {
+  } else if (norm(bending) > k.bending) {
     out.failure = BondFailure::bending;
-  } else if (std::abs(b.torsion) > p.tbs * s.polar() / r) {
+  } else if (std::abs(b.torsion) > k.torsion) {
     out.failure = BondFailure::torsion;
   }
   if (out.failure != BondFailure::none) {

@@ -108,6 +108,16 @@ const char* to_string(BondFailure mode);
 /// bonds were found in or on the thread count.
 double bond_strength_factor(std::uint64_t seed, int grain_a, int grain_b, double modulus);
 
+/// What eqs 2.10, 2.11 and 2.15 make of a bond's parameters and section: its spring
+/// stiffnesses and the limits on its four loads. The same for every bond of one section
+/// and strength: World::bond_forces makes them once for a run of such bonds.
+struct BondConstants {
+  double kbn = 0.0, kbs = 0.0, kbr = 0.0, kbt = 0.0;  ///< K_bn, K_bs, K_br, K_bt (eqs 2.10, 2.11)
+  /// Eq. 2.15: the limits on F_bn, |F_bs|, |M_br| and |M_bt|.
+  double tension = 0.0, shear = 0.0, bending = 0.0, torsion = 0.0;
+};
+BondConstants bond_constants(const BondParams& p, const BondSection& s);
+
 /// One step of the bond at unit normal n (from A towards B) with relative velocity
 /// `velocity` (B's material point minus A's at the bond) and relative spin `spin`
 /// (w_B - w_A): eqs 2.12-2.13 increment the state, eq. 2.16 checks the limits of eq. 2.15.
@@ -124,6 +134,10 @@ double bond_strength_factor(std::uint64_t seed, int grain_a, int grain_b, double
 BondResult bond_force(const BondParams& p, const BondSection& section, const Eigen::Vector3d& n,
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
                       BondState& state, double dt);
+/// The same with the bond's constants made beforehand (bond_constants(p, section)).
+BondResult bond_force(const BondParams& p, const BondConstants& k, const BondSection& section,
+                      const Eigen::Vector3d& n, const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin,
+                      BondState& b, double dt);
 
 /// Where a beam bond (BondLaw::beam) is now, in world axes: its two ends (material points of
 /// A and B, their centroids at bonding) and, at each end, the beam's axis and a direction

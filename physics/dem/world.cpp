@@ -1580,6 +1580,8 @@ void World::bond_forces(int nt) {
       out.torque_b = cross((point - v3(bd.shift)) - v3(states_[bd.b].x), force) + moment;
       out.torque_a = cross(point - v3(states_[bd.a].x), force) + moment;
     };
+    BondConstants constants;
+    double constants_radius = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t k = block.begin; k < block.end; ++k) {
       Bond& bd = bonds_[k];
       if (!roles_.empty()) {
@@ -1645,7 +1647,14 @@ void World::bond_forces(int nt) {
         push(k);
         continue;
       }
-      const BondResult r = bond_force(*params, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+      // Eqs 2.10, 2.11 and 2.15's constants, made again only when the section or the
+      // strengths change from the bond before (a bond's own strengths: always).
+      if (params != &base || !(bd.section.radius == constants_radius)) {
+        constants = bond_constants(*params, bd.section);
+        constants_radius = params == &base ? bd.section.radius : std::numeric_limits<double>::quiet_NaN();
+      }
+      const BondResult r =
+          bond_force(*params, constants, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
       bd.force = r.force;
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});

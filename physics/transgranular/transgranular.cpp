@@ -263,7 +263,8 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
     SplitEvent split = book.split(world, a.id, a.plane);
     if (!split.ids.empty()) events.push_back({std::move(split), a});
   }
-  // The next check reads the next evaluation's sums: they are summed with its forces.
+  // The next check reads the next evaluation's sums: they are summed with its forces (a
+  // caller that checks less often asks before the step it reads, as sim::Dynamics does).
   world.want_stress_sums();
   return events;
 }
