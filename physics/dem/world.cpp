@@ -1658,7 +1658,15 @@ void World::bond_forces(int nt) {
       bd.force = r.force;
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});
-      push(k);
+      // push(k) from the values at hand (the same operands, so the same bits).
+      BondPush& out = bond_push_[k];
+      out.live = bd.intact();
+      if (!out.live) continue;
+      const V3 force = v3(r.force), moment = v3(r.moment);
+      out.force = force;
+      out.point = point;
+      out.torque_b = cross((point - v3(bd.shift)) - v3(sb.x), force) + moment;
+      out.torque_a = cross(point - xa, force) + moment;
     }
   }
   // Log the breaks in bond order.
