@@ -1,6 +1,7 @@
 #pragma once
-// World::stress_sums and World::forces_on against their definition: a walk over the contact
-// records and the bonds, compared to the bit (tests of the bonds and of periodic cells).
+// World::stress_sums, stress_sum, stress_sum_diagonals and forces_on against their
+// definition: a walk over the contact records and the bonds, compared to the bit (tests of
+// the bonds and of periodic cells).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -54,6 +55,9 @@ inline bool same_bits(const Eigen::Matrix3d& p, const Eigen::Matrix3d& q) {
 
 /// Every slot's sums and forces from the world's lists against the records' walk.
 inline void expect_sums_match_the_records(const World& world, const char* when) {
+  // The diagonals first: after a want_stress_sums() step they are the ones summed with the
+  // forces (stress_sums() does not touch them).
+  const std::vector<Eigen::Vector3d> diagonals = world.stress_sum_diagonals();
   const std::vector<Eigen::Matrix3d> sums = world.stress_sums();
   const std::vector<Eigen::Matrix3d> reference = stress_sums_from_records(world);
   ASSERT_EQ(sums.size(), reference.size()) << when;
@@ -62,6 +66,8 @@ inline void expect_sums_match_the_records(const World& world, const char* when) 
   for (std::uint32_t i = 0; i < sums.size(); ++i) {
     if (!world.slot_infos()[i].alive) continue;
     differing += !same_bits(sums[i], reference[i]);
+    differing += !same_bits(world.stress_sum(i), reference[i]);
+    differing += !same_bits(diagonals[i], Eigen::Vector3d(reference[i].diagonal()));
     loaded += !reference[i].isZero(0.0);
     world.forces_on(i, forces);
     const std::vector<World::AppliedForce> expected = forces_from_records(world, i);

@@ -361,6 +361,22 @@ struct StressSum {
   }
 };
 
+/// The diagonal of a StressSum alone: d(r) += arm(r) force(r), the same bits as its m(r, r).
+struct StressDiagonal {
+  double d[3] = {};
+  [[gnu::always_inline]] void add(const V3& arm, const V3& force) {
+    d[0] += arm.x * force.x;
+    d[1] += arm.y * force.y;
+    d[2] += arm.z * force.z;
+  }
+  void load(const Eigen::Vector3d& s) {
+    for (int r = 0; r < 3; ++r) d[r] = s[r];
+  }
+  void store(Eigen::Vector3d& s) const {
+    for (int r = 0; r < 3; ++r) s[r] = d[r];
+  }
+};
+
 /// Bit of wall w in a body's wall_reach_ word: walls from 31 on share the last bit.
 std::uint32_t wall_bit(std::size_t w) { return 1u << std::min<std::size_t>(w, 31); }
 
@@ -426,13 +442,12 @@ void World::lap_to(StepPhase phase) {
 void World::compute_forces() {
   if (domain_) domain_->before_forces(*this);  // ghosts current, roles set
   breaks_at_step_ = breaks_.size();
-  // Eq. 2.17's sums along with the forces (stress_sums), when asked for or read by the
-  // bonds' stress criterion below; not across processes (the ghosts' bonds change after).
-  stress_sums_current_ = false;
-  summing_stress_ = domain_ == nullptr &&
-                    (want_stress_sums_ || (bond_params_.criterion != BondCriterion::limits && !bonds_.empty()));
+  // The diagonals of eq. 2.17's sums along with the forces (stress_sum_diagonals), when
+  // asked for; not across processes (the ghosts' bonds change after the sums).
+  stress_sums_current_ = stress_diagonals_current_ = false;
+  summing_stress_ = domain_ == nullptr && want_stress_sums_;
   want_stress_sums_ = false;
-  if (summing_stress_) stress_sums_.resize(states_.size());
+  if (summing_stress_) stress_diagonals_.resize(states_.size());
   live_slots_.clear();
   for (std::uint32_t i = 0; i < states_.size(); ++i) {
     if (infos_[i].alive && role(i) != Role::dormant) live_slots_.push_back(i);
@@ -493,7 +508,7 @@ void World::compute_forces() {
   bond_forces(nt);
   lap(StepPhase::bond_sums);
   summed_ = true;
-  stress_sums_current_ = summing_stress_;
+  stress_diagonals_current_ = summing_stress_;
   // The temperatures the bonds (and a periodic cell) have followed up to now.
   if (thermal_on_) {
     for (BodyThermal& t : thermal_) t.bonded_at = t.temperature;
@@ -975,13 +990,13 @@ void World::sum_forces(int nt) {
       constexpr bool kStress = decltype(stress)::value;
       const std::uint32_t first = body_pair_start_[i], last = body_pair_start_[i + 1];
       if (first == last) {
-        if constexpr (kStress) stress_sums_[i].setZero();
+        if constexpr (kStress) stress_diagonals_[i].setZero();
         return;
       }
       BodyState& s = states_[i];
       const V3 x = v3(s.x);
       V3 f = v3(s.f), tau = v3(s.tau);
-      StressSum m;
+      StressDiagonal m;
       for (std::uint32_t e = first; e < last; ++e) {
         const std::uint32_t p = body_pairs_[e] >> 1;
         const bool is_b = (body_pairs_[e] & 1u) != 0;
@@ -1006,7 +1021,7 @@ void World::sum_forces(int nt) {
       }
       s.f = eigen(f);
       s.tau = eigen(tau);
-      if constexpr (kStress) m.store(stress_sums_[i]);
+      if constexpr (kStress) m.store(stress_diagonals_[i]);
     };
     if (summing_stress_) {
       for (std::size_t i = lo; i < hi; ++i) body(i, std::true_type{});
@@ -1022,10 +1037,10 @@ void World::sum_forces(int nt) {
         sb.f = eigen(v3(sb.f) + force);
         sb.tau = eigen(v3(sb.tau) + (cross(arm, force) + v3(fc.moment)));
         if (summing_stress_) {
-          StressSum m;
-          m.load(stress_sums_[b]);
+          StressDiagonal m;
+          m.load(stress_diagonals_[b]);
           m.add(arm, force);
-          m.store(stress_sums_[b]);
+          m.store(stress_diagonals_[b]);
         }
       }
       if (t == 0) walls_[a].reaction -= fc.force;
@@ -1248,6 +1263,46 @@ const std::vector<Eigen::Matrix3d>& World::stress_sums() const {
   }
   stress_sums_current_ = true;
   return out;
+}
+
+Eigen::Matrix3d World::stress_sum(std::uint32_t slot) const {
+  if (slot >= states_.size() || !infos_[slot].alive) return Eigen::Matrix3d::Zero();
+  if (!by_body_current()) return stress_sums()[slot];
+  const std::size_t n = pending_count();
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
+  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
+  const V3 x = v3(states_[slot].x);
+  StressSum m;
+  for_forces_on(slot, wall_begin, n, wall_reach_.size() == states_.size() && wall_reach_[slot] != 0,
+                [&](const V3& point, const V3& force) { m.add(point - x, force); });
+  Eigen::Matrix3d out;
+  m.store(out);
+  return out;
+}
+
+const std::vector<Eigen::Vector3d>& World::stress_sum_diagonals() const {
+  if (stress_diagonals_current_ && by_body_current()) return stress_diagonals_;
+  stress_diagonals_.assign(states_.size(), Eigen::Vector3d::Zero());
+  if (!by_body_current()) {
+    const std::vector<Eigen::Matrix3d>& full = stress_sums();
+    for (std::size_t i = 0; i < full.size(); ++i) stress_diagonals_[i] = full[i].diagonal();
+    return stress_diagonals_;
+  }
+  const std::size_t n = pending_count(), slots = states_.size();
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
+  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
+  const int nt = static_cast<std::ptrdiff_t>(slots) < kParallelMin ? 1 : thread_count(settings_.threads);
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+  for (std::size_t i = 0; i < slots; ++i) {
+    if (!infos_[i].alive) continue;
+    const V3 x = v3(states_[i].x);
+    StressDiagonal m;
+    for_forces_on(static_cast<std::uint32_t>(i), wall_begin, n, wall_reach_.size() == slots && wall_reach_[i] != 0,
+                  [&](const V3& point, const V3& force) { m.add(point - x, force); });
+    m.store(stress_diagonals_[i]);
+  }
+  stress_diagonals_current_ = true;
+  return stress_diagonals_;
 }
 
 void World::forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const {
@@ -1696,9 +1751,9 @@ void World::bond_forces(int nt) {
       if (first == last) return;
       BodyState& s = states_[i];
       V3 f = v3(s.f), tau = v3(s.tau);
-      StressSum m;
+      StressDiagonal m;
       const V3 x = v3(s.x);
-      if constexpr (kStress) m.load(stress_sums_[i]);
+      if constexpr (kStress) m.load(stress_diagonals_[i]);
       for (std::uint32_t e = first; e < last; ++e) {
         const std::uint32_t k = body_bonds_[e] >> 1;
         const BondPush& bp = bond_push_[k];
@@ -1715,7 +1770,7 @@ void World::bond_forces(int nt) {
       }
       s.f = eigen(f);
       s.tau = eigen(tau);
-      if constexpr (kStress) m.store(stress_sums_[i]);
+      if constexpr (kStress) m.store(stress_diagonals_[i]);
     };
     if (summing_stress_) {
       for (std::size_t i = block.begin; i < block.end; ++i) body(i, std::true_type{});
@@ -1907,7 +1962,7 @@ void World::break_by_stress() {
     bd.force.setZero();
     bd.moment.setZero();
     if (k < bond_push_.size()) bond_push_[k].live = false;
-    stress_sums_current_ = false;  // the sums still hold this bond
+    stress_sums_current_ = stress_diagonals_current_ = false;  // the sums still hold this bond
     breaks_.push_back({time_, steps_, k, bd.a, bd.b, infos_[bd.a].grain_id, infos_[bd.b].grain_id, bd.point,
                        bd.normal, BondFailure::tension, at});
   }

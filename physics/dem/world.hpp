@@ -412,13 +412,18 @@ class World {
   /// (point - centroid) (x) force over the forces acting on the body, its contacts in the
   /// order contacts() lists them, then its intact bonds in bonds()' order (zero for slots
   /// without a live body). The same bits as a walk over contacts() and bonds(), without
-  /// making the records: summed with the forces when the evaluation was asked for them
-  /// (want_stress_sums), otherwise in parallel by body from the lists the step keeps.
+  /// making the records: in parallel by body from the lists the step keeps.
   /// (Made on the first call after an evaluation: not for concurrent calls.)
   [[nodiscard]] const std::vector<Eigen::Matrix3d>& stress_sums() const;
-  /// The next force evaluation sums eq. 2.17's terms body by body along with the forces
-  /// (about a tenth of a separate pass), for a stress_sums() after it: the transgranular
-  /// check asks before the step it reads. Once; a stress criterion for bonds always does.
+  /// The same sum for one body (its own forces walked).
+  [[nodiscard]] Eigen::Matrix3d stress_sum(std::uint32_t slot) const;
+  /// The diagonals of stress_sums() (what a mean stress, the trace, reads), each the same
+  /// bits: summed with the forces when the evaluation was asked for them
+  /// (want_stress_sums), otherwise by body. (Not for concurrent calls.)
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& stress_sum_diagonals() const;
+  /// The next force evaluation sums the diagonals of eq. 2.17's sums along with the forces
+  /// (stress_sum_diagonals), for the transgranular check's gate: it asks before the step
+  /// it reads. Once.
   void want_stress_sums() { want_stress_sums_ = true; }
   /// The forces acting on body `slot`, in stress_sums' order (cleared first).
   void forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const;
@@ -648,10 +653,12 @@ class World {
   /// Inside compute_forces, once the contacts and bonds are summed (break_by_stress reads
   /// the stresses from the lists by body).
   bool summed_ = false;
-  /// stress_sums(): the sums, whether they are this evaluation's, whether the next
-  /// evaluation should make them with the forces, and whether this one does.
+  /// stress_sums() and stress_sum_diagonals(): the sums and whether they are this
+  /// evaluation's; whether the next evaluation should sum the diagonals with the forces,
+  /// and whether this one does.
   mutable std::vector<Eigen::Matrix3d> stress_sums_;
-  mutable bool stress_sums_current_ = false;
+  mutable std::vector<Eigen::Vector3d> stress_diagonals_;
+  mutable bool stress_sums_current_ = false, stress_diagonals_current_ = false;
   bool want_stress_sums_ = false, summing_stress_ = false;
   /// Calls f(point, force) (plain doubles) for each force acting on `slot`, in the order of
   /// a walk over contacts() and bonds(); `walls`: whether it may touch a wall.

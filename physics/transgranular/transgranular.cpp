@@ -197,10 +197,10 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
                                                    const FractureParams& params) {
   std::vector<TransgranularEvent> events;
   if (world.body_count() == 0) return events;
-  // Eq. 2.17's sums for every body (summed with the forces when this check asked for them
-  // at its last call, World::want_stress_sums); the forces on a body are gathered only
-  // when its stress passes the gate.
-  const std::vector<Eigen::Matrix3d>& sums = world.stress_sums();
+  // The gate reads a body's mean stress, the trace of eq. 2.17's: from the diagonals of the
+  // sums (summed with the forces when this check asked for them at its last call,
+  // World::want_stress_sums). Past it, the body's whole sum and then its forces.
+  const std::vector<Eigen::Vector3d>& diagonals = world.stress_sum_diagonals();
   // Decide on the state of this step for every body (each on its own, in parallel: the
   // world and the book are only read), then cut, in body order: each thread lists the
   // failing bodies of its blocks of slots, and the lists are merged by slot.
@@ -218,8 +218,16 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
       if (!world.slot_infos()[slot].alive) continue;
       const BodyId id{slot, world.slot_infos()[slot].generation};
       if (!book.knows(id) || !world.owns(slot)) continue;  // one process of several: its own bodies
+      if (params.criterion != GrainCriterion::rankine) {
+        // The sum with its off-diagonal terms left out: the same diagonal, so the same trace.
+        Eigen::Matrix3d on_diagonal = Eigen::Matrix3d::Zero();
+        on_diagonal.diagonal() = diagonals[slot];
+        const double mean = stress_from(world, slot, on_diagonal).trace() / 3.0;
+        if (params.criterion == GrainCriterion::lefm ? !(mean >= params.sigma_f_hyd) : !(mean > params.sigma_f))
+          continue;  // below the gate (eq. 3.22) or the hydrostatic criterion: as assess_with decides
+      }
       std::optional<CrackAssessment> worst;
-      for (const auto& a : assess_with(world, book, id, params, stress_from(world, slot, sums[slot]),
+      for (const auto& a : assess_with(world, book, id, params, stress_from(world, slot, world.stress_sum(slot)),
                                        [&] { return forces_of(world, slot, applied, acting); })) {
         if (a.result.fails && (!worst || a.result.criterion > worst->result.criterion)) worst = a;
       }
