@@ -27,6 +27,7 @@ struct RunOptions {
   /// process of a domain decomposition (parallel::MpiDomain), which gives one answer for any
   /// number of processes.
   int mpi_size = 0;
+  bool timing = false;  ///< --timing: timing.csv, where each step's time goes
 };
 
 /// Builds the specimen, splits every grain into its cleavage slabs and writes the result

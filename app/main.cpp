@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--mesh-format", run.mesh_format, "stl | stl_ascii | obj (overrides the scenario)");
   run_cmd->add_option("--mesh-layout", run.mesh_layout, "scene | per_fragment (overrides the scenario)");
   run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors");
+  run_cmd->add_flag("--timing", run.timing,
+                    "Clock each part of the steps (search, narrow phase, contact and bond laws, ...): "
+                    "DIR/timing.csv and a table at the end");
   run_cmd->add_option("--max-steps", run.max_steps,
                       "Stop the dynamics after this many steps (a quick look; 0: no limit)");
   run_cmd->add_option("--restart", run.restart,
@@ -52,6 +55,7 @@ int main(int argc, char** argv) {
       ->required();
   restart_cmd->add_option("--out,-o", restart.out, "Result folder (default: the checkpoint's folder)");
   restart_cmd->add_flag("--quiet,-q", restart.quiet, "Print only errors");
+  restart_cmd->add_flag("--timing", restart.timing, "As for run: DIR/timing.csv, the restarted steps");
   restart_cmd->add_option("--max-steps", restart.max_steps,
                           "Total step limit (default: the interrupted run's --max-steps)");
   restart_cmd->add_option("--checkpoint-every", restart.checkpoint_every,

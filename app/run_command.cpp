@@ -28,6 +28,7 @@ int run_command(const RunOptions& options) {
   so.quiet = options.quiet;
   so.max_steps = options.max_steps;
   so.checkpoint_every = options.checkpoint_every;
+  so.timing = options.timing;
   so.mesh_format = options.mesh_format;
   so.mesh_layout = options.mesh_layout;
   so.stop_requested = [] { return stop_signal() != 0; };

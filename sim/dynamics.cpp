@@ -284,6 +284,7 @@ class Dynamics::Runner {
           "time_s,step,stage,grain,parent,pieces,plane,nx,ny,nz,x_m,y_m,z_m,mean_stress_Pa,sigma_Pa,"
           "tau_Pa,K_I_Pa_sqrt_m,K_II_Pa_sqrt_m,criterion\n";
     }
+    world_.set_timing(hooks_.timing);
     if (hooks_.domain) {
       // One process of several (mpirun): what the decomposition does not carry yet is refused
       // before anything runs.
@@ -860,7 +861,9 @@ class Dynamics::Runner {
 
   /// The transgranular check of sec. 3.4 on every body; logs each split. Returns how many.
   std::size_t split_grains() {
+    const auto t0 = std::chrono::steady_clock::now();
     const auto events = physics::transgranular_step(world_, *book_, scenario_.fracture.params);
+    if (hooks_.timing) check_seconds_ += seconds_since(t0);
     for (const auto& e : events) {
       std::string pieces;
       for (const auto& l : e.split.pieces) pieces += (pieces.empty() ? "" : " ") + l.path_string();
@@ -1208,7 +1211,29 @@ class Dynamics::Runner {
     io::write_plot_svg(out_ / st.plot, plot);
   }
 
+  /// timing.csv: seconds in each part of the steps since the run (or its restart) began,
+  /// milliseconds a step and share, the transgranular check after them; the summary's table.
+  void write_timing() {
+    const physics::StepTimings& t = world_.timings();
+    const double steps = static_cast<double>(std::max<std::uint64_t>(t.steps, 1));
+    const double total = t.total() + check_seconds_;
+    std::string csv = "part,seconds,ms_per_step,share,steps\n";
+    std::string table = fmt::format("  timing     {} steps clocked, {:.3f} ms a step:", t.steps, 1e3 * total / steps);
+    auto row = [&](const char* name, double seconds) {
+      const double share = total > 0.0 ? seconds / total : 0.0;
+      csv += fmt::format("{},{:.6f},{:.6f},{:.4f},{}\n", name, seconds, 1e3 * seconds / steps, share, t.steps);
+      table += fmt::format("\n             {:<20} {:9.4f} ms/step {:5.1f} %", name, 1e3 * seconds / steps, 100.0 * share);
+    };
+    for (std::size_t k = 0; k < physics::kStepPhases; ++k)
+      row(physics::to_string(static_cast<physics::StepPhase>(k)), t.seconds[k]);
+    if (book_) row("transgranular_check", check_seconds_);
+    csv += fmt::format("total,{:.6f},{:.6f},1,{}\n", total, 1e3 * total / steps, t.steps);
+    if (root_) io::write_file_atomically(out_ / "timing.csv", csv);
+    sum_.timing = table;
+  }
+
   void write_tables() {
+    if (hooks_.timing) write_timing();
     io::write_file_atomically(out_ / "energy.csv", energy_);
     io::write_file_atomically(out_ / "walls.csv", walls_);
     io::write_file_atomically(out_ / "load_displacement.csv", loads_);
@@ -1245,6 +1270,7 @@ class Dynamics::Runner {
   fs::path out_;
   bool quiet_;
   bool root_ = true;  // the process that prints (the first of several)
+  double check_seconds_ = 0.0;  // RunHooks::timing: the transgranular checks' wall time
   double last_kinetic_ = 0.0;       // the last history row's, for the progress line
   std::size_t last_contacts_ = 0;
   std::uint64_t max_steps_;

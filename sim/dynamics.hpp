@@ -82,6 +82,9 @@ struct RunHooks {
   /// the run attaches the world to it and reads the whole world's energies, contacts and
   /// events through it. Null: the whole world in this process.
   physics::Domain* domain = nullptr;
+  /// Clock the parts of every step (World::set_timing) and the transgranular check: the run
+  /// writes timing.csv and the summary carries its table (`cleave run --timing`).
+  bool timing = false;
 };
 
 struct DynamicsSummary {
@@ -97,6 +100,8 @@ struct DynamicsSummary {
   bool settled = false;            ///< KE fell below settle_ratio x released energy
   int frames = 0;
   double wall_seconds = 0.0;
+  /// RunHooks::timing: where the steps' time went, one line a part (as timing.csv).
+  std::string timing;
   std::vector<StageSummary> stages;  ///< one per [[stage]] (empty for a plain run)
   std::size_t bonds = 0;             ///< bonds made at bond initialisation
   physics::BondCounts bond_counts;

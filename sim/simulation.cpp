@@ -307,6 +307,7 @@ void Simulation::State::make_dynamics() {
   if (hooks.checkpoint_every > 0) hooks.on_checkpoint = save;
   hooks.on_interrupt = save;
   hooks.domain = options.domain;
+  hooks.timing = options.timing;
   std::optional<RunResume> resume;
   if (checkpoint) {
     resume.emplace(RunResume{std::move(checkpoint->world), std::move(checkpoint->book),
@@ -341,6 +342,7 @@ RunReport Simulation::State::finish() {
       say(fmt::format("  dynamics   {} steps, t = {:.4g} s, {} frames -> {}/{} ({:.1f} s, {:.1f} us/step)",
                       d.steps, d.time, d.frames, out.string(), files, d.wall_seconds,
                       1e6 * d.wall_seconds / std::max<double>(1, d.steps)));
+      if (!d.timing.empty()) say(d.timing + "\n             (" + (out / "timing.csv").string() + ")");
       if (scenario.stages.empty()) {
         say(fmt::format("             {}: kinetic energy {:.3g} J = {:.2e} of the {:.3g} J released; "
                         "largest overlap {:.3g} um ({:.1f}% of the dilation radius); lowest point "

@@ -44,6 +44,9 @@ struct SimulationOptions {
   std::function<std::string()> stop_reason;
   /// One process of several (RunHooks::domain); the caller keeps it alive.
   physics::Domain* domain = nullptr;
+  /// Clock the parts of every step: timing.csv in the result folder, its table in the
+  /// summary (RunHooks::timing).
+  bool timing = false;
 };
 
 /// How a run ended.

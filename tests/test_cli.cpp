@@ -209,6 +209,51 @@ TEST_F(CleaveCli, EveryShippedScenarioParsesAndTheDemoRuns) {
   }
 }
 
+TEST_F(CleaveCli, TimingClocksEveryPartOfTheStepsAndTheirSumIsTheTotal) {
+  // `cleave run --timing` on the Brazilian fracture scenario (bonds, walls, the
+  // transgranular check every step): timing.csv lists each part of the step and the check,
+  // the steps it clocked (the run's), and its parts add up to its total; without the flag
+  // there is no timing.csv.
+  const std::filesystem::path scenario = std::filesystem::path(CLEAVE_SOURCE_DIR) / "scenarios/brazilian_fracture.toml";
+  const std::filesystem::path out = dir_ / "timed", plain = dir_ / "plain";
+  const Outcome run = run_cleave("run --timing --max-steps 40 " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find("timing"), std::string::npos) << run.output;
+  std::ifstream in(out / "timing.csv");
+  ASSERT_TRUE(in) << "no timing.csv";
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "part,seconds,ms_per_step,share,steps");
+  std::vector<std::string> parts;
+  double sum = 0.0, total = -1.0;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string part, seconds, ms, share, steps;
+    std::getline(row, part, ',');
+    std::getline(row, seconds, ',');
+    std::getline(row, ms, ',');
+    std::getline(row, share, ',');
+    std::getline(row, steps, ',');
+    EXPECT_EQ(steps, "40") << line;
+    EXPECT_GE(std::stod(seconds), 0.0) << line;
+    EXPECT_LE(std::stod(share), 1.0) << line;
+    if (part == "total") {
+      total = std::stod(seconds);
+    } else {
+      parts.push_back(part);
+      sum += std::stod(seconds);
+    }
+  }
+  const std::vector<std::string> expected = {"kick_drift", "poses", "pair_search", "plan", "narrow",
+                                             "walls", "contact_law", "contact_sums", "bond_law", "bond_sums",
+                                             "damping", "closing_kick", "transgranular_check"};
+  EXPECT_EQ(parts, expected);
+  ASSERT_GT(total, 0.0);
+  EXPECT_NEAR(sum, total, 1e-5);  // each part rounded to a microsecond
+  ASSERT_EQ(run_cleave("run -q --max-steps 5 " + scenario.string() + " --out " + plain.string()).code, 0);
+  EXPECT_FALSE(std::filesystem::exists(plain / "timing.csv"));
+}
+
 TEST_F(CleaveCli, StlExportsPerFragmentAndRefusesVoxelCheckOfAnUnnamedScene) {
   const fs::path per = dir_ / "per";
   ASSERT_EQ(run_cleave("run " + write("s.toml", kSmallBox).string() +
