@@ -290,37 +290,52 @@ TEST(BondedPair, CompressionAddsTheContactSpringsToTheBond) {
   EXPECT_NEAR(w.state(pair.b).f.x(), contact + k_bn * delta, 1e-3 * k_bn * delta);
 }
 
+namespace {
+
+/// A 30 x 20 bonded honeycomb block (600 prisms, over 1700 bonds: the parallel paths run)
+/// on `threads` threads, its left column held and its right column pulled along x at
+/// 0.05 m/s (10 nm a step: bonds break within 300 steps). `top`: the highest centroid's y.
+World pulled_block(int threads, double& top) {
+  WorldSettings ws;
+  ws.gravity.setZero();
+  ws.dt = 2e-7;
+  ws.particle_particle = contact_law();
+  ws.particle_wall = contact_law();
+  ws.local_damping = 0.3;
+  ws.threads = threads;
+  World world(ws);
+  const RigidShape shape = prism();
+  const auto sh = world.add_shape(shape);
+  const double pitch = kFlat + 2.0 * kDilation - 2e-6;
+  std::vector<BodyId> left, right;
+  top = -1e9;
+  for (int j = 0; j < 20; ++j) {
+    for (int i = 0; i < 30; ++i) {
+      const Eigen::Vector3d x((i + 0.5 * (j % 2)) * pitch, j * pitch * std::sqrt(3.0) / 2.0, 0);
+      const BodyId id = world.add_body(sh, kRho, x, shape.orientation_for());
+      if (i == 0) left.push_back(id);
+      if (i == 29) right.push_back(id);
+      top = std::max(top, x.y());
+    }
+  }
+  world.initialise_bonds(table_2_5(), 0.0);
+  for (BodyId id : left) world.set_fixed(id, true);
+  for (BodyId id : right) {
+    world.set_fixed(id, true);
+    world.state(id).v = {0.05, 0.0, 0.0};
+  }
+  return world;
+}
+
+}  // namespace
+
 TEST(BondedSpecimen, BitIdenticalForOneAndTwoThreadsUntilAndAfterBondsBreak) {
   // A 30 x 20 honeycomb block (600 prisms, over 1700 bonds: the parallel paths run), its
   // left column held and its right column pulled apart until bonds break; positions,
   // velocities and the break log must agree bit for bit between 1 and 2 threads.
   auto simulate = [](int threads) {
-    WorldSettings ws;
-    ws.gravity.setZero();
-    ws.dt = 2e-7;
-    ws.particle_particle = contact_law();
-    ws.particle_wall = contact_law();
-    ws.local_damping = 0.3;
-    ws.threads = threads;
-    World world(ws);
-    const RigidShape shape = prism();
-    const auto sh = world.add_shape(shape);
-    const double pitch = kFlat + 2.0 * kDilation - 2e-6;
-    std::vector<BodyId> left, right;
-    for (int j = 0; j < 20; ++j) {
-      for (int i = 0; i < 30; ++i) {
-        const Eigen::Vector3d x((i + 0.5 * (j % 2)) * pitch, j * pitch * std::sqrt(3.0) / 2.0, 0);
-        const BodyId id = world.add_body(sh, kRho, x, shape.orientation_for());
-        if (i == 0) left.push_back(id);
-        if (i == 29) right.push_back(id);
-      }
-    }
-    world.initialise_bonds(table_2_5(), 0.0);
-    for (BodyId id : left) world.set_fixed(id, true);
-    for (BodyId id : right) {
-      world.set_fixed(id, true);
-      world.state(id).v = {0.05, 0.0, 0.0};  // 10 nm per step: bonds break within 300 steps
-    }
+    double top = 0.0;
+    World world = pulled_block(threads, top);
     for (int i = 0; i < 300; ++i) world.step();
     return world;
   };
@@ -503,33 +518,9 @@ TEST(GrainStressSums, ByBodyGiveTheBitsOfAWalkOverTheContactRecordsAndBonds) {
   // give every slot the bits of a walk over contacts() and bonds(), on 1 and 2 threads,
   // and after a wall is added (lists stale: the records themselves).
   for (const int threads : {1, 2}) {
-    WorldSettings ws;
-    ws.gravity.setZero();
-    ws.dt = 2e-7;
-    ws.particle_particle = contact_law();
-    ws.particle_wall = contact_law();
-    ws.local_damping = 0.3;
-    ws.threads = threads;
-    World world(ws);
-    const RigidShape shape = prism();
-    const auto sh = world.add_shape(shape);
+    double top = 0.0;
+    World world = pulled_block(threads, top);
     const double pitch = kFlat + 2.0 * kDilation - 2e-6;
-    std::vector<BodyId> right;
-    double top = -1e9;
-    for (int j = 0; j < 20; ++j) {
-      for (int i = 0; i < 30; ++i) {
-        const Eigen::Vector3d x((i + 0.5 * (j % 2)) * pitch, j * pitch * std::sqrt(3.0) / 2.0, 0);
-        const BodyId id = world.add_body(sh, kRho, x, shape.orientation_for());
-        if (i == 0) world.set_fixed(id, true);
-        if (i == 29) right.push_back(id);
-        top = std::max(top, x.y());
-      }
-    }
-    world.initialise_bonds(table_2_5(), 0.0);
-    for (BodyId id : right) {
-      world.set_fixed(id, true);
-      world.state(id).v = {0.05, 0.0, 0.0};
-    }
     // A platen touching the top row's dilated corners, closing on them.
     world.add_wall(Wall::platen("top", {15 * pitch, top + kSide + kDilation - 2e-6, 0}, {0, -1, 0}, {1, 0, 0},
                                 20 * pitch, kThick));

@@ -538,9 +538,7 @@ void World::set_roles(std::vector<Role> roles) {
 
 std::vector<World::WallForceAt> World::wall_forces() const {
   std::vector<WallForceAt> out;
-  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;  // the walls' lists follow
-  const std::size_t begin = chunks < part_start_.size() ? part_start_[chunks] : pending_count();
-  for_pending(begin, pending_count(), [&](std::size_t k, const Pending& p) {
+  for_pending(wall_contacts_begin(), pending_count(), [&](std::size_t k, const Pending& p) {
     if ((p.key.a & kWallFlag) != 0) out.push_back({p.key.a & ~kWallFlag, p.key.b, k, forces_[k].force});
   });
   return out;
@@ -978,8 +976,7 @@ void World::sum_forces(int nt) {
   if (body_pairs_stale_ || body_pair_start_.size() != states_.size() + 1) list_body_pairs();
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   const std::size_t slots = states_.size();
-  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
-  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
+  const std::size_t wall_begin = wall_contacts_begin();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const Block block = thread_block(slots);  // captured below: not a structured binding
@@ -1169,9 +1166,13 @@ bool World::by_body_current() const {
          (bonds_.empty() || (!body_bonds_stale_ && body_bond_start_.size() == states_.size() + 1));
 }
 
+std::size_t World::wall_contacts_begin() const {
+  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
+  return chunks < part_start_.size() ? part_start_[chunks] : pending_count();
+}
+
 template <class F>
-void World::for_forces_on(std::uint32_t slot, std::size_t wall_begin, std::size_t wall_end, bool walls,
-                          F&& f) const {
+void World::for_forces_on(std::uint32_t slot, F&& f) const {
   // Contacts with other bodies, pair by pair in the pairs' order (the contact order), then
   // wall contacts (after every pair's in the list), then bonds in bond order: the order of
   // a walk over contacts() and bonds(). A's side: the force negated; B's: its lever from
@@ -1192,8 +1193,8 @@ void World::for_forces_on(std::uint32_t slot, std::size_t wall_begin, std::size_
       }
     }
   }
-  if (walls) {
-    for_pending(wall_begin, wall_end, [&](std::size_t k, const Pending& p) {
+  if (wall_reach_.size() == states_.size() && wall_reach_[slot] != 0) {  // it may touch a wall
+    for_pending(wall_contacts_begin(), pending_count(), [&](std::size_t k, const Pending& p) {
       if (p.key.b == slot) f(v3(p.contact.point), v3(forces_[k].force));
     });
   }
@@ -1246,35 +1247,31 @@ const std::vector<Eigen::Matrix3d>& World::stress_sums() const {
     }
     return out;
   }
-  const std::size_t n = pending_count(), slots = states_.size();
-  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
-  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
+  sum_by_body<StressSum>(out);
+  stress_sums_current_ = true;
+  return out;
+}
+
+template <class Sum, class Out>
+void World::sum_by_body(std::vector<Out>& out) const {
+  const std::size_t slots = states_.size();
   const int nt = static_cast<std::ptrdiff_t>(slots) < kParallelMin ? 1 : thread_count(settings_.threads);
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
   for (std::size_t i = 0; i < slots; ++i) {
     if (!infos_[i].alive) continue;
     const V3 x = v3(states_[i].x);
-    // sum(r, c) += arm(r) force(c), each term rounded as Eigen's outer product and sum do.
-    StressSum m;
-    const auto slot = static_cast<std::uint32_t>(i);
-    for_forces_on(slot, wall_begin, n, wall_reach_.size() == slots && wall_reach_[i] != 0,
-                  [&](const V3& point, const V3& force) { m.add(point - x, force); });
+    Sum m;
+    for_forces_on(static_cast<std::uint32_t>(i), [&](const V3& point, const V3& force) { m.add(point - x, force); });
     m.store(out[i]);
   }
-  stress_sums_current_ = true;
-  return out;
 }
 
 Eigen::Matrix3d World::stress_sum(std::uint32_t slot) const {
   if (slot >= states_.size() || !infos_[slot].alive) return Eigen::Matrix3d::Zero();
   if (!by_body_current()) return stress_sums()[slot];
-  const std::size_t n = pending_count();
-  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
-  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
   const V3 x = v3(states_[slot].x);
   StressSum m;
-  for_forces_on(slot, wall_begin, n, wall_reach_.size() == states_.size() && wall_reach_[slot] != 0,
-                [&](const V3& point, const V3& force) { m.add(point - x, force); });
+  for_forces_on(slot, [&](const V3& point, const V3& force) { m.add(point - x, force); });
   Eigen::Matrix3d out;
   m.store(out);
   return out;
@@ -1288,19 +1285,7 @@ const std::vector<Eigen::Vector3d>& World::stress_sum_diagonals() const {
     for (std::size_t i = 0; i < full.size(); ++i) stress_diagonals_[i] = full[i].diagonal();
     return stress_diagonals_;
   }
-  const std::size_t n = pending_count(), slots = states_.size();
-  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
-  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
-  const int nt = static_cast<std::ptrdiff_t>(slots) < kParallelMin ? 1 : thread_count(settings_.threads);
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
-  for (std::size_t i = 0; i < slots; ++i) {
-    if (!infos_[i].alive) continue;
-    const V3 x = v3(states_[i].x);
-    StressDiagonal m;
-    for_forces_on(static_cast<std::uint32_t>(i), wall_begin, n, wall_reach_.size() == slots && wall_reach_[i] != 0,
-                  [&](const V3& point, const V3& force) { m.add(point - x, force); });
-    m.store(stress_diagonals_[i]);
-  }
+  sum_by_body<StressDiagonal>(stress_diagonals_);
   stress_diagonals_current_ = true;
   return stress_diagonals_;
 }
@@ -1320,11 +1305,7 @@ void World::forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const 
     }
     return;
   }
-  const std::size_t n = pending_count();
-  const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
-  const std::size_t wall_begin = chunks < part_start_.size() ? part_start_[chunks] : n;
-  for_forces_on(slot, wall_begin, n, wall_reach_.size() == states_.size() && wall_reach_[slot] != 0,
-                [&](const V3& point, const V3& force) { out.push_back({eigen(point), eigen(force)}); });
+  for_forces_on(slot, [&](const V3& point, const V3& force) { out.push_back({eigen(point), eigen(force)}); });
 }
 
 std::vector<Eigen::Matrix3d> World::body_stresses() const {

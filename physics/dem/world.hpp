@@ -661,9 +661,15 @@ class World {
   mutable bool stress_sums_current_ = false, stress_diagonals_current_ = false;
   bool want_stress_sums_ = false, summing_stress_ = false;
   /// Calls f(point, force) (plain doubles) for each force acting on `slot`, in the order of
-  /// a walk over contacts() and bonds(); `walls`: whether it may touch a wall.
+  /// a walk over contacts() and bonds() (the lists by body current).
   template <class F>
-  void for_forces_on(std::uint32_t slot, std::size_t wall_begin, std::size_t wall_end, bool walls, F&& f) const;
+  void for_forces_on(std::uint32_t slot, F&& f) const;
+  /// Where the walls' contacts start in the contact list (they follow every pair's).
+  [[nodiscard]] std::size_t wall_contacts_begin() const;
+  /// Sum::add(arm, force) over each live body's forces, in parallel, into out[slot]
+  /// (Sum::store); stress_sums and stress_sum_diagonals.
+  template <class Sum, class Out>
+  void sum_by_body(std::vector<Out>& out) const;
 };
 
 }  // namespace cleave::physics
