@@ -964,6 +964,21 @@ void World::list_body_pairs() {
   body_pairs_stale_ = false;
 }
 
+template <class F>
+[[gnu::always_inline]] inline void World::for_pair_contacts_of(std::size_t slot, F&& f) const {
+  // A pair's contacts are consecutive in its chunk's list, from pair_first_ to the next
+  // pair's first (or the list's end).
+  for (std::uint32_t e = body_pair_start_[slot]; e < body_pair_start_[slot + 1]; ++e) {
+    const std::uint32_t p = body_pairs_[e] >> 1;
+    const bool is_b = (body_pairs_[e] & 1u) != 0;
+    const std::size_t chunk = p / kPairChunk;
+    const std::vector<Pending>& list = chunk_pending_[chunk];
+    const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
+    const std::size_t base = part_start_[chunk];
+    for (std::size_t j = pair_first_[p]; j < stop; ++j) f(is_b, list[j], base + j);
+  }
+}
+
 void World::sum_forces(int nt) {
   // Every body's force and torque are summed in contact order, the same for any number of
   // threads. A body's contacts with other bodies come first in the list, pair by pair in the
@@ -994,28 +1009,20 @@ void World::sum_forces(int nt) {
       const V3 x = v3(s.x);
       V3 f = v3(s.f), tau = v3(s.tau);
       StressDiagonal m;
-      for (std::uint32_t e = first; e < last; ++e) {
-        const std::uint32_t p = body_pairs_[e] >> 1;
-        const bool is_b = (body_pairs_[e] & 1u) != 0;
-        const std::size_t chunk = p / kPairChunk;
-        const std::vector<Pending>& list = chunk_pending_[chunk];
-        const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
-        const std::size_t base = part_start_[chunk];
-        for (std::size_t j = pair_first_[p]; j < stop; ++j) {
-          const ContactForce& fc = forces_[base + j];
-          const V3 force = v3(fc.force), moment = v3(fc.moment), point = v3(list[j].contact.point);
-          if (is_b) {
-            f = f + force;
-            const V3 arm = contact_shift_.empty() ? point - x : (point - v3(contact_shift_[base + j])) - x;
-            tau = tau + (cross(arm, force) + moment);
-            if constexpr (kStress) m.add(arm, force);
-          } else {
-            f = f - force;
-            tau = tau - (cross(point - x, force) + moment);
-            if constexpr (kStress) m.add(point - x, -1.0 * force);
-          }
+      for_pair_contacts_of(i, [&](bool is_b, const Pending& c, std::size_t k) {
+        const ContactForce& fc = forces_[k];
+        const V3 force = v3(fc.force), moment = v3(fc.moment), point = v3(c.contact.point);
+        if (is_b) {
+          f = f + force;
+          const V3 arm = contact_shift_.empty() ? point - x : (point - v3(contact_shift_[k])) - x;
+          tau = tau + (cross(arm, force) + moment);
+          if constexpr (kStress) m.add(arm, force);
+        } else {
+          f = f - force;
+          tau = tau - (cross(point - x, force) + moment);
+          if constexpr (kStress) m.add(point - x, -1.0 * force);
         }
-      }
+      });
       s.f = eigen(f);
       s.tau = eigen(tau);
       if constexpr (kStress) m.store(stress_diagonals_[i]);
@@ -1177,22 +1184,14 @@ void World::for_forces_on(std::uint32_t slot, F&& f) const {
   // wall contacts (after every pair's in the list), then bonds in bond order: the order of
   // a walk over contacts() and bonds(). A's side: the force negated; B's: its lever from
   // its image.
-  for (std::uint32_t e = body_pair_start_[slot]; e < body_pair_start_[slot + 1]; ++e) {
-    const std::uint32_t p = body_pairs_[e] >> 1;
-    const bool is_b = (body_pairs_[e] & 1u) != 0;
-    const std::size_t chunk = p / kPairChunk;
-    const std::vector<Pending>& list = chunk_pending_[chunk];
-    const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
-    const std::size_t base = part_start_[chunk];
-    for (std::size_t j = pair_first_[p]; j < stop; ++j) {
-      const V3 force = v3(forces_[base + j].force), point = v3(list[j].contact.point);
-      if (is_b) {
-        f(contact_shift_.empty() ? point : point - v3(contact_shift_[base + j]), force);
-      } else {
-        f(point, -1.0 * force);
-      }
+  for_pair_contacts_of(slot, [&](bool is_b, const Pending& c, std::size_t k) {
+    const V3 force = v3(forces_[k].force), point = v3(c.contact.point);
+    if (is_b) {
+      f(contact_shift_.empty() ? point : point - v3(contact_shift_[k]), force);
+    } else {
+      f(point, -1.0 * force);
     }
-  }
+  });
   if (wall_reach_.size() == states_.size() && wall_reach_[slot] != 0) {  // it may touch a wall
     for_pending(wall_contacts_begin(), pending_count(), [&](std::size_t k, const Pending& p) {
       if (p.key.b == slot) f(v3(p.contact.point), v3(forces_[k].force));

@@ -664,6 +664,10 @@ class World {
   /// a walk over contacts() and bonds() (the lists by body current).
   template <class F>
   void for_forces_on(std::uint32_t slot, F&& f) const;
+  /// Calls f(is_b, contact, k) for each contact of body `slot` with another body, pair by
+  /// pair in the pairs' order (k: its index in the contact list; is_b: the body is B).
+  template <class F>
+  void for_pair_contacts_of(std::size_t slot, F&& f) const;
   /// Where the walls' contacts start in the contact list (they follow every pair's).
   [[nodiscard]] std::size_t wall_contacts_begin() const;
   /// Sum::add(arm, force) over each live body's forces, in parallel, into out[slot]
