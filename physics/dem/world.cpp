@@ -351,10 +351,6 @@ struct StressSum {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) m[3 * r + c] += a[r] * g[c];
   }
-  void load(const Eigen::Matrix3d& s) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) m[3 * r + c] = s(r, c);
-  }
   void store(Eigen::Matrix3d& s) const {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) s(r, c) = m[3 * r + c];
