@@ -1600,16 +1600,19 @@ void World::bond_forces(int nt) {
     };
     // What the bond adds to each body, for the sum below (the same arithmetic the sum did
     // from the bond itself): a small record read by body, instead of the large bond.
+    auto fill = [&](BondPush& out, const V3& point, const V3& force, const V3& moment, const V3& shift,
+                    const V3& xa, const V3& xb) {
+      out.force = force;
+      out.point = point;
+      out.torque_b = cross((point - shift) - xb, force) + moment;
+      out.torque_a = cross(point - xa, force) + moment;
+    };
     auto push = [&](std::size_t k) {
       const Bond& bd = bonds_[k];
       BondPush& out = bond_push_[k];
       out.live = bd.intact();
-      if (!out.live) return;
-      const V3 force = v3(bd.force), moment = v3(bd.moment), point = v3(bd.point);
-      out.force = force;
-      out.point = point;
-      out.torque_b = cross((point - v3(bd.shift)) - v3(states_[bd.b].x), force) + moment;
-      out.torque_a = cross(point - v3(states_[bd.a].x), force) + moment;
+      if (out.live)
+        fill(out, v3(bd.point), v3(bd.force), v3(bd.moment), v3(bd.shift), v3(states_[bd.a].x), v3(states_[bd.b].x));
     };
     BondConstants constants;
     double constants_radius = std::numeric_limits<double>::quiet_NaN();
@@ -1692,12 +1695,7 @@ void World::bond_forces(int nt) {
       // push(k) from the values at hand (the same operands, so the same bits).
       BondPush& out = bond_push_[k];
       out.live = bd.intact();
-      if (!out.live) continue;
-      const V3 force = v3(r.force), moment = v3(r.moment);
-      out.force = force;
-      out.point = point;
-      out.torque_b = cross((point - v3(bd.shift)) - v3(sb.x), force) + moment;
-      out.torque_a = cross(point - xa, force) + moment;
+      if (out.live) fill(out, point, v3(r.force), v3(r.moment), v3(bd.shift), xa, v3(sb.x));
     }
   }
   // Log the breaks in bond order.
