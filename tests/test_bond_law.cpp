@@ -8,6 +8,7 @@
 
 #include "io/sweep.hpp"
 #include "physics/bonds/bond_law.hpp"
+#include "physics/bonds/bond_pair.hpp"
 #include "eigen_reference.hpp"
 
 using namespace cleave::physics;
@@ -231,5 +232,124 @@ TEST(BondLaw, ScalarFormGivesEigensBits) {
     ++failures[static_cast<int>(want.failure)];
   }
   // Intact bonds and every failure mode were met.
+  for (int mode = 0; mode < 5; ++mode) EXPECT_GT(failures[mode], 100) << "mode " << mode;
+}
+
+namespace {
+
+/// One bond as World::bond_forces evaluates it one at a time, written with Eigen's own
+/// operations (its bits): the reference bond_pair's lanes must give to the bit.
+struct OneBond {
+  Eigen::Vector3d point, normal, force, moment, torque_b, torque_a;
+  BondResult result;
+};
+OneBond one_bond(const BondLane& l, const BondParams& p, const BondSection& s, double dt) {
+  OneBond o;
+  const Eigen::Vector3d xb3 = *l.xb + *l.shift;
+  const Eigen::Vector3d pa = *l.xa + *l.qa * *l.arm_a, pb = xb3 + *l.qb * *l.arm_b;
+  o.point = 0.5 * (pa + pb);
+  o.normal = (*l.qa * *l.normal_a + *l.qb * *l.normal_b).normalized();
+  const Eigen::Vector3d velocity = (*l.vb + l.wb->cross(o.point - xb3)) - (*l.va + l.wa->cross(o.point - *l.xa));
+  o.result = bond_force(p, *l.constants, s, o.normal, velocity, *l.wb - *l.wa, *l.state, dt);
+  o.force = o.result.force;
+  o.moment = o.result.moment;
+  if (o.result.failure == BondFailure::none) {
+    o.torque_b = ((o.point - *l.shift) - *l.xb).cross(o.force) + o.moment;
+    o.torque_a = (o.point - *l.xa).cross(o.force) + o.moment;
+  } else {
+    o.torque_a = o.torque_b = Eigen::Vector3d::Zero();
+  }
+  return o;
+}
+
+}  // namespace
+
+// bond_pair (two bonds in one SSE2 register, World::bond_forces' common case) against the
+// bonds evaluated one at a time with Eigen: random poses, motions, loads and strengths,
+// unloaded springs (into_plane's early out) and every failure mode; each lane to the bit.
+TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-9.0, -3.0), f(0.5, 1.5);
+  auto vec = [&](double scale) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    return Eigen::Vector3d(x * scale, y * scale, z * scale);
+  };
+  auto turn = [&] {
+    const double w = u(rng), x = u(rng), y = u(rng), z = u(rng);
+    return Eigen::Quaterniond(w, x, y, z).normalized();
+  };
+  int failures[5] = {0, 0, 0, 0, 0};
+  for (int trial = 0; trial < 10000; ++trial) {
+    struct Side {
+      Eigen::Vector3d xa, va, wa, xb, vb, wb, shift, arm_a, arm_b, normal_a, normal_b;
+      Eigen::Quaterniond qa, qb;
+      BondState state;
+      BondConstants constants;
+      BondLane lane() {
+        return {&xa, &va, &wa, &qa, &xb, &vb, &wb, &qb, &shift, &arm_a, &arm_b, &normal_a, &normal_b, &state, &constants};
+      }
+    } side[2];
+    for (Side& b : side) {
+      b.xa = vec(5e-3);
+      b.xb = b.xa + vec(1e-3);
+      b.shift = trial % 4 == 1 ? vec(1e-2) : Eigen::Vector3d::Zero();
+      b.qa = turn();
+      b.qb = turn();
+      const double speed = std::pow(10.0, e(rng)) / kDt, spin = std::pow(10.0, e(rng) + 3.0) / kDt;
+      b.va = vec(speed);
+      b.vb = vec(speed);
+      b.wa = vec(spin);
+      b.wb = vec(spin);
+      b.arm_a = vec(0.5e-3);
+      b.arm_b = vec(0.5e-3);
+      b.normal_a = vec(1.0).normalized();
+      b.normal_b = b.qb.conjugate() * (b.qa * b.normal_a + vec(0.1)).normalized();
+      if (trial % 3 != 0) {  // a third start unloaded (zero springs)
+        b.state.normal = 1e-5 * u(rng);
+        b.state.shear = vec(2e-5 * std::abs(u(rng)));
+        b.state.bending = vec(2e-10 * std::abs(u(rng)));
+        b.state.torsion = 4e-10 * u(rng);
+      }
+      // Each bond its own strengths (World's BondParams times Bond::strength) half the time.
+      BondParams p = kParams;
+      if (trial % 2 == 0) {
+        const double factor = f(rng);
+        p.tbn *= factor;
+        p.tbs *= factor;
+      }
+      b.constants = bond_constants(p, kSection);
+    }
+    Side ref[2] = {side[0], side[1]};
+    OneBond want[2];
+    for (int i = 0; i < 2; ++i) want[i] = one_bond(ref[i].lane(), kParams, kSection, kDt);
+    const BondLane in[2] = {side[0].lane(), side[1].lane()};
+    BondLaneResult got[2];
+    bond_pair(in, got, kDt);
+    for (int i = 0; i < 2; ++i) {
+      const OneBond& w = want[i];
+      const BondLaneResult& g = got[i];
+      ASSERT_EQ(g.failure, w.result.failure) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(eigen(g.point), w.point)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(eigen(g.normal), w.normal)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(eigen(g.force), w.force)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(eigen(g.moment), w.moment)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(eigen(g.torque_b), w.torque_b)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(eigen(g.torque_a), w.torque_a)) << trial << " lane " << i;
+      // The state after the step (reset when it broke) and the loads that broke it.
+      const BondState &gs = side[i].state, &ws = ref[i].state;
+      ASSERT_EQ(gs.broken, ws.broken) << trial;
+      ASSERT_TRUE(same_bits(gs.shear, ws.shear) && same_bits(gs.bending, ws.bending)) << trial << " lane " << i;
+      ASSERT_EQ(std::memcmp(&gs.normal, &ws.normal, sizeof(double)), 0) << trial;
+      ASSERT_EQ(std::memcmp(&gs.torsion, &ws.torsion, sizeof(double)), 0) << trial;
+      if (w.result.failure != BondFailure::none) {
+        const BondState &ga = g.at_failure, &wa = w.result.at_failure;
+        ASSERT_TRUE(same_bits(ga.shear, wa.shear) && same_bits(ga.bending, wa.bending)) << trial;
+        ASSERT_EQ(std::memcmp(&ga.normal, &wa.normal, sizeof(double)), 0) << trial;
+        ASSERT_EQ(std::memcmp(&ga.torsion, &wa.torsion, sizeof(double)), 0) << trial;
+      }
+      ++failures[static_cast<int>(w.result.failure)];
+    }
+  }
+  // Intact bonds and every failure mode were met, in both lanes together.
   for (int mode = 0; mode < 5; ++mode) EXPECT_GT(failures[mode], 100) << "mode " << mode;
 }

@@ -85,8 +85,10 @@ struct BondState {
   Eigen::Vector3d shear = Eigen::Vector3d::Zero();    ///< F_bs
   Eigen::Vector3d bending = Eigen::Vector3d::Zero();  ///< M_br
   double torsion = 0.0;                               ///< M_bt about the normal
-  CohesiveState cohesive;  ///< the cohesive law's phase and history (eqs 21, 33)
   bool broken = false;
+  /// The cohesive law's phase and history (eqs 21, 33); last, out of the bonded-particle
+  /// law's way (World::bond_forces reads the fields above every step).
+  CohesiveState cohesive;
 };
 
 enum class BondFailure { none, tension, shear, bending, torsion };

@@ -1,4 +1,5 @@
 #include "physics/dem/world.hpp"
+#include "physics/bonds/bond_pair.hpp"
 #include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
@@ -1616,7 +1617,65 @@ void World::bond_forces(int nt) {
     };
     BondConstants constants;
     double constants_radius = std::numeric_limits<double>::quiet_NaN();
+    // Eqs 2.10, 2.11 and 2.15's constants of a bond of the bonded-particle law: the run's
+    // (made again when the section changes) or its own strengths'.
+    auto constants_of = [&](const Bond& bd) -> BondConstants {
+      if (bd.strength != 1.0) {
+        BondParams own = base;
+        own.tbn *= bd.strength;
+        own.tbs *= bd.strength;
+        own.sigma_c *= bd.strength;
+        return bond_constants(own, bd.section);
+      }
+      if (!(bd.section.radius == constants_radius)) {
+        constants = bond_constants(base, bd.section);
+        constants_radius = bd.section.radius;
+      }
+      return constants;
+    };
+    // Two intact bonds side by side of the plain bonded-particle law go through bond_pair
+    // (bond_pair.hpp: both in one SSE2 register, the bits of the loop below).
+    static const Eigen::Vector3d kNoShift = Eigen::Vector3d::Zero();
+    auto pair = [&](std::size_t k) {
+      const BondConstants c[2] = {constants_of(bonds_[k]), constants_of(bonds_[k + 1])};
+      BondLane in[2];
+      for (int i = 0; i < 2; ++i) {
+        Bond& bd = bonds_[k + static_cast<std::size_t>(i)];
+        if (cell_on_) bd.shift = cell_.shift(bd.image);
+        const BodyState& sa = states_[bd.a];
+        const BodyState& sb = states_[bd.b];
+        in[i] = {&sa.x, &sa.v, &sa.w, &sa.q, &sb.x, &sb.v, &sb.w, &sb.q, cell_on_ ? &bd.shift : &kNoShift,
+                 &bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.state, &c[i]};
+      }
+      BondLaneResult r[2];
+      bond_pair(in, r, settings_.dt);
+      for (std::size_t i = 0; i < 2; ++i) {
+        Bond& bd = bonds_[k + i];
+        bd.point = eigen(r[i].point);
+        bd.normal = eigen(r[i].normal);
+        bd.force = eigen(r[i].force);
+        bd.moment = eigen(r[i].moment);
+        BondPush& out = bond_push_[k + i];
+        if (r[i].failure != BondFailure::none) {
+          failed.push_back({k + i, r[i].failure, r[i].at_failure});
+          out.live = false;
+          continue;
+        }
+        out.live = true;
+        out.force = r[i].force;
+        out.point = r[i].point;
+        out.torque_b = r[i].torque_b;
+        out.torque_a = r[i].torque_a;
+      }
+    };
+    const bool plain = base.law == BondLaw::bonded_particle && !thermal_on_ && !(cell_on_ && moving_cell_) &&
+                       roles_.empty();
     for (std::size_t k = block.begin; k < block.end; ++k) {
+      if (plain && k + 1 < block.end && bonds_[k].intact() && bonds_[k + 1].intact()) {
+        pair(k);
+        ++k;
+        continue;
+      }
       Bond& bd = bonds_[k];
       if (!roles_.empty()) {
         // One process of a decomposition evaluates the bonds of the bodies it owns (those
@@ -1641,8 +1700,9 @@ void World::bond_forces(int nt) {
       }
       // B's centroid, or its image's in a periodic cell (shift zero without one).
       if (cell_on_) bd.shift = cell_.shift(bd.image);
+      const V3 shift = cell_on_ ? v3(bd.shift) : V3{0.0, 0.0, 0.0};  // (not the record's line)
       // In plain doubles (vec3.hpp: Eigen's bits, without its stalls).
-      const V3 xa = v3(sa.x), xb3 = v3(sb.x) + v3(bd.shift);
+      const V3 xa = v3(sa.x), xb3 = v3(sb.x) + shift;
       const V3 pa = xa + rotated(sa.q, v3(bd.arm_a)), pb = xb3 + rotated(sb.q, v3(bd.arm_b));
       const V3 point = 0.5 * (pa + pb);
       bd.point = eigen(point);
@@ -1695,7 +1755,7 @@ void World::bond_forces(int nt) {
       // push(k) from the values at hand (the same operands, so the same bits).
       BondPush& out = bond_push_[k];
       out.live = bd.intact();
-      if (out.live) fill(out, point, v3(r.force), v3(r.moment), v3(bd.shift), xa, v3(sb.x));
+      if (out.live) fill(out, point, v3(r.force), v3(r.moment), shift, xa, v3(sb.x));
     }
   }
   // Log the breaks in bond order.

@@ -216,8 +216,8 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
     for (std::ptrdiff_t k = 0; k < slots; ++k) {
       const auto slot = static_cast<std::uint32_t>(k);
       if (!world.slot_infos()[slot].alive) continue;
-      const BodyId id{slot, world.slot_infos()[slot].generation};
-      if (!book.knows(id) || !world.owns(slot)) continue;  // one process of several: its own bodies
+      // The gate first: it reads the step's small arrays, the book's record (a cache line
+      // of its own) only past it.
       if (params.criterion != GrainCriterion::rankine) {
         // The sum with its off-diagonal terms left out: the same diagonal, so the same trace.
         Eigen::Matrix3d on_diagonal = Eigen::Matrix3d::Zero();
@@ -226,6 +226,8 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
         if (params.criterion == GrainCriterion::lefm ? !(mean >= params.sigma_f_hyd) : !(mean > params.sigma_f))
           continue;  // below the gate (eq. 3.22) or the hydrostatic criterion: as assess_with decides
       }
+      const BodyId id{slot, world.slot_infos()[slot].generation};
+      if (!book.knows(id) || !world.owns(slot)) continue;  // one process of several: its own bodies
       std::optional<CrackAssessment> worst;
       for (const auto& a : assess_with(world, book, id, params, stress_from(world, slot, world.stress_sum(slot)),
                                        [&] { return forces_of(world, slot, applied, acting); })) {
