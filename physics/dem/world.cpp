@@ -1668,9 +1668,26 @@ void World::bond_forces(int nt) {
         out.torque_a = r[i].torque_a;
       }
     };
+    constexpr std::size_t kBondsAhead = 8;
     const bool plain = base.law == BondLaw::bonded_particle && !thermal_on_ && !(cell_on_ && moving_cell_) &&
                        roles_.empty();
     for (std::size_t k = block.begin; k < block.end; ++k) {
+      // The records and bodies a few bonds ahead asked for now (bonds_ streams past the
+      // caches, 576 bytes a bond of which the law reads the first five lines, a pattern
+      // the hardware's prefetchers miss in part): the disc's bond law 1.24-1.26 -> 1.07-1.09
+      // ms a step, alternated.
+      if (k + kBondsAhead + 1 < block.end) {
+        for (std::size_t j = 0; j < 2; ++j) {
+          const char* line = reinterpret_cast<const char*>(&bonds_[k + kBondsAhead + j]);
+          for (int c = 0; c < 5; ++c) __builtin_prefetch(line + 64 * c, 1);
+        }
+        const Bond& soon = bonds_[k + kBondsAhead / 2];  // its line asked for before
+        for (const std::uint32_t slot : {soon.a, soon.b}) {
+          const char* body = reinterpret_cast<const char*>(&states_[slot]);
+          __builtin_prefetch(body, 0);
+          __builtin_prefetch(body + 64, 0);
+        }
+      }
       if (plain && k + 1 < block.end && bonds_[k].intact() && bonds_[k + 1].intact()) {
         pair(k);
         ++k;
