@@ -240,7 +240,7 @@ namespace {
 /// One bond as World::bond_forces evaluates it one at a time, written with Eigen's own
 /// operations (its bits): the reference bond_pair's lanes must give to the bit.
 struct OneBond {
-  Eigen::Vector3d point, normal, force, moment, torque_b, torque_a;
+  Eigen::Vector3d point, normal, force, moment;
   BondResult result;
 };
 OneBond one_bond(const BondLane& l, const BondParams& p, const BondSection& s, double dt) {
@@ -253,12 +253,6 @@ OneBond one_bond(const BondLane& l, const BondParams& p, const BondSection& s, d
   o.result = bond_force(p, *l.constants, s, o.normal, velocity, *l.wb - *l.wa, *l.state, dt);
   o.force = o.result.force;
   o.moment = o.result.moment;
-  if (o.result.failure == BondFailure::none) {
-    o.torque_b = ((o.point - *l.shift) - *l.xb).cross(o.force) + o.moment;
-    o.torque_a = (o.point - *l.xa).cross(o.force) + o.moment;
-  } else {
-    o.torque_a = o.torque_b = Eigen::Vector3d::Zero();
-  }
   return o;
 }
 
@@ -333,8 +327,6 @@ TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
       ASSERT_TRUE(same_bits(eigen(g.normal), w.normal)) << trial << " lane " << i;
       ASSERT_TRUE(same_bits(eigen(g.force), w.force)) << trial << " lane " << i;
       ASSERT_TRUE(same_bits(eigen(g.moment), w.moment)) << trial << " lane " << i;
-      ASSERT_TRUE(same_bits(eigen(g.torque_b), w.torque_b)) << trial << " lane " << i;
-      ASSERT_TRUE(same_bits(eigen(g.torque_a), w.torque_a)) << trial << " lane " << i;
       // The state after the step (reset when it broke) and the loads that broke it.
       const BondState &gs = side[i].state, &ws = ref[i].state;
       ASSERT_EQ(gs.broken, ws.broken) << trial;

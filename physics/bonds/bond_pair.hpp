@@ -38,10 +38,10 @@ struct BondLane {
 };
 
 /// What one bond's evaluation gives: the bond point and normal, the force and moment on B,
-/// the torques about B's and A's centroids (World's BondPush), and a failure with the loads
-/// that broke it (then the state is reset to broken, and force and moment are zero).
+/// and a failure with the loads that broke it (then the state is reset to broken, and force
+/// and moment are zero).
 struct BondLaneResult {
-  V3 point, normal, force, moment, torque_b, torque_a;
+  V3 point, normal, force, moment;
   BondFailure failure = BondFailure::none;
   BondState at_failure;
 };
@@ -116,8 +116,8 @@ struct W3 {
 }  // namespace pair_detail
 
 /// Two bonds of the bonded-particle law (BondLaw::bonded_particle, not held, no thermal
-/// strain, no moving cell): their kinematics as World::bond_forces makes them, bond_force,
-/// and the torques of World's BondPush; each lane to the bit of the scalar code. The states
+/// strain, no moving cell): their kinematics as World::bond_forces makes them and
+/// bond_force; each lane to the bit of the scalar code. The states
 /// are updated (and reset on a break) as bond_force does.
 inline void bond_pair(const BondLane (&in)[2], BondLaneResult (&out)[2], double dt) {
   using namespace pair_detail;
@@ -149,12 +149,10 @@ inline void bond_pair(const BondLane (&in)[2], BondLaneResult (&out)[2], double 
   const D2 torsion = sub(two(s0.torsion, s1.torsion), mul(mul(two(k0.kbt, k1.kbt), step), wt));
   const D2 shear_size = _mm_sqrt_pd(dot(shear, shear));
   const D2 bending_size = _mm_sqrt_pd(dot(bending, bending));
-  // The loads on B (tension pulls B back towards A) and World's BondPush torques.
+  // The loads on B (tension pulls B back towards A).
   const D2 minus = _mm_set1_pd(-0.0);
   const W3 force = add(scale(_mm_xor_pd(normal, minus), n), shear);
   const W3 moment = add(bending, scale(torsion, n));
-  const W3 torque_b = add(cross(sub(sub(point, shift), xb), force), moment);
-  const W3 torque_a = add(cross(sub(point, xa), force), moment);
   for (int i = 0; i < 2; ++i) {
     const BondLane& l = in[i];
     BondLaneResult& r = out[i];
@@ -181,13 +179,11 @@ inline void bond_pair(const BondLane (&in)[2], BondLaneResult (&out)[2], double 
       r.at_failure = b;
       b = BondState{};
       b.broken = true;
-      r.force = r.moment = r.torque_a = r.torque_b = V3{0.0, 0.0, 0.0};
+      r.force = r.moment = V3{0.0, 0.0, 0.0};
       continue;
     }
     r.force = lane(force, i);
     r.moment = lane(moment, i);
-    r.torque_b = lane(torque_b, i);
-    r.torque_a = lane(torque_a, i);
   }
 }
 

@@ -1601,19 +1601,17 @@ void World::bond_forces(int nt) {
     };
     // What the bond adds to each body, for the sum below (the same arithmetic the sum did
     // from the bond itself): a small record read by body, instead of the large bond.
-    auto fill = [&](BondPush& out, const V3& point, const V3& force, const V3& moment, const V3& shift,
-                    const V3& xa, const V3& xb) {
+    auto fill = [&](BondPush& out, const V3& point, const V3& force, const V3& moment) {
       out.force = force;
+      out.moment = moment;
       out.point = point;
-      out.torque_b = cross((point - shift) - xb, force) + moment;
-      out.torque_a = cross(point - xa, force) + moment;
     };
     auto push = [&](std::size_t k) {
       const Bond& bd = bonds_[k];
       BondPush& out = bond_push_[k];
       out.live = bd.intact();
       if (out.live)
-        fill(out, v3(bd.point), v3(bd.force), v3(bd.moment), v3(bd.shift), v3(states_[bd.a].x), v3(states_[bd.b].x));
+        fill(out, v3(bd.point), v3(bd.force), v3(bd.moment));
     };
     BondConstants constants;
     double constants_radius = std::numeric_limits<double>::quiet_NaN();
@@ -1662,10 +1660,7 @@ void World::bond_forces(int nt) {
           continue;
         }
         out.live = true;
-        out.force = r[i].force;
-        out.point = r[i].point;
-        out.torque_b = r[i].torque_b;
-        out.torque_a = r[i].torque_a;
+        fill(out, r[i].point, r[i].force, r[i].moment);
       }
     };
     constexpr std::size_t kBondsAhead = 8;
@@ -1772,7 +1767,7 @@ void World::bond_forces(int nt) {
       // push(k) from the values at hand (the same operands, so the same bits).
       BondPush& out = bond_push_[k];
       out.live = bd.intact();
-      if (out.live) fill(out, point, v3(r.force), v3(r.moment), shift, xa, v3(sb.x));
+      if (out.live) fill(out, point, v3(r.force), v3(r.moment));
     }
   }
   // Log the breaks in bond order.
@@ -1809,14 +1804,18 @@ void World::bond_forces(int nt) {
         const std::uint32_t k = body_bonds_[e] >> 1;
         const BondPush& bp = bond_push_[k];
         if (!bp.live) continue;
+        // The torque about the body's centroid: the force's about it plus the moment (B's
+        // lever from its image in a periodic cell).
         if ((body_bonds_[e] & 1u) != 0) {  // the bond's B
+          const V3 lever = (cell_on_ ? bp.point - v3(bonds_[k].shift) : bp.point) - x;
           f = f + bp.force;
-          tau = tau + bp.torque_b;
-          if constexpr (kStress) m.add((cell_on_ ? bp.point - v3(bonds_[k].shift) : bp.point) - x, bp.force);
+          tau = tau + (cross(lever, bp.force) + bp.moment);
+          if constexpr (kStress) m.add(lever, bp.force);
         } else {
+          const V3 lever = bp.point - x;
           f = f - bp.force;
-          tau = tau - bp.torque_a;
-          if constexpr (kStress) m.add(bp.point - x, -1.0 * bp.force);
+          tau = tau - (cross(lever, bp.force) + bp.moment);
+          if constexpr (kStress) m.add(lever, -1.0 * bp.force);
         }
       }
       s.f = eigen(f);

@@ -120,22 +120,21 @@ struct WorldSettings {
 /// with the contact law (quasi-parallel model). The bond point and normal are material:
 /// each is stored in both bodies' principal frames at bonding and followed as they move.
 struct alignas(64) Bond {
-  // What the bond law reads and writes every step comes first, in four and a half cache
-  // lines from a line's start (World::bond_forces walks 30,000 of them a step in a
-  // 10,000-grain disc: per bond it is 1.6 times as slow as in a 1,000-grain disc that stays
-  // in the cache, so their bytes set its pace): what it reads, what it writes, the state it
-  // carries; the rest after.
+  // What the bond law reads every step fills the first two cache lines, what it writes the
+  // next three (World::bond_forces walks 30,000 of them a step in a 10,000-grain disc, at
+  // the machine's memory bandwidth: its bytes set its pace); the rest after.
   std::uint32_t a = 0, b = 0;                       ///< body slots, a < b
   BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
-  /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
-  /// 1 unless the scenario scatters them (bond_strength_factor).
-  double strength = 1.0;
   Eigen::Vector3d arm_a = Eigen::Vector3d::Zero();  ///< bond point from A's centroid, A's frame
   Eigen::Vector3d arm_b = Eigen::Vector3d::Zero();  ///< bond point from B's centroid, B's frame
   Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
   Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
-  // Last force evaluation (world): the bond point, normal, and the force and moment on B.
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
+  /// 1 unless the scenario scatters them (bond_strength_factor).
+  double strength = 1.0;
+  // Last force evaluation (world): the bond point, normal, and the force and moment on B;
+  // from the third line (then the bonded-particle state: three lines written a step).
+  alignas(64) Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();
@@ -609,8 +608,8 @@ class World {
   /// By bond, this step: what it adds to its bodies (force on B, torques on B and on A about
   /// their centroids), written by the bond law, read by the sum.
   struct BondPush {
-    V3 force, torque_b, torque_a;
-    V3 point;           ///< the bond point (stress_sums' lever)
+    V3 force, moment;   ///< on B (A's: their opposites)
+    V3 point;           ///< the bond point: the lever of the torques, and stress_sums'
     bool live = false;  ///< intact: the sum adds it
   };
   std::vector<BondPush> bond_push_;
