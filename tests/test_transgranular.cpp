@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <random>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "physics/transgranular/crack_plane.hpp"
 #include "physics/transgranular/face_traction.hpp"
 #include "physics/transgranular/fracture_criterion.hpp"
+#include "physics/transgranular/transgranular.hpp"
 
 using namespace cleave::physics;
 using Eigen::Vector3d;
@@ -714,4 +716,27 @@ TEST(FractureCriterion, CrackPlaneStressesFeedTheCriterion) {
     const FractureResult r = fracture_check(p, kOpen, beam_stresses(c));
     EXPECT_EQ(r.fails, scale > 1) << "scale " << scale;
   }
+}
+
+// The check's gate (eq. 3.22) reads each body's mean stress from the diagonal of its sum
+// alone; assess decides from the whole matrix of eq. 2.17. They must agree to the bit, or
+// the gate could turn away a body exactly at the threshold that assess would take.
+TEST(HydrostaticGate, MeanFromTheDiagonalIsTheTraceOfTheWholeStressToTheBit) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-12.0, 3.0);
+  int differ_from_plain_sum = 0;
+  for (int trial = 0; trial < 100000; ++trial) {
+    Eigen::Matrix3d sum;
+    for (int i = 0; i < 9; ++i) sum(i) = u(rng) * std::pow(10.0, e(rng));
+    const double volume = std::pow(10.0, e(rng) - 6.0) * (1.0 + std::abs(u(rng)));
+    const Eigen::Matrix3d sigma = (sum + sum.transpose()) / (2.0 * volume);  // as the check's stress_from
+    const double want = sigma.trace() / 3.0;
+    const double got = mean_stress_from_diagonal(sum.diagonal(), volume);
+    ASSERT_EQ(std::memcmp(&got, &want, sizeof(double)), 0) << trial << ": " << got << " vs " << want;
+    const Eigen::Vector3d d = sigma.diagonal();
+    differ_from_plain_sum += ((d.x() + d.y()) + d.z()) / 3.0 != want;
+  }
+  // The order of the sum matters: summed left to right, a few hundred differ (so this test
+  // tells the orders apart).
+  EXPECT_GT(differ_from_plain_sum, 100);
 }

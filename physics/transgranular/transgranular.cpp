@@ -184,6 +184,14 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
 
 }  // namespace
 
+double mean_stress_from_diagonal(const Eigen::Vector3d& diagonal, double volume) {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  sum.diagonal() = diagonal;
+  // Not evaluated: the trace asks the expression for its three diagonal coefficients
+  // alone (three divisions, not nine), each the evaluated matrix's, summed as it would be.
+  return ((sum + sum.transpose()) / (2.0 * volume)).trace() / 3.0;
+}
+
 std::vector<CrackAssessment> assess(const World& world, const FractureBook& book, BodyId id,
                                     const FractureParams& params,
                                     const std::vector<Eigen::Matrix3d>& stresses) {
@@ -219,10 +227,9 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
       // The gate first: it reads the step's small arrays, the book's record (a cache line
       // of its own) only past it.
       if (params.criterion != GrainCriterion::rankine) {
-        // The sum with its off-diagonal terms left out: the same diagonal, so the same trace.
-        Eigen::Matrix3d on_diagonal = Eigen::Matrix3d::Zero();
-        on_diagonal.diagonal() = diagonals[slot];
-        const double mean = stress_from(world, slot, on_diagonal).trace() / 3.0;
+        // The sum's diagonal gives the trace (the bits of stress_from's, as assess_with reads it).
+        const double mean =
+            mean_stress_from_diagonal(diagonals[slot], world.shape(world.slot_infos()[slot].shape).volume);
         if (params.criterion == GrainCriterion::lefm ? !(mean >= params.sigma_f_hyd) : !(mean > params.sigma_f))
           continue;  // below the gate (eq. 3.22) or the hydrostatic criterion: as assess_with decides
       }

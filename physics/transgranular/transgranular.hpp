@@ -38,6 +38,12 @@ std::vector<CrackAssessment> assess(const World& world, const FractureBook& book
                                     const FractureParams& params,
                                     const std::vector<Eigen::Matrix3d>& stresses);
 
+/// The mean stress of eq. 2.17 for a body of volume `volume` whose sum of lever (x) force
+/// has diagonal `diagonal`: the trace over three of the symmetrised sum over 2V, to the bit
+/// of the full matrix's (`Eigen::Matrix3d s = (S + S^T) / (2V); s.trace() / 3`), from the
+/// three coefficients the trace reads (transgranular_step's gate, eq. 3.22, for every body).
+double mean_stress_from_diagonal(const Eigen::Vector3d& diagonal, double volume);
+
 /// One split with what triggered it.
 struct TransgranularEvent {
   SplitEvent split;
