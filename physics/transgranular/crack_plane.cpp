@@ -15,11 +15,14 @@ double twice_area(std::span<const Eigen::Vector3d> p, const Eigen::Vector3d& n) 
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> clip_polygon(std::span<const Eigen::Vector3d> polygon,
-                                          const CrackPlane& plane) {
-  std::vector<Eigen::Vector3d> out;
+namespace {
+
+/// clip_polygon into `out` (cleared first; its storage kept for the next call).
+void clip_polygon_into(std::span<const Eigen::Vector3d> polygon, const CrackPlane& plane,
+                       std::vector<Eigen::Vector3d>& out) {
+  out.clear();
   const std::size_t n = polygon.size();
-  if (n == 0) return out;
+  if (n == 0) return;
   const Eigen::Vector3d nn = plane.normal.normalized();
   auto dist = [&](const Eigen::Vector3d& p) { return (p - plane.point).dot(nn); };
   for (std::size_t i = 0; i < n; ++i) {
@@ -32,12 +35,23 @@ std::vector<Eigen::Vector3d> clip_polygon(std::span<const Eigen::Vector3d> polyg
     }
   }
   if (out.size() < 3) out.clear();
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> clip_polygon(std::span<const Eigen::Vector3d> polygon,
+                                          const CrackPlane& plane) {
+  std::vector<Eigen::Vector3d> out;
+  clip_polygon_into(polygon, plane, out);
   return out;
 }
 
 FaceLoad face_part_load(const FaceGeometry& g, const FaceTractions& t,
                         std::span<const Eigen::Vector3d> face_polygon, const CrackPlane& plane) {
-  const std::vector<Eigen::Vector3d> part = clip_polygon(face_polygon, plane);
+  // One buffer a thread: the check calls this for every face and plane of each body it
+  // assesses (an allocation each, once).
+  thread_local std::vector<Eigen::Vector3d> part;
+  clip_polygon_into(face_polygon, plane, part);
   FaceLoad load;
   load.point = g.origin;
   if (part.empty()) return load;

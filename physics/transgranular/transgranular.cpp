@@ -22,22 +22,28 @@ struct PosedFaces {
   const geometry::ContactPrimitives* primitives = nullptr;
 };
 
-PosedFaces pose_faces(const World& world, BodyId id) {
-  PosedFaces out;
+/// The body's faces posed into `out`, whose storage is kept from call to call (the check
+/// poses every body past its gate: a few dozen allocations each, otherwise).
+void pose_faces(const World& world, BodyId id, PosedFaces& out) {
   const BodyState& s = world.state(id);
   const auto& p = world.shape(world.info(id).shape).primitives;
   out.primitives = &p;
+  out.vertices.clear();
   for (const auto& v : p.vertices) out.vertices.push_back(s.x + s.q * v);
-  for (const auto& f : p.faces) {
-    std::vector<Eigen::Vector3d> polygon;
+  out.polygons.resize(p.faces.size());
+  out.normals.clear();
+  out.offsets.clear();
+  for (std::size_t k = 0; k < p.faces.size(); ++k) {
+    const auto& f = p.faces[k];
+    std::vector<Eigen::Vector3d>& polygon = out.polygons[k];
+    polygon.clear();
     for (int v : f.vertices) polygon.push_back(out.vertices[static_cast<std::size_t>(v)]);
     const Eigen::Vector3d n = s.q * f.normal;
     out.normals.push_back(n);
     out.offsets.push_back(n.dot(polygon.front()));
-    out.polygons.push_back(std::move(polygon));
   }
   out.forces.resize(p.faces.size());
-  return out;
+  for (auto& list : out.forces) list.clear();
 }
 
 /// The face a point acts on: the one it lies farthest out from (see the header).
@@ -54,10 +60,10 @@ std::size_t face_of(const PosedFaces& faces, const Eigen::Vector3d& point) {
   return best;
 }
 
-/// The section of the body by the plane: where its edges cross it, in order around the
-/// section. Empty when the plane misses the body.
-std::vector<Eigen::Vector3d> section(const PosedFaces& faces, const CrackPlane& plane) {
-  std::vector<Eigen::Vector3d> points;
+/// The section of the body by the plane, into `points`: where its edges cross it, in order
+/// around the section. Empty when the plane misses the body.
+void section(const PosedFaces& faces, const CrackPlane& plane, std::vector<Eigen::Vector3d>& points) {
+  points.clear();
   auto add = [&](const Eigen::Vector3d& p) {
     for (const auto& q : points) {
       if ((p - q).squaredNorm() < 1e-24) return;
@@ -72,7 +78,10 @@ std::vector<Eigen::Vector3d> section(const PosedFaces& faces, const CrackPlane& 
     if (db == 0.0) add(b);
     if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) add(a + (b - a) * (da / (da - db)));
   }
-  if (points.size() < 3) return {};
+  if (points.size() < 3) {
+    points.clear();
+    return;
+  }
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : points) c += p / static_cast<double>(points.size());
   const Eigen::Vector3d u = (points.front() - c).normalized();
@@ -80,7 +89,6 @@ std::vector<Eigen::Vector3d> section(const PosedFaces& faces, const CrackPlane& 
   std::sort(points.begin(), points.end(), [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
     return std::atan2((p - c).dot(v), (p - c).dot(u)) < std::atan2((q - c).dot(v), (q - c).dot(u));
   });
-  return points;
 }
 
 }  // namespace
@@ -150,11 +158,17 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
   const std::vector<int>& candidates = book.candidates(id);
   if (candidates.empty()) return out;
 
-  PosedFaces faces = pose_faces(world, id);
+  // Scratch kept by each thread from body to body.
+  thread_local PosedFaces faces;
+  thread_local std::vector<FaceGeometry> geometry;
+  thread_local std::vector<FaceTractions> tractions;
+  thread_local std::vector<Eigen::Vector3d> cut;
+  thread_local std::vector<FaceLoad> loads;
+  pose_faces(world, id, faces);
   for (const PointForce& f : acting()) faces.forces[face_of(faces, f.point)].push_back(f);
   // Eq. 3.15 on every face.
-  std::vector<FaceGeometry> geometry;
-  std::vector<FaceTractions> tractions;
+  geometry.clear();
+  tractions.clear();
   for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
     const auto& poly = faces.polygons[f];
     geometry.push_back(face_geometry(poly, faces.normals[f], poly[1] - poly[0]));
@@ -164,10 +178,10 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
   for (const int k : candidates) {
     const auto [normal, point] = book.world_plane(world, id, k);
     const CrackPlane plane{point, normal};
-    const std::vector<Eigen::Vector3d> cut = section(faces, plane);
+    section(faces, plane, cut);
     if (cut.empty()) continue;
     // Eq. 3.20 for the faces (or parts of faces) behind the plane, then eq. 3.21.
-    std::vector<FaceLoad> loads;
+    loads.clear();
     for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
       loads.push_back(face_part_load(geometry[f], tractions[f], faces.polygons[f], plane));
     }
