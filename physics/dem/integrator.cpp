@@ -61,7 +61,7 @@ template <int N>
     pi[m][j] = -s * pi_i + c * pi_j;
     Eigen::Quaterniond r(ch[m], 0.0, 0.0, 0.0);
     r.vec()[k] = sh[m];
-    *q[m] = *q[m] * r;
+    *q[m] = quaternion_product(*q[m], r);
   }
 }
 
@@ -76,7 +76,7 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
   rotate_about<N>(2, h, q, pi, inv_inertia, n);
   rotate_about<N>(1, 0.5 * h, q, pi, inv_inertia, n);
   rotate_about<N>(0, 0.5 * h, q, pi, inv_inertia, n);
-  for (int m = 0; m < n; ++m) q[m]->normalize();
+  for (int m = 0; m < n; ++m) normalize_quaternion(*q[m]);
 }
 
 }  // namespace
