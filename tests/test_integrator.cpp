@@ -315,3 +315,19 @@ TEST(Integrator, ScalarQuaternionProductAndNormalizeGiveEigensBits) {
   normalize_quaternion(zero);
   EXPECT_EQ(zero.coeffs(), Eigen::Vector4d::Zero());
 }
+
+// angular_velocity in scalars against its Eigen form, w = R I^-1 R^T L, to the bit.
+TEST(Integrator, AngularVelocityInScalarsGivesTheBitsOfItsEigenForm) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-12.0, 2.0);
+  for (int t = 0; t < 200000; ++t) {
+    Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));
+    q.normalize();
+    if (t % 9 == 0) q = Eigen::Quaterniond::Identity();
+    const Eigen::Vector3d L = Eigen::Vector3d(u(rng), u(rng), t % 5 == 0 ? -0.0 : u(rng)) * std::pow(10.0, e(rng));
+    const Eigen::Vector3d inv(std::pow(10.0, e(rng) + 8.0), std::pow(10.0, e(rng) + 8.0), std::pow(10.0, e(rng) + 8.0));
+    const Eigen::Vector3d want = rotated(q, inv.cwiseProduct(rotated(q.conjugate(), L)));
+    const Eigen::Vector3d got = angular_velocity(q, L, inv);
+    ASSERT_TRUE(cleave::test::same_bits(got, want)) << t;
+  }
+}
