@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <cstring>
 
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/rng.hpp"
@@ -450,4 +452,35 @@ TEST(ContactManifold, CarriedContactsStayWithinTheMotionOfTheFullSearchsForce) {
                 tolerance, held, trials, same_features, worst_force, worst_moment, carried_error / frozen_error,
                 worst_jumped);
   }
+}
+
+// The posed vertices and their box, written in scalars, against Eigen's centre + R v and
+// cwiseMin/cwiseMax, to the bit, over random poses.
+TEST(PosedShape, VerticesAndTheirBoxGiveTheBitsOfEigensForm) {
+  const RigidShape s = prism();
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int differ_from_one_order = 0;
+  for (int t = 0; t < 20000; ++t) {
+    BodyState st;
+    st.x = 1e-2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    st.q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
+    if (t % 10 == 0) st.q = Eigen::Quaterniond::Identity();
+    PosedShape p;
+    p.update(s, st);
+    const Eigen::Matrix3d R = st.q.toRotationMatrix();
+    ASSERT_EQ(p.vertices.size(), s.primitives.vertices.size());
+    Eigen::Vector3d lo = st.x, hi = st.x;
+    for (std::size_t i = 0; i < p.vertices.size(); ++i) {
+      const Eigen::Vector3d want = st.x + R * s.primitives.vertices[i];
+      ASSERT_EQ(std::memcmp(p.vertices[i].data(), want.data(), 3 * sizeof(double)), 0) << t << " vertex " << i;
+      lo = lo.cwiseMin(want);
+      hi = hi.cwiseMax(want);
+      const Eigen::Vector3d& v = s.primitives.vertices[i];
+      differ_from_one_order += st.x.z() + ((R(2, 0) * v.x() + R(2, 1) * v.y()) + R(2, 2) * v.z()) != want.z();
+    }
+    ASSERT_EQ(std::memcmp(p.lo.data(), lo.data(), 3 * sizeof(double)), 0) << t;
+    ASSERT_EQ(std::memcmp(p.hi.data(), hi.data(), 3 * sizeof(double)), 0) << t;
+  }
+  EXPECT_GT(differ_from_one_order, 100);  // the orders differ: the test tells them apart
 }
