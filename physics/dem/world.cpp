@@ -3,6 +3,7 @@
 #include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -941,7 +942,12 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     if (!wall) opened -= grown(a, c.point - states_[a].x);
     kin.overlap -= c.normal.dot(opened);
   }
-  ContactHistory h;
+  // The law updates the history in its place in next_history_ (not in a copy on the stack
+  // copied there after: that copy read 16-byte pairs the law had just stored as halves).
+  HistoryEntry& next = next_history_[k];
+  next.key = p.key;
+  ContactHistory& h = next.history;
+  h = ContactHistory{};
   if (cursor > 0 && cursor <= history_.size() && p.key < history_[cursor - 1].key) {
     if (const ContactHistory* old = previous_history(p.key)) h = *old;  // out of order
   } else {
@@ -951,7 +957,6 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
   const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
   forces_[k] = contact_force(params, kin, h, settings_.dt);
   overlaps_[k] = kin.overlap;
-  next_history_[k] = {p.key, h};
 }
 
 void World::list_body_pairs() {
@@ -2038,9 +2043,19 @@ void World::apply_local_damping(int nt) {
   const double alpha = settings_.local_damping;
   const auto live = static_cast<std::ptrdiff_t>(live_slots_.size());
   if (live < kParallelMin) nt = 1;
+  // f_c -= alpha |f_c| sgn(v_c) where v_c is not zero; without branches (a settling body's
+  // velocity components change sign at random, and the branches were mispredicted): the
+  // damped value is made for every component and kept by a mask, the same bits.
   auto damp = [alpha](Eigen::Vector3d& f, const Eigen::Vector3d& v) {
     for (int c = 0; c < 3; ++c) {
-      if (v[c] != 0.0) f[c] -= alpha * std::abs(f[c]) * (v[c] > 0.0 ? 1.0 : -1.0);
+      // alpha |f_c| times +1 or -1: the sign bit flipped where v_c is not positive (x (-1)
+      // is exact, so the same bits).
+      const std::uint64_t flip = static_cast<std::uint64_t>(!(v[c] > 0.0)) << 63;
+      const double damped =
+          f[c] - std::bit_cast<double>(std::bit_cast<std::uint64_t>(alpha * std::abs(f[c])) ^ flip);
+      const std::uint64_t keep = std::uint64_t{0} - static_cast<std::uint64_t>(v[c] != 0.0);
+      f[c] = std::bit_cast<double>((std::bit_cast<std::uint64_t>(damped) & keep) |
+                                   (std::bit_cast<std::uint64_t>(f[c]) & ~keep));
     }
   };
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
