@@ -331,3 +331,22 @@ TEST(Integrator, AngularVelocityInScalarsGivesTheBitsOfItsEigenForm) {
     ASSERT_TRUE(cleave::test::same_bits(got, want)) << t;
   }
 }
+
+// Local damping (Cundall's, table 2.3's alpha): each force component loses alpha of its size
+// against the sign of that velocity component: F_c - alpha |F_c| sgn(v_c).
+TEST(LocalDamping, EachForceComponentLosesAlphaOfItsSizeAgainstItsVelocity) {
+  const Eigen::Vector3d g(3.0, -4.0, 5.0);
+  WorldSettings ws = settings(g, 1e-7);
+  ws.local_damping = 0.7;
+  World world(ws);
+  const auto sh = world.add_shape(make_rigid_shape(cuboid(1e-3, 1e-3, 1e-3), 0.0));
+  const BodyId id = world.add_body(sh, kRho, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+  // The kicks of one step (1e-6 m/s) keep the velocities' signs.
+  world.state(id).v = Eigen::Vector3d(1.0, 2.0, -1.0);
+  world.step();
+  const double m = world.info(id).mass;
+  const Eigen::Vector3d f = world.state(id).f;
+  EXPECT_DOUBLE_EQ(f.x(), m * 3.0 * (1.0 - 0.7));   // v_x > 0: 3m - 0.7 (3m)
+  EXPECT_DOUBLE_EQ(f.y(), m * -4.0 * (1.0 + 0.7));  // v_y > 0: -4m - 0.7 (4m)
+  EXPECT_DOUBLE_EQ(f.z(), m * 5.0 * (1.0 + 0.7));   // v_z < 0: 5m + 0.7 (5m)
+}
