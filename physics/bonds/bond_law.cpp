@@ -56,9 +56,7 @@ BondResult bond_force(const BondParams& p, const BondConstants& k, const BondSec
     const CohesiveTraction t = cohesive_traction(cp, limits, dn, ds, b.cohesive);
     if (b.cohesive.phase == LinkPhase::contact) {
       out.failure = std::max(dn, 0.0) >= ds ? BondFailure::tension : BondFailure::shear;
-      out.at_failure = b;
-      b = BondState{};
-      b.broken = true;
+      out.at_failure = break_bond(b);
       b.cohesive.phase = LinkPhase::contact;
       return out;
     }
@@ -68,20 +66,10 @@ BondResult bond_force(const BondParams& p, const BondConstants& k, const BondSec
     out.moment = (1.0 - damage(limits, b.cohesive)) * (b.bending + b.torsion * n);
     return out;
   }
-  // Limits (eq. 2.15) and failure (eq. 2.16), checked in this order.
-  if (b.normal > k.tension) {
-    out.failure = BondFailure::tension;
-  } else if (norm(shear) > k.shear) {
-    out.failure = BondFailure::shear;
-  } else if (norm(bending) > k.bending) {
-    out.failure = BondFailure::bending;
-  } else if (std::abs(b.torsion) > k.torsion) {
-    out.failure = BondFailure::torsion;
-  }
+  // Limits (eq. 2.15) and failure (eq. 2.16).
+  out.failure = limit_failure(k, b.normal, norm(shear), norm(bending), b.torsion);
   if (out.failure != BondFailure::none) {
-    out.at_failure = b;
-    b = BondState{};
-    b.broken = true;
+    out.at_failure = break_bond(b);
     return out;
   }
   // Tension pulls B back towards A.

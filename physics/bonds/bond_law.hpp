@@ -120,6 +120,25 @@ struct BondConstants {
 };
 BondConstants bond_constants(const BondParams& p, const BondSection& s);
 
+/// Eq. 2.16 against eq. 2.15's limits, checked in this order: F_bn, |F_bs|, |M_br|, |M_bt|.
+[[nodiscard]] inline BondFailure limit_failure(const BondConstants& k, double normal, double shear_size,
+                                               double bending_size, double torsion) {
+  if (normal > k.tension) return BondFailure::tension;
+  if (shear_size > k.shear) return BondFailure::shear;
+  if (bending_size > k.bending) return BondFailure::bending;
+  if (std::abs(torsion) > k.torsion) return BondFailure::torsion;
+  return BondFailure::none;
+}
+
+/// A bond that breaks: its state is left broken (loads zero); returns the loads it broke
+/// under.
+inline BondState break_bond(BondState& b) {
+  const BondState at = b;
+  b = BondState{};
+  b.broken = true;
+  return at;
+}
+
 /// One step of the bond at unit normal n (from A towards B) with relative velocity
 /// `velocity` (B's material point minus A's at the bond) and relative spin `spin`
 /// (w_B - w_A): eqs 2.12-2.13 increment the state, eq. 2.16 checks the limits of eq. 2.15.

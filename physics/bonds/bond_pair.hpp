@@ -163,22 +163,10 @@ inline void bond_pair(const BondLane (&in)[2], BondLaneResult (&out)[2], double 
     b.torsion = lane(torsion, i);
     r.point = lane(point, i);
     r.normal = lane(n, i);
-    // Limits (eq. 2.15) and failure (eq. 2.16), checked in bond_force's order.
-    const BondConstants& k = *l.constants;
-    r.failure = BondFailure::none;
-    if (b.normal > k.tension) {
-      r.failure = BondFailure::tension;
-    } else if (lane(shear_size, i) > k.shear) {
-      r.failure = BondFailure::shear;
-    } else if (lane(bending_size, i) > k.bending) {
-      r.failure = BondFailure::bending;
-    } else if (std::abs(b.torsion) > k.torsion) {
-      r.failure = BondFailure::torsion;
-    }
+    // Limits (eq. 2.15) and failure (eq. 2.16), as bond_force.
+    r.failure = limit_failure(*l.constants, b.normal, lane(shear_size, i), lane(bending_size, i), b.torsion);
     if (r.failure != BondFailure::none) {
-      r.at_failure = b;
-      b = BondState{};
-      b.broken = true;
+      r.at_failure = break_bond(b);
       r.force = r.moment = V3{0.0, 0.0, 0.0};
       continue;
     }
