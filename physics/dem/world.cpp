@@ -1618,18 +1618,20 @@ void World::bond_forces(int nt) {
       if (out.live)
         fill(out, v3(bd.point), v3(bd.force), v3(bd.moment));
     };
+    // A bond's own strengths (Bond::strength != 1): the run's parameters with them.
+    auto strengthened = [&](const Bond& bd) {
+      BondParams own = base;
+      own.tbn *= bd.strength;
+      own.tbs *= bd.strength;
+      own.sigma_c *= bd.strength;
+      return own;
+    };
     BondConstants constants;
     double constants_radius = std::numeric_limits<double>::quiet_NaN();
-    // Eqs 2.10, 2.11 and 2.15's constants of a bond of the bonded-particle law: the run's
-    // (made again when the section changes) or its own strengths'.
+    // Eqs 2.10, 2.11 and 2.15's constants of a bond: the run's, made again only when the
+    // section changes from the bond before, or its own strengths'.
     auto constants_of = [&](const Bond& bd) -> BondConstants {
-      if (bd.strength != 1.0) {
-        BondParams own = base;
-        own.tbn *= bd.strength;
-        own.tbs *= bd.strength;
-        own.sigma_c *= bd.strength;
-        return bond_constants(own, bd.section);
-      }
+      if (bd.strength != 1.0) return bond_constants(strengthened(bd), bd.section);
       if (!(bd.section.radius == constants_radius)) {
         constants = bond_constants(base, bd.section);
         constants_radius = bd.section.radius;
@@ -1746,11 +1748,8 @@ void World::bond_forces(int nt) {
       }
       const BondParams* params = &base;
       BondParams own;
-      if (bd.strength != 1.0) {  // this bond's own strengths
-        own = base;
-        own.tbn *= bd.strength;
-        own.tbs *= bd.strength;
-        own.sigma_c *= bd.strength;
+      if (bd.strength != 1.0) {
+        own = strengthened(bd);
         params = &own;
       }
       if (beams) {
@@ -1758,14 +1757,8 @@ void World::bond_forces(int nt) {
         push(k);
         continue;
       }
-      // Eqs 2.10, 2.11 and 2.15's constants, made again only when the section or the
-      // strengths change from the bond before (a bond's own strengths: always).
-      if (params != &base || !(bd.section.radius == constants_radius)) {
-        constants = bond_constants(*params, bd.section);
-        constants_radius = params == &base ? bd.section.radius : std::numeric_limits<double>::quiet_NaN();
-      }
       const BondResult r =
-          bond_force(*params, constants, bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
+          bond_force(*params, constants_of(bd), bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, settings_.dt);
       bd.force = r.force;
       bd.moment = r.moment;
       if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});

@@ -605,8 +605,9 @@ class World {
   void list_body_pairs();
   /// The same for the bonds: by slot, (bond index << 1) | (1 if the body is the bond's B).
   std::vector<std::uint32_t> body_bond_start_, body_bonds_;
-  /// By bond, this step: what it adds to its bodies (force on B, torques on B and on A about
-  /// their centroids), written by the bond law, read by the sum.
+  /// By bond, this step: what it adds to its bodies (force and moment on B, A's their
+  /// opposites, at the bond point: the sum makes each torque about the body's centroid),
+  /// written by the bond law, read by the sum.
   struct BondPush {
     V3 force, moment;   ///< on B (A's: their opposites)
     V3 point;           ///< the bond point: the lever of the torques, and stress_sums'

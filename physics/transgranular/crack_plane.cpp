@@ -13,10 +13,6 @@ double twice_area(std::span<const Eigen::Vector3d> p, const Eigen::Vector3d& n) 
   return s.dot(n);
 }
 
-}  // namespace
-
-namespace {
-
 /// clip_polygon into `out` (cleared first; its storage kept for the next call).
 void clip_polygon_into(std::span<const Eigen::Vector3d> polygon, const CrackPlane& plane,
                        std::vector<Eigen::Vector3d>& out) {
