@@ -145,7 +145,7 @@ TEST(Transgranular, GrainPulledAcrossItsCleavagePlaneSplitsThereWhenKIReachesKIc
   ASSERT_GE(angle, 0) << "no <10-10> plane along x";
   o.angle_deg = angle;
   const double pitch = std::sqrt(3.0) * kSide + 2 * kDilation - 1e-6;
-  const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(), {}, {}, 0);
+  const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0);
   s.book.add_grain(s.world, g, 0, o);
   const BodyId left = s.world.add_body(s.shape, kRho, {-pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
   const BodyId right = s.world.add_body(s.shape, kRho, {pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
@@ -219,7 +219,7 @@ TEST(Transgranular, GrainSqueezedBetweenPlatensSplitsOnThePredictedPlaneNotBefor
   for (const int angle : {0, 60, 120}) {
     Rig s;
     const geometry::CrystalOrientation o{geometry::CleavageFamily::a_11_20, angle};
-    const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(), {}, {}, 0);
+    const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0);
     s.book.add_grain(s.world, g, 0, o);
     // Corners at y = +-0.5 mm; the platens start touching the dilated corners.
     const double reach = kSide + kDilation;
