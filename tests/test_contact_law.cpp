@@ -266,3 +266,39 @@ TEST(ContactLaw, ScalarFormGivesEigensBits) {
   EXPECT_GT(sliding, 1000);  // both branches of the Coulomb cap were taken
   EXPECT_GT(sticking, 1000);
 }
+
+TEST(SurelyShorter, NeverClaimsALengthAtOrAboveTheLimitAndSeesTheClearlyShorter) {
+  // The caps' test without the square root (vec3.hpp): whenever it says |a| < limit, the
+  // correctly rounded root must be below limit. Random vectors over 60 decades, against
+  // limits a few ulps from their length and within 4e-6 of it either side (its margin is
+  // 2^-20, about 1e-6), and against clearly longer limits, which it must see.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-30.0, 30.0), r(-4e-6, 4e-6);
+  std::uniform_int_distribution<int> ulps(-8, 8);
+  int claimed = 0, left = 0;
+  for (int trial = 0; trial < 400000; ++trial) {
+    const double scale = std::pow(10.0, e(rng));
+    const V3 a{u(rng) * scale, u(rng) * scale, u(rng) * scale};
+    const double len = norm(a);
+    double limit = len * (1.0 + r(rng));
+    if (trial % 2) {
+      limit = len;
+      const int k = ulps(rng);
+      for (int i = 0; i < std::abs(k); ++i) limit = std::nextafter(limit, k > 0 ? HUGE_VAL : 0.0);
+    }
+    if (surely_shorter(a, limit)) {
+      ++claimed;
+      ASSERT_LT(norm(a), limit) << trial;
+    } else {
+      ++left;
+    }
+    ASSERT_TRUE(surely_shorter(a, len * (1.0 + 1e-5))) << trial;
+    ASSERT_FALSE(surely_shorter(a, len)) << trial;
+  }
+  EXPECT_GT(claimed, 40000);  // both answers were given near the margin
+  EXPECT_GT(left, 200000);
+  const V3 nan{std::nan(""), 0.0, 0.0};
+  EXPECT_FALSE(surely_shorter(nan, 1.0));
+  EXPECT_FALSE(surely_shorter(V3{1e-200, 0.0, 0.0}, 1e-160));  // limit^2 not normal: the root decides
+}
+

@@ -29,6 +29,14 @@ struct V3 {
 /// Eigen's a.dot(b) and squaredNorm(): (a0 b0 + a1 b1) + a2 b2.
 [[gnu::always_inline]] inline double dot(const V3& a, const V3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
 [[gnu::always_inline]] inline double norm(const V3& a) { return std::sqrt(dot(a, a)); }
+/// True only when norm(a) < limit, strictly and to the bit, decided without the square root
+/// (its latency held up the laws' caps): |a|^2 < fl(limit^2) (1 - 2^-20). With fl(limit^2)
+/// and that product each at most one rounding (2^-53) high, |a| < limit (1 - 2^-22), and the
+/// correctly rounded root stays below limit. Limits far from 1 (where limit^2 leaves the
+/// normal range) and NaN answer false: the caller then takes the root.
+[[gnu::always_inline]] inline bool surely_shorter(const V3& a, double limit) {
+  return limit > 1e-150 && limit < 1e150 && dot(a, a) < (limit * limit) * (1.0 - 0x1p-20);
+}
 /// Eigen's a.cross(b).
 [[gnu::always_inline]] inline V3 cross(const V3& a, const V3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};

@@ -6,7 +6,22 @@
 
 namespace cleave::physics {
 
+ContactDamping contact_damping(const ContactParams& p, double m_crit, double i_crit) {
+  ContactDamping d;
+  d.cn = p.damping_ratio * std::sqrt(p.c_res * p.kn * m_crit);
+  d.cs = p.damping_ratio * std::sqrt(p.ks * m_crit);
+  d.cr = p.damping_ratio * std::sqrt(p.kr * i_crit);
+  d.ct = p.damping_ratio * std::sqrt(p.kt * i_crit);
+  d.unload = 1.0 - 1.0 / p.c_res;
+  return d;
+}
+
 ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
+                           ContactHistory& h, double dt) {
+  return contact_force(p, k, contact_damping(p, k.m_crit, k.i_crit), h, dt);
+}
+
+ContactForce contact_force(const ContactParams& p, const ContactKinematics& k, const ContactDamping& d,
                            ContactHistory& h, double dt) {
   // Plain doubles (vec3.hpp): Eigen's bits, without its stalls on three-element vectors.
   const V3 n = v3(k.normal), v = v3(k.velocity);
@@ -15,28 +30,28 @@ ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
   // Normal spring with the unloading multiplier (eq 2.4 and the C_res of table 2.3).
   h.max_overlap = std::max(h.max_overlap, delta);
   const double loading = p.kn * delta;
-  const double unloading = p.c_res * p.kn * (delta - h.max_overlap * (1.0 - 1.0 / p.c_res));
+  const double unloading = p.c_res * p.kn * (delta - h.max_overlap * d.unload);
   const double fn_spring = std::max(0.0, std::min(loading, unloading));
 
   // Normal damping (eq 2.6): |U_n| / dt is the normal relative speed.
   const double vn = dot(v, n);
-  const double cn = p.damping_ratio * std::sqrt(p.c_res * p.kn * k.m_crit);
-  const double fn = std::max(0.0, fn_spring - cn * vn);
+  const double fn = std::max(0.0, fn_spring - d.cn * vn);
   V3 force = fn * n;
 
   // Shear spring, incremental (eq 2.4): U_s = dt * v_t; Coulomb cap (eq 2.5).
   const V3 vt = v - vn * n;
   V3 shear = into_plane(v3(h.shear), n) - p.ks * dt * vt;
   const double cap = p.mu_s * fn;
-  const double fs = norm(shear);
   ContactForce out;
+  // Sliding when |shear| >= cap; a shear surely below it needs no square root.
+  double fs = 0.0;
+  if (!surely_shorter(shear, cap)) fs = norm(shear);
   if (fs >= cap && fs > 0.0) {
     shear = shear * (cap / fs);
     out.sliding = true;
     force = force + shear;
   } else {
-    const double cs = p.damping_ratio * std::sqrt(p.ks * k.m_crit);
-    force = force + (shear - cs * vt);  // shear damping (eq 2.6)
+    force = force + (shear - d.cs * vt);  // shear damping (eq 2.6)
   }
   h.shear = eigen(shear);
   out.force = eigen(force);
@@ -48,14 +63,14 @@ ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
     const V3 wr = spin - wt * n;
     const double mcap = p.mu_r * fn * k.lever;
     V3 rolling = into_plane(v3(h.rolling), n) - p.kr * dt * wr;
-    const double rl = norm(rolling);
-    if (rl > mcap) rolling = rolling * (mcap / rl);
+    if (!surely_shorter(rolling, mcap)) {
+      const double rl = norm(rolling);
+      if (rl > mcap) rolling = rolling * (mcap / rl);
+    }
     h.rolling = eigen(rolling);
     h.torsion -= p.kt * dt * wt;
     h.torsion = std::clamp(h.torsion, -mcap, mcap);
-    const double cr = p.damping_ratio * std::sqrt(p.kr * k.i_crit);
-    const double ct = p.damping_ratio * std::sqrt(p.kt * k.i_crit);
-    out.moment = eigen((rolling - cr * wr) + (h.torsion - ct * wt) * n);
+    out.moment = eigen((rolling - d.cr * wr) + (h.torsion - d.ct * wt) * n);
   }
   return out;
 }

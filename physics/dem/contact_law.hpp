@@ -60,7 +60,23 @@ struct ContactForce {
   bool sliding = false;
 };
 
-/// Evaluates eqs 2.3-2.8 for one step of length dt, updating `history`.
+/// The coefficients of eqs 2.6 and 2.8 and the unloading offset of eq. 2.4's C_res, which
+/// depend only on the parameters and on the pair's m_crit and i_crit: the same for every
+/// contact point of one pair of bodies, so the caller may make them once per pair.
+struct ContactDamping {
+  double cn = 0.0;          ///< normal damping coefficient, eq. 2.6
+  double cs = 0.0;          ///< shear damping coefficient, eq. 2.6
+  double cr = 0.0;          ///< rolling damping coefficient, eq. 2.8
+  double ct = 0.0;          ///< torsional damping coefficient, eq. 2.8
+  double unload = 0.0;      ///< 1 - 1/C_res: delta_0 = delta_max unload
+};
+ContactDamping contact_damping(const ContactParams& p, double m_crit, double i_crit);
+
+/// Evaluates eqs 2.3-2.8 for one step of length dt, updating `history`, with the pair's
+/// coefficients `d` (contact_damping of p, k.m_crit and k.i_crit).
+ContactForce contact_force(const ContactParams& p, const ContactKinematics& k, const ContactDamping& d,
+                           ContactHistory& history, double dt);
+/// The same, making the coefficients from k.m_crit and k.i_crit.
 ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
                            ContactHistory& history, double dt);
 

@@ -865,6 +865,7 @@ void World::evaluate_and_apply(int nt) {
     const std::size_t begin = block.begin, end = block.end;
     // Keys ascend through the contacts, as through the history: one search, then a walk.
     std::size_t cursor = 0, bond_cursor = 0;
+    PairDamping pair;
     for_pending(begin, end, [&](std::size_t k, const Pending& p) {
       if (k == begin) {
         cursor = history_index(p.key);
@@ -875,7 +876,7 @@ void World::evaluate_and_apply(int nt) {
               bonds_.begin());
         }
       }
-      evaluate_contact(p, k, cursor, bond_cursor);
+      evaluate_contact(p, k, cursor, bond_cursor, pair);
     });
   }
   lap(StepPhase::contact_law);
@@ -883,7 +884,8 @@ void World::evaluate_and_apply(int nt) {
   lap(StepPhase::contact_sums);
 }
 
-void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& cursor, std::size_t& bond_cursor) {
+void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& cursor, std::size_t& bond_cursor,
+                             PairDamping& pair) {
   const bool wall = (p.key.a & kWallFlag) != 0;
   const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
   const PrimitiveContact& c = p.contact;
@@ -898,16 +900,10 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
   if (wall) {
     va_point = v3(walls_[a].velocity);
     wa = {0.0, 0.0, 0.0};
-    kin.m_crit = ib.mass;
-    kin.i_crit = ib.inertia.minCoeff();
   } else {
     const BodyState& sa = states_[a];
-    const BodyInfo& ia = infos_[a];
     wa = v3(sa.w);
     va_point = v3(sa.v) + cross(wa, point - v3(sa.x));
-    kin.m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
-    const double i1 = ia.inertia.minCoeff(), i2 = ib.inertia.minCoeff();
-    kin.i_crit = i1 * i2 / (i1 + i2);
   }
   // B's centroid, or in a periodic cell its image's; a moving cell moves the two apart at L d.
   const V3 xb = contact_shift_.empty() ? v3(sb.x) : v3(sb.x) + v3(contact_shift_[k]);
@@ -955,7 +951,19 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     if (cursor < history_.size() && history_[cursor].key == p.key) h = history_[cursor].history;
   }
   const ContactParams& params = wall ? settings_.particle_wall : settings_.particle_particle;
-  forces_[k] = contact_force(params, kin, h, settings_.dt);
+  // The damping coefficients (four square roots and three divisions) are the same for all
+  // of a pair's contact points, which come one after another: made once per pair.
+  if (!pair.valid || pair.a != p.key.a || pair.b != b) {
+    double m_crit = ib.mass, i_crit = ib.inertia.minCoeff();
+    if (!wall) {
+      const BodyInfo& ia = infos_[a];
+      m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
+      const double i1 = ia.inertia.minCoeff();
+      i_crit = i1 * i_crit / (i1 + i_crit);
+    }
+    pair = {p.key.a, b, true, contact_damping(params, m_crit, i_crit)};
+  }
+  forces_[k] = contact_force(params, kin, pair.damping, h, settings_.dt);
   overlaps_[k] = kin.overlap;
 }
 

@@ -535,9 +535,17 @@ class World {
   /// Index of the first entry of history_ whose key is not below `key`.
   std::size_t history_index(const ContactKey& key) const;
   static constexpr std::uint32_t kWallFlag = 0x80000000u;
+  /// The damping coefficients of the last pair evaluate_contact saw (key a, body b).
+  struct PairDamping {
+    std::uint32_t a = 0, b = 0;
+    bool valid = false;
+    ContactDamping damping;
+  };
   /// The contact law for contact k (`p`): reads the bodies' states and the previous step's
-  /// history (walking `history_cursor` forward through it), writes only slot k.
-  void evaluate_contact(const Pending& p, std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor);
+  /// history (walking `history_cursor` forward through it), writes only slot k; `pair`
+  /// keeps the coefficients of the pair before it.
+  void evaluate_contact(const Pending& p, std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor,
+                        PairDamping& pair);
 
   WorldSettings settings_;
   std::vector<RigidShape> shapes_;
