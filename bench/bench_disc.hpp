@@ -57,7 +57,8 @@ inline Disc make_disc(int grains, bool fracture, double manifold = 0.0) {
   const auto sh = d.world.add_shape(shape);
   double lo = 1e9, hi = -1e9;
   for (const auto& g : d.specimen.grains) {
-    d.world.add_body(sh, kRho, g.site.centre + shape.centroid, shape.orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
+    d.world.add_body(sh, kRho, g.site.centre + shape.centroid, shape.orientation_for(), Eigen::Vector3d::Zero(),
+                     Eigen::Vector3d::Zero(), g.id);
     lo = std::min(lo, g.site.centre.y());
     hi = std::max(hi, g.site.centre.y());
   }

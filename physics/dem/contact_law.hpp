@@ -48,8 +48,10 @@ struct ContactKinematics {
   double overlap = 0.0;          ///< penetration (> 0 when touching)
   Eigen::Vector3d velocity;      ///< velocity of B's material point minus A's, at the contact
   Eigen::Vector3d spin;          ///< angular velocity of B minus A
-  double m_crit = 0.0;           ///< mass for damping (reduced mass)
-  double i_crit = 0.0;           ///< moment of inertia for damping
+  /// Mass and moment of inertia for damping (the reduced ones), read only by the
+  /// contact_force that makes the coefficients itself; World passes a ContactDamping.
+  double m_crit = 0.0;
+  double i_crit = 0.0;
   double lever = 0.0;            ///< arm of the rolling/torsional friction cap
 };
 

@@ -958,12 +958,14 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
   // The damping coefficients (four square roots and three divisions) are the same for all
   // of a pair's contact points, which come one after another: made once per pair.
   if (!pair.valid || pair.a != p.key.a || pair.b != b) {
-    double m_crit = ib.mass, i_crit = ib.inertia.minCoeff();
+    // The reduced mass and the reduced least principal moment (B's alone against a wall).
+    const double i2 = ib.inertia.minCoeff();
+    double m_crit = ib.mass, i_crit = i2;
     if (!wall) {
       const BodyInfo& ia = infos_[a];
       m_crit = ia.mass * ib.mass / (ia.mass + ib.mass);
       const double i1 = ia.inertia.minCoeff();
-      i_crit = i1 * i_crit / (i1 + i_crit);
+      i_crit = i1 * i2 / (i1 + i2);
     }
     pair = {p.key.a, b, true, contact_damping(params, m_crit, i_crit)};
   }
