@@ -258,10 +258,12 @@ OneBond one_bond(const BondLane& l, const BondParams& p, const BondSection& s, d
 
 }  // namespace
 
-// bond_pair (two bonds in one SSE2 register, World::bond_forces' common case) against the
-// bonds evaluated one at a time with Eigen: random poses, motions, loads and strengths,
-// unloaded springs (into_plane's early out) and every failure mode; each lane to the bit.
-TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
+// bond_pair and bond_quad (two bonds in an SSE2 register, four in an AVX one: World::
+// bond_forces' common case) against the bonds evaluated one at a time with Eigen: random
+// poses, motions, loads and strengths, unloaded springs (into_plane's early out) and every
+// failure mode; each lane to the bit.
+template <int N>
+void lanes_give_the_scalar_bits() {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0), e(-9.0, -3.0), f(0.5, 1.5);
   auto vec = [&](double scale) {
@@ -282,7 +284,7 @@ TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
       BondLane lane() {
         return {&xa, &va, &wa, &qa, &xb, &vb, &wb, &qb, &shift, &arm_a, &arm_b, &normal_a, &normal_b, &state, &constants};
       }
-    } side[2];
+    } side[N];
     for (Side& b : side) {
       b.xa = vec(5e-3);
       b.xb = b.xa + vec(1e-3);
@@ -313,13 +315,21 @@ TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
       }
       b.constants = bond_constants(p, kSection);
     }
-    Side ref[2] = {side[0], side[1]};
-    OneBond want[2];
-    for (int i = 0; i < 2; ++i) want[i] = one_bond(ref[i].lane(), kParams, kSection, kDt);
-    const BondLane in[2] = {side[0].lane(), side[1].lane()};
-    BondLaneResult got[2];
-    bond_pair(in, got, kDt);
-    for (int i = 0; i < 2; ++i) {
+    Side ref[N];
+    OneBond want[N];
+    BondLane in[N];
+    for (int i = 0; i < N; ++i) {
+      ref[i] = side[i];
+      want[i] = one_bond(ref[i].lane(), kParams, kSection, kDt);
+      in[i] = side[i].lane();
+    }
+    BondLaneResult got[N];
+    if constexpr (N == 2) {
+      bond_pair(in, got, kDt);
+    } else {
+      bond_quad(in, got, kDt);
+    }
+    for (int i = 0; i < N; ++i) {
       const OneBond& w = want[i];
       const BondLaneResult& g = got[i];
       ASSERT_EQ(g.failure, w.result.failure) << trial << " lane " << i;
@@ -342,6 +352,16 @@ TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
       ++failures[static_cast<int>(w.result.failure)];
     }
   }
-  // Intact bonds and every failure mode were met, in both lanes together.
+  // Intact bonds and every failure mode were met, in all lanes together.
   for (int mode = 0; mode < 5; ++mode) EXPECT_GT(failures[mode], 100) << "mode " << mode;
+}
+
+TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
+  if (!has_avx()) GTEST_SKIP() << "no AVX here: World evaluates bonds one at a time";
+  lanes_give_the_scalar_bits<2>();
+}
+
+TEST(BondQuad, GivesTheScalarLawsBitsInEachLane) {
+  if (!has_avx()) GTEST_SKIP() << "no AVX here: World evaluates bonds one at a time";
+  lanes_give_the_scalar_bits<4>();
 }

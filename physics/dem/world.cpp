@@ -1652,23 +1652,30 @@ void World::bond_forces(int nt) {
       }
       return constants;
     };
-    // Two intact bonds side by side of the plain bonded-particle law go through bond_pair
-    // (bond_pair.hpp: both in one SSE2 register, the bits of the loop below).
+    // Four (or two) intact bonds side by side of the plain bonded-particle law go through
+    // bond_quad (bond_pair): bond_pair.hpp, all in one AVX (SSE2) register, the bits of the
+    // loop below.
     static const Eigen::Vector3d kNoShift = Eigen::Vector3d::Zero();
-    auto pair = [&](std::size_t k) {
-      const BondConstants c[2] = {constants_of(bonds_[k]), constants_of(bonds_[k + 1])};
-      BondLane in[2];
-      for (int i = 0; i < 2; ++i) {
-        Bond& bd = bonds_[k + static_cast<std::size_t>(i)];
+    auto lanes = [&](std::size_t k, auto width) {
+      constexpr std::size_t kN = decltype(width)::value;
+      BondConstants c[kN];
+      BondLane in[kN];
+      for (std::size_t i = 0; i < kN; ++i) {
+        Bond& bd = bonds_[k + i];
+        c[i] = constants_of(bd);
         if (cell_on_) bd.shift = cell_.shift(bd.image);
         const BodyState& sa = states_[bd.a];
         const BodyState& sb = states_[bd.b];
         in[i] = {&sa.x, &sa.v, &sa.w, &sa.q, &sb.x, &sb.v, &sb.w, &sb.q, cell_on_ ? &bd.shift : &kNoShift,
                  &bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.state, &c[i]};
       }
-      BondLaneResult r[2];
-      bond_pair(in, r, settings_.dt);
-      for (std::size_t i = 0; i < 2; ++i) {
+      BondLaneResult r[kN];
+      if constexpr (kN == 4) {
+        bond_quad(in, r, settings_.dt);
+      } else {
+        bond_pair(in, r, settings_.dt);
+      }
+      for (std::size_t i = 0; i < kN; ++i) {
         Bond& bd = bonds_[k + i];
         bd.point = eigen(r[i].point);
         bd.normal = eigen(r[i].normal);
@@ -1686,26 +1693,35 @@ void World::bond_forces(int nt) {
     };
     constexpr std::size_t kBondsAhead = 8;
     const bool plain = base.law == BondLaw::bonded_particle && !thermal_on_ && !(cell_on_ && moving_cell_) &&
-                       roles_.empty();
+                       roles_.empty() && has_avx();
     for (std::size_t k = block.begin; k < block.end; ++k) {
       // The records and bodies a few bonds ahead asked for now (bonds_ streams past the
       // caches, 576 bytes a bond of which the law reads the first five lines, a pattern
       // the hardware's prefetchers miss in part): the disc's bond law 1.24-1.26 -> 1.07-1.09
       // ms a step, alternated.
-      if (k + kBondsAhead + 1 < block.end) {
-        for (std::size_t j = 0; j < 2; ++j) {
+      // Four bonds ahead a turn (the quads' step; the pairs' ask for some twice).
+      if (k + kBondsAhead + 3 < block.end) {
+        for (std::size_t j = 0; j < 4; ++j) {
           const char* line = reinterpret_cast<const char*>(&bonds_[k + kBondsAhead + j]);
           for (int c = 0; c < 5; ++c) __builtin_prefetch(line + 64 * c, 1);
         }
-        const Bond& soon = bonds_[k + kBondsAhead / 2];  // its line asked for before
-        for (const std::uint32_t slot : {soon.a, soon.b}) {
-          const char* body = reinterpret_cast<const char*>(&states_[slot]);
-          __builtin_prefetch(body, 0);
-          __builtin_prefetch(body + 64, 0);
+        for (std::size_t j = 0; j < 4; j += 2) {
+          const Bond& soon = bonds_[k + kBondsAhead / 2 + j];  // its line asked for before
+          for (const std::uint32_t slot : {soon.a, soon.b}) {
+            const char* body = reinterpret_cast<const char*>(&states_[slot]);
+            __builtin_prefetch(body, 0);
+            __builtin_prefetch(body + 64, 0);
+          }
         }
       }
+      if (plain && k + 3 < block.end && bonds_[k].intact() && bonds_[k + 1].intact() && bonds_[k + 2].intact() &&
+          bonds_[k + 3].intact()) {
+        lanes(k, std::integral_constant<std::size_t, 4>{});
+        k += 3;
+        continue;
+      }
       if (plain && k + 1 < block.end && bonds_[k].intact() && bonds_[k + 1].intact()) {
-        pair(k);
+        lanes(k, std::integral_constant<std::size_t, 2>{});
         ++k;
         continue;
       }
