@@ -265,16 +265,16 @@ CLEAVE_LANES void bond_lanes(const BondLane* in, BondLaneResult* out, double dt)
   return avx;
 }
 
-/// Two bonds of the bonded-particle law (BondLaw::bonded_particle, not held, no thermal
-/// strain, no moving cell): their kinematics as World::bond_forces makes them and
+/// Two bonds of the bonded-particle law (in[0..2), out[0..2); BondLaw::bonded_particle, not
+/// held, no thermal strain, no moving cell): their kinematics as World::bond_forces makes them and
 /// bond_force; each lane to the bit of the scalar code. The states are updated (and reset
 /// on a break) as bond_force does. Needs has_avx().
-[[gnu::target("avx")]] inline void bond_pair(const BondLane (&in)[2], BondLaneResult (&out)[2], double dt) {
+[[gnu::target("avx")]] inline void bond_pair(const BondLane* in, BondLaneResult* out, double dt) {
   pair_detail::bond_lanes<pair_detail::D2>(in, out, dt);
 }
 
-/// bond_pair for four bonds, in AVX's four lanes. Needs has_avx().
-[[gnu::target("avx")]] inline void bond_quad(const BondLane (&in)[4], BondLaneResult (&out)[4], double dt) {
+/// bond_pair for four bonds (in[0..4), out[0..4)), in AVX's four lanes. Needs has_avx().
+[[gnu::target("avx")]] inline void bond_quad(const BondLane* in, BondLaneResult* out, double dt) {
   pair_detail::bond_lanes<pair_detail::D4>(in, out, dt);
 }
 
