@@ -182,12 +182,12 @@ void drift(BodyState& s, const BodyInfo& b, double h) {
   s.w = angular_velocity(s.q, s.L, b.inv_inertia);
 }
 
-void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h) {
+void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h, bool lanes) {
   constexpr int N = kDriftBatch;
   Eigen::Quaterniond* q[N];
   const Eigen::Vector3d* L[N];
   const Eigen::Vector3d* inv[N];
-  if (n == 4 && has_avx()) {  // four at once in AVX's lanes (rotate_and_spin_four)
+  if (lanes && n == 4 && has_avx()) {  // four at once in AVX's lanes (rotate_and_spin_four)
     bool turns[4];
     for (int m = 0; m < 4; ++m) {
       s[m]->x += h * s[m]->v;

@@ -33,8 +33,9 @@ constexpr int kDriftBatch = 4;
 
 /// The drift of n <= kDriftBatch bodies at once, each with the bits drift() gives it: their
 /// rotations are computed side by side, so that the sines and cosines of different bodies
-/// overlap (one body's five sub-rotations depend on each other).
-void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h);
+/// overlap (one body's five sub-rotations depend on each other); four in AVX's lanes with
+/// `lanes` where the processor has them.
+void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h, bool lanes = true);
 
 /// a * b with the arithmetic of Eigen's SSE quaternion product (the same bits), in scalars:
 /// the drift's sub-rotations build b a component at a time, and Eigen's product then reads

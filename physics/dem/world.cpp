@@ -1149,11 +1149,11 @@ void World::step() {
       batch[queued] = &states_[i];
       batch_info[queued] = &infos_[i];
       if (++queued == kDriftBatch) {
-        drift(batch, batch_info, queued, h);  // sets w
+        drift(batch, batch_info, queued, h, settings_.lanes);  // sets w
         queued = 0;
       }
     }
-    if (queued > 0) drift(batch, batch_info, queued, h);
+    if (queued > 0) drift(batch, batch_info, queued, h, settings_.lanes);
   }
   if (cell_on_) {
     if (moving_cell_) {
@@ -1697,7 +1697,7 @@ void World::bond_forces(int nt) {
     };
     constexpr std::size_t kBondsAhead = 8;
     const bool plain = base.law == BondLaw::bonded_particle && !thermal_on_ &&
-                       !(cell_on_ && moving_cell_) && roles_.empty() && has_avx();
+                       !(cell_on_ && moving_cell_) && roles_.empty() && settings_.lanes && has_avx();
     for (std::size_t k = block.begin; k < block.end; ++k) {
       // The records and bodies a few bonds ahead asked for now (bonds_ streams past the
       // caches, 576 bytes a bond of which the law reads the first five lines, a pattern
