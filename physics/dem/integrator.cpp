@@ -120,6 +120,31 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
   q[3] = sub(sub(mul(w, bw), mul(y, by)), add(mul(z, bz), mul(x, bx)));
 }
 
+/// angular_velocity of lane i's body: R I^-1 R^T L (the conjugate's vector part negated).
+[[gnu::always_inline, gnu::target("avx")]] inline wide::Wide<wide::D4> spin_lanes(wide::D4 qx, wide::D4 qy, wide::D4 qz,
+                                                                                  wide::D4 qw,
+                                                                                  const wide::Wide<wide::D4>& L,
+                                                                                  const wide::D4 inv[3]) {
+  using namespace wide;
+  const Wide<D4> body = rotated(flip(qx), flip(qy), flip(qz), qw, L);
+  return rotated(qx, qy, qz, qw, Wide<D4>{mul(inv[0], body.x), mul(inv[1], body.y), mul(inv[2], body.z)});
+}
+
+/// The angular velocities of four bodies in AVX's lanes (kick's second half).
+[[gnu::target("avx")]] void spin_four(BodyState* const s[4], const BodyInfo* const b[4]) {
+  using namespace wide;
+  using D = D4;
+  const D qx = lanes<D>([&](int m) { return s[m]->q.x(); }), qy = lanes<D>([&](int m) { return s[m]->q.y(); });
+  const D qz = lanes<D>([&](int m) { return s[m]->q.z(); }), qw = lanes<D>([&](int m) { return s[m]->q.w(); });
+  const Wide<D> L{lanes<D>([&](int m) { return s[m]->L.x(); }), lanes<D>([&](int m) { return s[m]->L.y(); }),
+                  lanes<D>([&](int m) { return s[m]->L.z(); })};
+  const D inv[3] = {lanes<D>([&](int m) { return b[m]->inv_inertia.x(); }),
+                    lanes<D>([&](int m) { return b[m]->inv_inertia.y(); }),
+                    lanes<D>([&](int m) { return b[m]->inv_inertia.z(); })};
+  const Wide<D> w = spin_lanes(qx, qy, qz, qw, L, inv);
+  for (int m = 0; m < 4; ++m) s[m]->w = Eigen::Vector3d(lane(w.x, m), lane(w.y, m), lane(w.z, m));
+}
+
 /// rotate_free_n and angular_velocity of four bodies in AVX's four lanes, each lane the
 /// scalar code's operations in its order (so its bits): the quaternion products, the turns
 /// of the body-frame momentum and the normalisation side by side, the sines and cosines
@@ -155,9 +180,7 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
   const D qy = pick(turns, pick(positive, div(q[1], n), q[1]), qy0);
   const D qz = pick(turns, pick(positive, div(q[2], n), q[2]), qz0);
   const D qw = pick(turns, pick(positive, div(q[3], n), q[3]), qw0);
-  // angular_velocity: R I^-1 R^T L.
-  const Wide<D> body = rotated(flip(qx), flip(qy), flip(qz), qw, L);
-  const Wide<D> w = rotated(qx, qy, qz, qw, Wide<D>{mul(inv[0], body.x), mul(inv[1], body.y), mul(inv[2], body.z)});
+  const Wide<D> w = spin_lanes(qx, qy, qz, qw, L, inv);
   for (int m = 0; m < 4; ++m) {
     if (turning[m]) s[m]->q = Eigen::Quaterniond(lane(qw, m), lane(qx, m), lane(qy, m), lane(qz, m));
     s[m]->w = Eigen::Vector3d(lane(w.x, m), lane(w.y, m), lane(w.z, m));
@@ -167,6 +190,15 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
 #pragma GCC diagnostic pop
 
 }  // namespace
+
+void kick(BodyState* const s[], const BodyInfo* const b[], int n, double h, bool lanes) {
+  for (int m = 0; m < n; ++m) kick_momenta(*s[m], *b[m], h);
+  if (lanes && n == 4 && has_avx()) {
+    spin_four(s, b);
+    return;
+  }
+  for (int m = 0; m < n; ++m) s[m]->w = angular_velocity(s[m]->q, s[m]->L, b[m]->inv_inertia);
+}
 
 void rotate_free(Eigen::Quaterniond& q, const Eigen::Vector3d& L, const Eigen::Vector3d& inv_inertia,
                  double h) {

@@ -22,6 +22,10 @@ Eigen::Vector3d angular_velocity(const Eigen::Quaterniond& q, const Eigen::Vecto
 /// Half of velocity Verlet's kick: v += h f / m, L += h tau, and w follows.
 void kick(BodyState& s, const BodyInfo& b, double h);
 
+/// The kick of n <= kDriftBatch bodies, each with kick()'s bits; with `lanes`, four bodies'
+/// angular velocities in AVX's lanes where the processor has them.
+void kick(BodyState* const s[], const BodyInfo* const b[], int n, double h, bool lanes = true);
+
 /// The same kick leaving w as it was, for a kick that a drift (which sets w) follows.
 void kick_momenta(BodyState& s, const BodyInfo& b, double h);
 

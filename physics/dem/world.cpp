@@ -1169,10 +1169,23 @@ void World::step() {
   for (auto& w : walls_) w.origin += h * w.velocity;
   lap(StepPhase::kick_drift);
   compute_forces();
-#pragma omp parallel for num_threads(nt) schedule(static) if (slots >= kParallelMin)
-  for (std::ptrdiff_t i = 0; i < slots; ++i) {
-    if (!infos_[i].alive || infos_[i].fixed || !owns(static_cast<std::uint32_t>(i))) continue;
-    kick(states_[i], infos_[i], 0.5 * h);
+#pragma omp parallel num_threads(nt) if (slots >= kParallelMin)
+  {
+    // Four bodies at a time (the batch kick: the same bits as one by one).
+    const Block block = thread_block(static_cast<std::size_t>(slots));
+    BodyState* batch[kDriftBatch];
+    const BodyInfo* batch_info[kDriftBatch];
+    int queued = 0;
+    for (std::size_t i = block.begin; i < block.end; ++i) {
+      if (!infos_[i].alive || infos_[i].fixed || !owns(static_cast<std::uint32_t>(i))) continue;
+      batch[queued] = &states_[i];
+      batch_info[queued] = &infos_[i];
+      if (++queued == kDriftBatch) {
+        kick(batch, batch_info, queued, 0.5 * h, settings_.lanes);
+        queued = 0;
+      }
+    }
+    if (queued > 0) kick(batch, batch_info, queued, 0.5 * h, settings_.lanes);
   }
   if (conductivity_ > 0.0) conduct(h);
   lap(StepPhase::closing_kick);
