@@ -259,6 +259,26 @@ TEST(Integrator, TinyHalfAnglesSkipTheSineAndCosineWithTheSameBits) {
   EXPECT_GT(tiny, 1000);  // the shortcut was taken
 }
 
+/// n random bodies twice over (`one`, stepped one at a time, and `many`, as a batch), with
+/// pointers to the batch.
+struct BodyBatch {
+  int n = 0;
+  BodyState one[kDriftBatch], many[kDriftBatch];
+  BodyInfo info[kDriftBatch];
+  BodyState* ptr[kDriftBatch];
+  const BodyInfo* info_ptr[kDriftBatch];
+  /// Makes body m with `make(state, info, m)`, then copies it into the batch.
+  template <class Make>
+  BodyBatch(int count, Make&& make) : n(count) {
+    for (int m = 0; m < n; ++m) {
+      make(one[m], info[m], m);
+      many[m] = one[m];
+      ptr[m] = &many[m];
+      info_ptr[m] = &info[m];
+    }
+  }
+};
+
 // Batches of four take AVX's lanes where the processor has them (rotate_and_spin_four),
 // fewer the scalar batch: either way each body's bits are its own drift's. Orientations,
 // momenta from 1e-12 to 1 (tiny half angles and large ones), bodies that do not turn.
@@ -266,24 +286,16 @@ TEST(Integrator, TheBatchDriftGivesEachBodyTheBitsOfItsOwnDrift) {
   std::mt19937_64 rng(11);
   const double h = 1e-6;
   for (int trial = 0; trial < 8000; ++trial) {
-    const int n = 1 + trial % kDriftBatch;
-    BodyState one[kDriftBatch], many[kDriftBatch];
-    BodyInfo info[kDriftBatch];
-    BodyState* ptr[kDriftBatch];
-    const BodyInfo* info_ptr[kDriftBatch];
-    for (int m = 0; m < n; ++m) {
-      random_body(rng, one[m], info[m], h, -12.0 + 12.0 * ((trial + m) % 7) / 6.0);
-      if ((trial + m) % 5 == 0) one[m].L.setZero();  // a body that does not turn
-      many[m] = one[m];
-      ptr[m] = &many[m];
-      info_ptr[m] = &info[m];
-      drift(one[m], info[m], h);
-    }
-    drift(ptr, info_ptr, n, h);
-    for (int m = 0; m < n; ++m) {
-      ASSERT_TRUE(same_bits(many[m].q, one[m].q)) << "trial " << trial << " body " << m;
-      ASSERT_TRUE(same_bits(many[m].x, one[m].x));
-      ASSERT_TRUE(same_bits(many[m].w, one[m].w));
+    BodyBatch b(1 + trial % kDriftBatch, [&](BodyState& s, BodyInfo& info, int m) {
+      random_body(rng, s, info, h, -12.0 + 12.0 * ((trial + m) % 7) / 6.0);
+      if ((trial + m) % 5 == 0) s.L.setZero();  // a body that does not turn
+    });
+    for (int m = 0; m < b.n; ++m) drift(b.one[m], b.info[m], h);
+    drift(b.ptr, b.info_ptr, b.n, h);
+    for (int m = 0; m < b.n; ++m) {
+      ASSERT_TRUE(same_bits(b.many[m].q, b.one[m].q)) << "trial " << trial << " body " << m;
+      ASSERT_TRUE(same_bits(b.many[m].x, b.one[m].x));
+      ASSERT_TRUE(same_bits(b.many[m].w, b.one[m].w));
     }
   }
 }
@@ -296,27 +308,19 @@ TEST(Integrator, TheBatchKickGivesEachBodyTheBitsOfItsOwnKick) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double h = 1e-6;
   for (int trial = 0; trial < 8000; ++trial) {
-    const int n = 1 + trial % kDriftBatch;
-    BodyState one[kDriftBatch], many[kDriftBatch];
-    BodyInfo info[kDriftBatch];
-    BodyState* ptr[kDriftBatch];
-    const BodyInfo* info_ptr[kDriftBatch];
-    for (int m = 0; m < n; ++m) {
-      random_body(rng, one[m], info[m], h, -12.0 + 12.0 * ((trial + m) % 7) / 6.0);
-      info[m].inv_mass = 1e6 * (1.0 + 0.5 * u(rng));
-      one[m].f = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1e-3;
-      one[m].tau = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1e-9;
-      if ((trial + m) % 5 == 0) one[m].L.setZero(), one[m].tau.setZero();  // a body at rest
-      many[m] = one[m];
-      ptr[m] = &many[m];
-      info_ptr[m] = &info[m];
-      kick(one[m], info[m], 0.5 * h);
-    }
-    kick(ptr, info_ptr, n, 0.5 * h);
-    for (int m = 0; m < n; ++m) {
-      ASSERT_TRUE(same_bits(many[m].w, one[m].w)) << "trial " << trial << " body " << m;
-      ASSERT_TRUE(same_bits(many[m].v, one[m].v));
-      ASSERT_TRUE(same_bits(many[m].L, one[m].L));
+    BodyBatch b(1 + trial % kDriftBatch, [&](BodyState& s, BodyInfo& info, int m) {
+      random_body(rng, s, info, h, -12.0 + 12.0 * ((trial + m) % 7) / 6.0);
+      info.inv_mass = 1e6 * (1.0 + 0.5 * u(rng));
+      s.f = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1e-3;
+      s.tau = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1e-9;
+      if ((trial + m) % 5 == 0) s.L.setZero(), s.tau.setZero();  // a body at rest
+    });
+    for (int m = 0; m < b.n; ++m) kick(b.one[m], b.info[m], 0.5 * h);
+    kick(b.ptr, b.info_ptr, b.n, 0.5 * h);
+    for (int m = 0; m < b.n; ++m) {
+      ASSERT_TRUE(same_bits(b.many[m].w, b.one[m].w)) << "trial " << trial << " body " << m;
+      ASSERT_TRUE(same_bits(b.many[m].v, b.one[m].v));
+      ASSERT_TRUE(same_bits(b.many[m].L, b.one[m].L));
     }
   }
 }

@@ -130,18 +130,33 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
   return rotated(qx, qy, qz, qw, Wide<D4>{mul(inv[0], body.x), mul(inv[1], body.y), mul(inv[2], body.z)});
 }
 
+/// Four bodies' orientations, angular momenta and inverse principal moments, body m in
+/// lane m.
+struct FourBodies {
+  wide::D4 qx, qy, qz, qw;
+  wide::Wide<wide::D4> L;
+  wide::D4 inv[3];
+};
+[[gnu::always_inline, gnu::target("avx")]] inline FourBodies four_bodies(BodyState* const s[4],
+                                                                      const BodyInfo* const b[4]) {
+  using wide::D4;
+  using wide::lanes;
+  return {lanes<D4>([&](int m) { return s[m]->q.x(); }),
+          lanes<D4>([&](int m) { return s[m]->q.y(); }),
+          lanes<D4>([&](int m) { return s[m]->q.z(); }),
+          lanes<D4>([&](int m) { return s[m]->q.w(); }),
+          {lanes<D4>([&](int m) { return s[m]->L.x(); }), lanes<D4>([&](int m) { return s[m]->L.y(); }),
+           lanes<D4>([&](int m) { return s[m]->L.z(); })},
+          {lanes<D4>([&](int m) { return b[m]->inv_inertia.x(); }),
+           lanes<D4>([&](int m) { return b[m]->inv_inertia.y(); }),
+           lanes<D4>([&](int m) { return b[m]->inv_inertia.z(); })}};
+}
+
 /// The angular velocities of four bodies in AVX's lanes (kick's second half).
 [[gnu::target("avx")]] void spin_four(BodyState* const s[4], const BodyInfo* const b[4]) {
   using namespace wide;
-  using D = D4;
-  const D qx = lanes<D>([&](int m) { return s[m]->q.x(); }), qy = lanes<D>([&](int m) { return s[m]->q.y(); });
-  const D qz = lanes<D>([&](int m) { return s[m]->q.z(); }), qw = lanes<D>([&](int m) { return s[m]->q.w(); });
-  const Wide<D> L{lanes<D>([&](int m) { return s[m]->L.x(); }), lanes<D>([&](int m) { return s[m]->L.y(); }),
-                  lanes<D>([&](int m) { return s[m]->L.z(); })};
-  const D inv[3] = {lanes<D>([&](int m) { return b[m]->inv_inertia.x(); }),
-                    lanes<D>([&](int m) { return b[m]->inv_inertia.y(); }),
-                    lanes<D>([&](int m) { return b[m]->inv_inertia.z(); })};
-  const Wide<D> w = spin_lanes(qx, qy, qz, qw, L, inv);
+  const FourBodies f = four_bodies(s, b);
+  const Wide<D4> w = spin_lanes(f.qx, f.qy, f.qz, f.qw, f.L, f.inv);
   for (int m = 0; m < 4; ++m) s[m]->w = Eigen::Vector3d(lane(w.x, m), lane(w.y, m), lane(w.z, m));
 }
 
@@ -154,13 +169,10 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
                                                  const bool turning[4], double h) {
   using namespace wide;
   using D = D4;
-  const D qx0 = lanes<D>([&](int m) { return s[m]->q.x(); }), qy0 = lanes<D>([&](int m) { return s[m]->q.y(); });
-  const D qz0 = lanes<D>([&](int m) { return s[m]->q.z(); }), qw0 = lanes<D>([&](int m) { return s[m]->q.w(); });
-  const Wide<D> L{lanes<D>([&](int m) { return s[m]->L.x(); }), lanes<D>([&](int m) { return s[m]->L.y(); }),
-                  lanes<D>([&](int m) { return s[m]->L.z(); })};
-  const D inv[3] = {lanes<D>([&](int m) { return b[m]->inv_inertia.x(); }),
-                    lanes<D>([&](int m) { return b[m]->inv_inertia.y(); }),
-                    lanes<D>([&](int m) { return b[m]->inv_inertia.z(); })};
+  const FourBodies f = four_bodies(s, b);
+  const D qx0 = f.qx, qy0 = f.qy, qz0 = f.qz, qw0 = f.qw;
+  const Wide<D>& L = f.L;
+  const D* inv = f.inv;
   // rotate_free_n: the body-frame momentum (the conjugate's vector part negated, exactly).
   const Wide<D> p0 = rotated(flip(qx0), flip(qy0), flip(qz0), qw0, L);
   D pi[3] = {p0.x, p0.y, p0.z};

@@ -1136,25 +1136,35 @@ void World::step() {
   }
   const int nt = thread_count(settings_.threads);
   const auto slots = static_cast<std::ptrdiff_t>(states_.size());
+  // Each thread's block of bodies, kDriftBatch at a time: `take(i)` says whether body i is
+  // in (acting on it alone first, if need be), `run(batch, infos, n)` acts on a batch (the
+  // batch drift and kick: the same bits as one body at a time).
+  auto in_batches = [&](auto take, auto run) {
 #pragma omp parallel num_threads(nt) if (slots >= kParallelMin)
-  {
-    // The drifts go kDriftBatch bodies at a time (the batch drift: the same bits as one by one).
-    const Block block = thread_block(static_cast<std::size_t>(slots));
-    BodyState* batch[kDriftBatch];
-    const BodyInfo* batch_info[kDriftBatch];
-    int queued = 0;
-    for (std::size_t i = block.begin; i < block.end; ++i) {
-      if (!infos_[i].alive || !owns(static_cast<std::uint32_t>(i))) continue;
-      if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
-      batch[queued] = &states_[i];
-      batch_info[queued] = &infos_[i];
-      if (++queued == kDriftBatch) {
-        drift(batch, batch_info, queued, h, settings_.lanes);  // sets w
-        queued = 0;
+    {
+      const Block block = thread_block(static_cast<std::size_t>(slots));
+      BodyState* batch[kDriftBatch];
+      const BodyInfo* batch_info[kDriftBatch];
+      int queued = 0;
+      for (std::size_t i = block.begin; i < block.end; ++i) {
+        if (!take(i)) continue;
+        batch[queued] = &states_[i];
+        batch_info[queued] = &infos_[i];
+        if (++queued == kDriftBatch) {
+          run(batch, batch_info, queued);
+          queued = 0;
+        }
       }
+      if (queued > 0) run(batch, batch_info, queued);
     }
-    if (queued > 0) drift(batch, batch_info, queued, h, settings_.lanes);
-  }
+  };
+  in_batches(
+      [&](std::size_t i) {
+        if (!infos_[i].alive || !owns(static_cast<std::uint32_t>(i))) return false;
+        if (!infos_[i].fixed) kick_momenta(states_[i], infos_[i], 0.5 * h);
+        return true;
+      },
+      [&](BodyState* const* s, const BodyInfo* const* b, int n) { drift(s, b, n, h, settings_.lanes); });  // sets w
   if (cell_on_) {
     if (moving_cell_) {
       // The homogeneous deformation: centroids ride the affine field, the cell with them.
@@ -1169,24 +1179,9 @@ void World::step() {
   for (auto& w : walls_) w.origin += h * w.velocity;
   lap(StepPhase::kick_drift);
   compute_forces();
-#pragma omp parallel num_threads(nt) if (slots >= kParallelMin)
-  {
-    // Four bodies at a time (the batch kick: the same bits as one by one).
-    const Block block = thread_block(static_cast<std::size_t>(slots));
-    BodyState* batch[kDriftBatch];
-    const BodyInfo* batch_info[kDriftBatch];
-    int queued = 0;
-    for (std::size_t i = block.begin; i < block.end; ++i) {
-      if (!infos_[i].alive || infos_[i].fixed || !owns(static_cast<std::uint32_t>(i))) continue;
-      batch[queued] = &states_[i];
-      batch_info[queued] = &infos_[i];
-      if (++queued == kDriftBatch) {
-        kick(batch, batch_info, queued, 0.5 * h, settings_.lanes);
-        queued = 0;
-      }
-    }
-    if (queued > 0) kick(batch, batch_info, queued, 0.5 * h, settings_.lanes);
-  }
+  in_batches(
+      [&](std::size_t i) { return infos_[i].alive && !infos_[i].fixed && owns(static_cast<std::uint32_t>(i)); },
+      [&](BodyState* const* s, const BodyInfo* const* b, int n) { kick(s, b, n, 0.5 * h, settings_.lanes); });
   if (conductivity_ > 0.0) conduct(h);
   lap(StepPhase::closing_kick);
   if (in_step_) ++timings_.steps;
