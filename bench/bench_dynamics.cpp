@@ -14,10 +14,10 @@
 // (WorldSettings::lanes) and prints each phase's time on both sides (step_phases.hpp).
 // For each case, in its own child process (so peak memory is its own): build the world,
 // take a few warm-up steps, time a fixed number of steps at the stable time step in blocks
-// of 10 and print microseconds per step (of the median block), nanoseconds per primitive contact, touching body pairs and
-// contacts per body, the cost per touching pair, and the peak resident memory. Finally the
-// exponent of a log-log fit of step time against N. --full-search turns the narrow phase's
-// near-feature cache off (WorldSettings::feature_skin = 0), for comparison.
+// of 10 and print microseconds per step (of the median block), nanoseconds per primitive contact,
+// touching body pairs and contacts per body, the cost per touching pair, and the peak resident
+// memory. Finally the exponent of a log-log fit of step time against N. --full-search turns the
+// narrow phase's near-feature cache off (WorldSettings::feature_skin = 0), for comparison.
 //
 // Poured pile (the settled pile): prisms of random orientation poured into a box and left
 // to settle under gravity (pour); N above 1,000 are copies of one poured 1,000-prism pile

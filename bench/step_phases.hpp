@@ -48,7 +48,8 @@ class LaneAlternation {
     world.step();
     const physics::StepTimings& after = world.timings();
     physics::StepTimings& side = lanes ? with_ : without_;
-    for (std::size_t k = 0; k < physics::kStepPhases; ++k) side.seconds[k] += after.seconds[k] - before.seconds[k];
+    for (std::size_t k = 0; k < physics::kStepPhases; ++k)
+      side.seconds[k] += after.seconds[k] - before.seconds[k];
     side.steps += after.steps - before.steps;
     ++steps_;
     world.set_lanes(true);
@@ -56,12 +57,14 @@ class LaneAlternation {
   /// The two sides' phases, in ms summed over each side's steps, and how much less the lanes take.
   void print() const {
     if (!on_ || with_.steps == 0 || without_.steps == 0) return;
-    std::printf("  alternated step by step (CLEAVE_BENCH_ALTERNATE), ms summed over %llu steps each:\n",
-                static_cast<unsigned long long>(std::min(with_.steps, without_.steps)));
+    std::printf(
+        "  alternated step by step (CLEAVE_BENCH_ALTERNATE), ms summed over %llu steps each:\n",
+        static_cast<unsigned long long>(std::min(with_.steps, without_.steps)));
     std::printf("    %-13s %10s %10s %7s\n", "phase", "lanes on", "lanes off", "less");
     for (std::size_t k = 0; k < physics::kStepPhases; ++k) {
       if (with_.seconds[k] == 0.0 && without_.seconds[k] == 0.0) continue;
-      print_row(physics::to_string(static_cast<physics::StepPhase>(k)), with_.seconds[k], without_.seconds[k]);
+      print_row(physics::to_string(static_cast<physics::StepPhase>(k)), with_.seconds[k],
+                without_.seconds[k]);
     }
     print_row("step", with_.total(), without_.total());
     std::fflush(stdout);  // (a benchmark's child process leaves without flushing)
@@ -69,7 +72,8 @@ class LaneAlternation {
 
  private:
   static void print_row(const char* name, double on, double off) {
-    std::printf("    %-13s %10.2f %10.2f %6.1f%%\n", name, 1e3 * on, 1e3 * off, off > 0.0 ? 100.0 * (1.0 - on / off) : 0.0);
+    std::printf("    %-13s %10.2f %10.2f %6.1f%%\n", name, 1e3 * on, 1e3 * off,
+                off > 0.0 ? 100.0 * (1.0 - on / off) : 0.0);
   }
   bool on_ = false;
   std::uint64_t steps_ = 0;

@@ -295,7 +295,9 @@ namespace {
 /// A 30 x 20 bonded honeycomb block (600 prisms, over 1700 bonds: the parallel paths run)
 /// on `threads` threads, its left column held and its right column pulled along x at
 /// 0.05 m/s (10 nm a step: bonds break within 300 steps). `top`: the highest centroid's y.
-World pulled_block(int threads, double& top, const Eigen::Quaterniond& turn = Eigen::Quaterniond::Identity()) {
+/// `turn` turns the whole block, positions, orientations and pull (x, y above are before it).
+World pulled_block(int threads, double& top,
+                   const Eigen::Quaterniond& turn = Eigen::Quaterniond::Identity()) {
   WorldSettings ws;
   ws.gravity.setZero();
   ws.dt = 2e-7;

@@ -11,11 +11,12 @@
 /// where the processor has AVX: World::bond_forces asks has_avx()) run four.
 ///
 /// The bits: SSE2's and AVX's packed add, multiply, divide and square root round each lane
-/// exactly as the scalar instructions do (no fused multiply-add: the target is AVX, not FMA), and every operation below is the scalar code's
-/// (vec3.hpp, tangent.hpp, bond_law.cpp's bond_force, World::bond_forces), in its order; the
-/// scalar code's branches (a zero length) become selects of the value that branch returns.
-/// `BondPair.GivesTheScalarLawsBitsInEachLane` holds both widths to that.
-
+/// exactly as the scalar instructions do (no fused multiply-add: the target is AVX, not
+/// FMA), and every operation below is the scalar code's (vec3.hpp, tangent.hpp,
+/// bond_law.cpp's bond_force, World::bond_forces), in its order; the scalar code's branches
+/// (a zero length) become selects of the value that branch returns.
+/// `BondPair.GivesTheScalarLawsBitsInEachLane` and `BondQuad.GivesTheScalarLawsBitsInEachLane`
+/// hold the two widths to that.
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -59,14 +60,17 @@ using namespace wide;
 /// The vectors *(in[i].*field) in lanes i.
 template <class D, class Lane, class Field>
 CLEAVE_LANES Wide<D> gather(const Lane* in, Field field) {
-  return {lanes<D>([&](int i) { return (*(in[i].*field)).x(); }), lanes<D>([&](int i) { return (*(in[i].*field)).y(); }),
+  return {lanes<D>([&](int i) { return (*(in[i].*field)).x(); }),
+          lanes<D>([&](int i) { return (*(in[i].*field)).y(); }),
           lanes<D>([&](int i) { return (*(in[i].*field)).z(); })};
 }
 /// vec3.hpp's rotated (Eigen's _transformVector), lane i by the quaternion *(in[i].*field).
 template <class D, class Lane, class Field>
 CLEAVE_LANES Wide<D> rotated(const Lane* in, Field field, const Wide<D>& v) {
-  return rotated(lanes<D>([&](int i) { return (in[i].*field)->x(); }), lanes<D>([&](int i) { return (in[i].*field)->y(); }),
-                 lanes<D>([&](int i) { return (in[i].*field)->z(); }), lanes<D>([&](int i) { return (in[i].*field)->w(); }), v);
+  return rotated(lanes<D>([&](int i) { return (in[i].*field)->x(); }),
+                 lanes<D>([&](int i) { return (in[i].*field)->y(); }),
+                 lanes<D>([&](int i) { return (in[i].*field)->z(); }),
+                 lanes<D>([&](int i) { return (in[i].*field)->w(); }), v);
 }
 /// A bond state's or constants' field, lane i that of bond in[i].
 template <class D>
@@ -107,12 +111,14 @@ CLEAVE_LANES void bond_lanes(const BondLane* in, BondLaneResult* out, double dt)
   const Wide<D> vs = sub(velocity, scale(vn, n));
   const D wt = dot(spin, n);
   const Wide<D> wr = sub(spin, scale(wt, n));
-  const D normal = add(of_state<D>(in, &BondState::normal), mul(mul(constant<D>(in, &BondConstants::kbn), vn), step));
+  const D normal = add(of_state<D>(in, &BondState::normal),
+                       mul(mul(constant<D>(in, &BondConstants::kbn), vn), step));
   const Wide<D> shear = sub(into_plane(of_state3<D>(in, &BondState::shear), n),
                             scale(mul(constant<D>(in, &BondConstants::kbs), step), vs));
   const Wide<D> bending = sub(into_plane(of_state3<D>(in, &BondState::bending), n),
                               scale(mul(constant<D>(in, &BondConstants::kbr), step), wr));
-  const D torsion = sub(of_state<D>(in, &BondState::torsion), mul(mul(constant<D>(in, &BondConstants::kbt), step), wt));
+  const D torsion = sub(of_state<D>(in, &BondState::torsion),
+                        mul(mul(constant<D>(in, &BondConstants::kbt), step), wt));
   const D shear_size = root(dot(shear, shear));
   const D bending_size = root(dot(bending, bending));
   // The loads on B (tension pulls B back towards A).

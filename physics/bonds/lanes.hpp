@@ -35,7 +35,6 @@ template <class D>
 struct Wide {
   D x, y, z;
 };
-using W3 = Wide<D2>;
 
 CLEAVE_LANES D2 add(D2 a, D2 b) { return _mm_add_pd(a, b); }
 CLEAVE_LANES D2 sub(D2 a, D2 b) { return _mm_sub_pd(a, b); }
@@ -46,7 +45,9 @@ CLEAVE_LANES D2 equal(D2 a, D2 b) { return _mm_cmpeq_pd(a, b); }
 CLEAVE_LANES D2 greater(D2 a, D2 b) { return _mm_cmpgt_pd(a, b); }
 CLEAVE_LANES D2 flip(D2 a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }  // the sign bit
 /// `mask ? a : b`, lane by lane.
-CLEAVE_LANES D2 pick(D2 mask, D2 a, D2 b) { return _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b)); }
+CLEAVE_LANES D2 pick(D2 mask, D2 a, D2 b) {
+  return _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b));
+}
 CLEAVE_LANES D4 add(D4 a, D4 b) { return _mm256_add_pd(a, b); }
 CLEAVE_LANES D4 sub(D4 a, D4 b) { return _mm256_sub_pd(a, b); }
 CLEAVE_LANES D4 mul(D4 a, D4 b) { return _mm256_mul_pd(a, b); }
@@ -55,7 +56,9 @@ CLEAVE_LANES D4 root(D4 a) { return _mm256_sqrt_pd(a); }
 CLEAVE_LANES D4 equal(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
 CLEAVE_LANES D4 greater(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
 CLEAVE_LANES D4 flip(D4 a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
-CLEAVE_LANES D4 pick(D4 mask, D4 a, D4 b) { return _mm256_or_pd(_mm256_and_pd(mask, a), _mm256_andnot_pd(mask, b)); }
+CLEAVE_LANES D4 pick(D4 mask, D4 a, D4 b) {
+  return _mm256_or_pd(_mm256_and_pd(mask, a), _mm256_andnot_pd(mask, b));
+}
 
 /// The register of get(0), get(1), ... in lanes 0, 1, ...
 template <class D, class Get>
@@ -109,7 +112,8 @@ CLEAVE_LANES D dot(const Wide<D>& a, const Wide<D>& b) {
 }
 template <class D>
 CLEAVE_LANES Wide<D> cross(const Wide<D>& a, const Wide<D>& b) {
-  return {sub(mul(a.y, b.z), mul(a.z, b.y)), sub(mul(a.z, b.x), mul(a.x, b.z)), sub(mul(a.x, b.y), mul(a.y, b.x))};
+  return {sub(mul(a.y, b.z), mul(a.z, b.y)), sub(mul(a.z, b.x), mul(a.x, b.z)),
+          sub(mul(a.x, b.y), mul(a.y, b.x))};
 }
 /// vec3.hpp's normalized: unchanged where the squared length is not positive.
 template <class D>
@@ -123,12 +127,15 @@ CLEAVE_LANES Wide<D> normalized(const Wide<D>& a) {
 /// of lane i.
 template <class D>
 CLEAVE_LANES Wide<D> rotated(D qx, D qy, D qz, D qw, const Wide<D>& v) {
-  D ux = sub(mul(qy, v.z), mul(qz, v.y)), uy = sub(mul(qz, v.x), mul(qx, v.z)), uz = sub(mul(qx, v.y), mul(qy, v.x));
+  D ux = sub(mul(qy, v.z), mul(qz, v.y)), uy = sub(mul(qz, v.x), mul(qx, v.z)),
+    uz = sub(mul(qx, v.y), mul(qy, v.x));
   ux = add(ux, ux);
   uy = add(uy, uy);
   uz = add(uz, uz);
-  const D cx = sub(mul(qy, uz), mul(qz, uy)), cy = sub(mul(qz, ux), mul(qx, uz)), cz = sub(mul(qx, uy), mul(qy, ux));
-  return {add(add(v.x, mul(qw, ux)), cx), add(add(v.y, mul(qw, uy)), cy), add(add(v.z, mul(qw, uz)), cz)};
+  const D cx = sub(mul(qy, uz), mul(qz, uy)), cy = sub(mul(qz, ux), mul(qx, uz)),
+          cz = sub(mul(qx, uy), mul(qy, ux));
+  return {add(add(v.x, mul(qw, ux)), cx), add(add(v.y, mul(qw, uy)), cy),
+          add(add(v.z, mul(qw, uz)), cz)};
 }
 /// tangent.hpp's into_plane: v where its length is zero, zero where its part across n is.
 template <class D>

@@ -95,8 +95,9 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
 
 /// One sub-flow of rotate_about for four bodies in AVX's lanes: pi the body-frame momentum's
 /// components, q the orientation's (x, y, z, w).
-[[gnu::always_inline, gnu::target("avx")]] inline void turn_four(int k, double hk, wide::D4 pi[3], wide::D4 q[4],
-                                                                const wide::D4 inv[3]) {
+[[gnu::always_inline, gnu::target("avx")]] inline void turn_four(int k, double hk, wide::D4 pi[3],
+                                                                 wide::D4 q[4],
+                                                                 const wide::D4 inv[3]) {
   using namespace wide;
   using D = D4;
   const D zero = splat<D>(0.0);
@@ -121,13 +122,13 @@ void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const 
 }
 
 /// angular_velocity of lane i's body: R I^-1 R^T L (the conjugate's vector part negated).
-[[gnu::always_inline, gnu::target("avx")]] inline wide::Wide<wide::D4> spin_lanes(wide::D4 qx, wide::D4 qy, wide::D4 qz,
-                                                                                  wide::D4 qw,
-                                                                                  const wide::Wide<wide::D4>& L,
-                                                                                  const wide::D4 inv[3]) {
+[[gnu::always_inline, gnu::target("avx")]] inline wide::Wide<wide::D4> spin_lanes(
+    wide::D4 qx, wide::D4 qy, wide::D4 qz, wide::D4 qw, const wide::Wide<wide::D4>& L,
+    const wide::D4 inv[3]) {
   using namespace wide;
   const Wide<D4> body = rotated(flip(qx), flip(qy), flip(qz), qw, L);
-  return rotated(qx, qy, qz, qw, Wide<D4>{mul(inv[0], body.x), mul(inv[1], body.y), mul(inv[2], body.z)});
+  return rotated(qx, qy, qz, qw,
+                 Wide<D4>{mul(inv[0], body.x), mul(inv[1], body.y), mul(inv[2], body.z)});
 }
 
 /// Four bodies' orientations, angular momenta and inverse principal moments, body m in
@@ -137,19 +138,20 @@ struct FourBodies {
   wide::Wide<wide::D4> L;
   wide::D4 inv[3];
 };
-[[gnu::always_inline, gnu::target("avx")]] inline FourBodies four_bodies(BodyState* const s[4],
-                                                                      const BodyInfo* const b[4]) {
+[[gnu::always_inline, gnu::target("avx")]] inline FourBodies four_bodies(
+    BodyState* const s[4], const BodyInfo* const b[4]) {
   using wide::D4;
   using wide::lanes;
-  return {lanes<D4>([&](int m) { return s[m]->q.x(); }),
-          lanes<D4>([&](int m) { return s[m]->q.y(); }),
-          lanes<D4>([&](int m) { return s[m]->q.z(); }),
-          lanes<D4>([&](int m) { return s[m]->q.w(); }),
-          {lanes<D4>([&](int m) { return s[m]->L.x(); }), lanes<D4>([&](int m) { return s[m]->L.y(); }),
-           lanes<D4>([&](int m) { return s[m]->L.z(); })},
-          {lanes<D4>([&](int m) { return b[m]->inv_inertia.x(); }),
-           lanes<D4>([&](int m) { return b[m]->inv_inertia.y(); }),
-           lanes<D4>([&](int m) { return b[m]->inv_inertia.z(); })}};
+  return {
+      lanes<D4>([&](int m) { return s[m]->q.x(); }),
+      lanes<D4>([&](int m) { return s[m]->q.y(); }),
+      lanes<D4>([&](int m) { return s[m]->q.z(); }),
+      lanes<D4>([&](int m) { return s[m]->q.w(); }),
+      {lanes<D4>([&](int m) { return s[m]->L.x(); }), lanes<D4>([&](int m) { return s[m]->L.y(); }),
+       lanes<D4>([&](int m) { return s[m]->L.z(); })},
+      {lanes<D4>([&](int m) { return b[m]->inv_inertia.x(); }),
+       lanes<D4>([&](int m) { return b[m]->inv_inertia.y(); }),
+       lanes<D4>([&](int m) { return b[m]->inv_inertia.z(); })}};
 }
 
 /// The angular velocities of four bodies in AVX's lanes (kick's second half).
@@ -170,31 +172,30 @@ struct FourBodies {
   using namespace wide;
   using D = D4;
   const FourBodies f = four_bodies(s, b);
-  const D qx0 = f.qx, qy0 = f.qy, qz0 = f.qz, qw0 = f.qw;
-  const Wide<D>& L = f.L;
-  const D* inv = f.inv;
   // rotate_free_n: the body-frame momentum (the conjugate's vector part negated, exactly).
-  const Wide<D> p0 = rotated(flip(qx0), flip(qy0), flip(qz0), qw0, L);
+  const Wide<D> p0 = rotated(flip(f.qx), flip(f.qy), flip(f.qz), f.qw, f.L);
   D pi[3] = {p0.x, p0.y, p0.z};
-  D q[4] = {qx0, qy0, qz0, qw0};  // x, y, z, w
+  D q[4] = {f.qx, f.qy, f.qz, f.qw};  // x, y, z, w
   const D zero = splat<D>(0.0);
-  turn_four(0, 0.5 * h, pi, q, inv);
-  turn_four(1, 0.5 * h, pi, q, inv);
-  turn_four(2, h, pi, q, inv);
-  turn_four(1, 0.5 * h, pi, q, inv);
-  turn_four(0, 0.5 * h, pi, q, inv);
+  turn_four(0, 0.5 * h, pi, q, f.inv);
+  turn_four(1, 0.5 * h, pi, q, f.inv);
+  turn_four(2, h, pi, q, f.inv);
+  turn_four(1, 0.5 * h, pi, q, f.inv);
+  turn_four(0, 0.5 * h, pi, q, f.inv);
   // normalize_quaternion: Eigen's two-lane sum of squares; unchanged where it is not positive.
   const D n2 = add(add(mul(q[0], q[0]), mul(q[2], q[2])), add(mul(q[1], q[1]), mul(q[3], q[3])));
   const D positive = greater(n2, zero), n = root(n2);
   // Bodies that do not turn keep their orientation.
-  const D turns = lanes<D>([&](int m) { return turning[m] ? std::bit_cast<double>(~std::uint64_t{0}) : 0.0; });
-  const D qx = pick(turns, pick(positive, div(q[0], n), q[0]), qx0);
-  const D qy = pick(turns, pick(positive, div(q[1], n), q[1]), qy0);
-  const D qz = pick(turns, pick(positive, div(q[2], n), q[2]), qz0);
-  const D qw = pick(turns, pick(positive, div(q[3], n), q[3]), qw0);
-  const Wide<D> w = spin_lanes(qx, qy, qz, qw, L, inv);
+  const D turns =
+      lanes<D>([&](int m) { return turning[m] ? std::bit_cast<double>(~std::uint64_t{0}) : 0.0; });
+  const D qx = pick(turns, pick(positive, div(q[0], n), q[0]), f.qx);
+  const D qy = pick(turns, pick(positive, div(q[1], n), q[1]), f.qy);
+  const D qz = pick(turns, pick(positive, div(q[2], n), q[2]), f.qz);
+  const D qw = pick(turns, pick(positive, div(q[3], n), q[3]), f.qw);
+  const Wide<D> w = spin_lanes(qx, qy, qz, qw, f.L, f.inv);
   for (int m = 0; m < 4; ++m) {
-    if (turning[m]) s[m]->q = Eigen::Quaterniond(lane(qw, m), lane(qx, m), lane(qy, m), lane(qz, m));
+    if (turning[m])
+      s[m]->q = Eigen::Quaterniond(lane(qw, m), lane(qx, m), lane(qy, m), lane(qz, m));
     s[m]->w = Eigen::Vector3d(lane(w.x, m), lane(w.y, m), lane(w.z, m));
   }
 }
