@@ -9,6 +9,7 @@
 
 #include "geometry/exact_polyhedron.hpp"
 #include "eigen_reference.hpp"
+#include "physics/bonds/lanes.hpp"
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/world.hpp"
 
@@ -302,3 +303,93 @@ TEST(SurelyShorter, NeverClaimsALengthAtOrAboveTheLimitAndSeesTheClearlyShorter)
   EXPECT_FALSE(surely_shorter(V3{1e-200, 0.0, 0.0}, 1e-160));  // limit^2 not normal: the root decides
 }
 
+
+TEST(ContactQuad, GivesTheScalarLawsBitsInEachLane) {
+  // contact_force_quad against contact_force, lane by lane, to the bit: random quads over
+  // every branch (loading and unloading, sliding and sticking, rolling capped or not,
+  // torsion clamped either side, springs along the normal, no overlap, fresh histories),
+  // each lane its own coefficients. A reordered product or a swapped select fails it.
+  if (!has_avx()) GTEST_SKIP() << "no AVX on this processor";
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-8.0, 0.0);
+  auto vec = [&](double scale) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    return Eigen::Vector3d(x * scale, y * scale, z * scale);
+  };
+  int sliding = 0, sticking = 0, rolled_capped = 0, clamped_low = 0, clamped_high = 0,
+      unloading = 0, apart = 0;
+  for (int trial = 0; trial < 10000; ++trial) {
+    ContactParams p;
+    p.kn = 5e6 * (1.0 + u(rng));
+    p.ks = 2e6 * (1.0 + u(rng));
+    p.c_res = 1.0 + std::abs(u(rng));
+    p.mu_s = 0.3 + 0.2 * u(rng);
+    p.damping_ratio = trial % 5 == 0 ? 0.0 : 0.1;
+    if (trial % 2) {  // rolling and torsion on every other quad
+      p.kr = 1e-3 * (1.0 + u(rng));
+      p.kt = 1e-3 * (1.0 + u(rng));
+      p.mu_r = 0.1;
+    }
+    ContactKinematics k[4];
+    ContactDamping d[4];
+    ContactHistory h[4], h_ref[4];
+    ContactForce got[4];
+    for (int i = 0; i < 4; ++i) {
+      k[i].normal = vec(1.0).normalized();
+      k[i].overlap = 1e-6 * u(rng);
+      k[i].velocity = vec(std::pow(10.0, e(rng)));
+      k[i].spin = vec(std::pow(10.0, e(rng)));
+      k[i].lever = 1e-4 * (1.0 + u(rng));
+      d[i] = contact_damping(p, 1e-6 * (1.0 + u(rng)), 1e-12 * (1.0 + u(rng)));
+      const int kind = static_cast<int>(rng() % 6);
+      if (kind != 0) {  // fresh otherwise (zero springs: into_plane's early out)
+        h[i].shear = vec(10.0 * std::pow(10.0, e(rng) / 4.0));
+        h[i].rolling = vec(1e-6 * std::pow(10.0, e(rng)));
+        h[i].torsion = 1e-6 * u(rng);
+        h[i].max_overlap = 1e-6 * std::abs(u(rng));
+      }
+      if (kind == 1) {  // springs along the normal (nothing left across it)
+        h[i].shear = 3.0 * k[i].normal;
+        h[i].rolling = -1e-7 * k[i].normal;
+      }
+      if (kind == 2) h[i].torsion = (rng() % 2 ? 1.0 : -1.0) * 1e-3;  // far past the cap
+      h_ref[i] = h[i];
+    }
+    const ContactKinematics* in[4] = {&k[0], &k[1], &k[2], &k[3]};
+    const ContactDamping* dp[4] = {&d[0], &d[1], &d[2], &d[3]};
+    ContactHistory* hp[4] = {&h[0], &h[1], &h[2], &h[3]};
+    ContactForce* out[4] = {&got[0], &got[1], &got[2], &got[3]};
+    got[trial % 4].moment = Eigen::Vector3d::Constant(7.0);  // must come back zero (or set)
+    contact_force_quad(p, in, dp, hp, out, 1e-6);
+    for (int i = 0; i < 4; ++i) {
+      const double torsion_before = h_ref[i].torsion;
+      const ContactForce want = contact_force(p, k[i], d[i], h_ref[i], 1e-6);
+      ASSERT_TRUE(same_bits(got[i].force, want.force)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(got[i].moment, want.moment)) << trial << " lane " << i;
+      ASSERT_EQ(got[i].sliding, want.sliding) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(h[i].shear, h_ref[i].shear)) << trial << " lane " << i;
+      ASSERT_TRUE(same_bits(h[i].rolling, h_ref[i].rolling)) << trial << " lane " << i;
+      ASSERT_EQ(std::memcmp(&h[i].torsion, &h_ref[i].torsion, sizeof(double)), 0) << trial;
+      ASSERT_EQ(std::memcmp(&h[i].max_overlap, &h_ref[i].max_overlap, sizeof(double)), 0) << trial;
+      (want.sliding ? sliding : sticking) += 1;
+      if (k[i].overlap <= 0.0) ++apart;
+      if (k[i].overlap > 0.0 && h_ref[i].max_overlap > k[i].overlap) ++unloading;
+      if (p.kr > 0.0) {
+        const double wt = k[i].spin.dot(k[i].normal);
+        const double free_torsion = torsion_before - p.kt * 1e-6 * wt;
+        if (h_ref[i].torsion != free_torsion) (h_ref[i].torsion > free_torsion ? clamped_low : clamped_high) += 1;
+        const double fn = want.force.dot(k[i].normal);
+        if (h_ref[i].rolling.norm() > 0.0 && h_ref[i].rolling.norm() >= 0.999 * p.mu_r * std::abs(fn) * k[i].lever)
+          ++rolled_capped;
+      }
+    }
+  }
+  // Every branch was taken many times.
+  EXPECT_GT(sliding, 2000);
+  EXPECT_GT(sticking, 2000);
+  EXPECT_GT(rolled_capped, 500);
+  EXPECT_GT(clamped_low, 500);
+  EXPECT_GT(clamped_high, 500);
+  EXPECT_GT(unloading, 2000);
+  EXPECT_GT(apart, 2000);
+}

@@ -870,6 +870,22 @@ void World::evaluate_and_apply(int nt) {
     // Keys ascend through the contacts, as through the history: one search, then a walk.
     std::size_t cursor = 0, bond_cursor = 0;
     PairDamping pair;
+    // Four contacts with the same parameters go through contact_force_quad together, in
+    // AVX's lanes, with contact_force's bits; those left over (and all, without the lanes)
+    // one at a time.
+    const bool quads = settings_.lanes && has_avx();
+    const double dt = settings_.dt;
+    ContactKinematics lane_kin[4];
+    ContactDamping lane_damping[4];
+    std::size_t lane_k[4];
+    const ContactParams* lane_params = nullptr;
+    int filled = 0;
+    auto one_at_a_time = [&] {
+      for (int i = 0; i < filled; ++i)
+        forces_[lane_k[i]] = contact_force(*lane_params, lane_kin[i], lane_damping[i],
+                                           next_history_[lane_k[i]].history, dt);
+      filled = 0;
+    };
     for_pending(begin, end, [&](std::size_t k, const Pending& p) {
       if (k == begin) {
         cursor = history_index(p.key);
@@ -880,22 +896,50 @@ void World::evaluate_and_apply(int nt) {
               bonds_.begin());
         }
       }
-      evaluate_contact(p, k, cursor, bond_cursor, pair);
+      ContactKinematics& kin = lane_kin[filled];
+      const ContactParams& params = contact_inputs(p, k, cursor, bond_cursor, pair, kin);
+      overlaps_[k] = kin.overlap;
+      if (!quads) {
+        forces_[k] = contact_force(params, kin, pair.damping, next_history_[k].history, dt);
+        return;
+      }
+      if (filled > 0 && &params != lane_params) {
+        // (kin, in lane `filled`, moves to lane 0 first: one_at_a_time leaves it alone.)
+        const ContactKinematics held = kin;
+        one_at_a_time();
+        lane_kin[0] = held;
+      }
+      lane_params = &params;
+      lane_damping[filled] = pair.damping;
+      lane_k[filled] = k;
+      if (++filled < 4) return;
+      const ContactKinematics* in[4] = {&lane_kin[0], &lane_kin[1], &lane_kin[2], &lane_kin[3]};
+      const ContactDamping* damping[4] = {&lane_damping[0], &lane_damping[1], &lane_damping[2],
+                                          &lane_damping[3]};
+      ContactHistory* history[4];
+      ContactForce* out[4];
+      for (int i = 0; i < 4; ++i) {
+        history[i] = &next_history_[lane_k[i]].history;
+        out[i] = &forces_[lane_k[i]];
+      }
+      contact_force_quad(params, in, damping, history, out, dt);
+      filled = 0;
     });
+    one_at_a_time();
   }
   lap(StepPhase::contact_law);
   sum_forces(nt);
   lap(StepPhase::contact_sums);
 }
 
-void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& cursor, std::size_t& bond_cursor,
-                             PairDamping& pair) {
+const ContactParams& World::contact_inputs(const Pending& p, std::size_t k, std::size_t& cursor,
+                                           std::size_t& bond_cursor, PairDamping& pair,
+                                           ContactKinematics& kin) {
   const bool wall = (p.key.a & kWallFlag) != 0;
   const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
   const PrimitiveContact& c = p.contact;
   const BodyState& sb = states_[b];
   const BodyInfo& ib = infos_[b];
-  ContactKinematics kin;
   kin.normal = c.normal;
   kin.overlap = c.penetration;
   // The relative motion in plain doubles (vec3.hpp: Eigen's bits, without its stalls).
@@ -969,8 +1013,7 @@ void World::evaluate_contact(const Pending& p, std::size_t k, std::size_t& curso
     }
     pair = {p.key.a, b, true, contact_damping(params, m_crit, i_crit)};
   }
-  forces_[k] = contact_force(params, kin, pair.damping, h, settings_.dt);
-  overlaps_[k] = kin.overlap;
+  return params;
 }
 
 void World::list_body_pairs() {

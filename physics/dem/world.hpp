@@ -553,11 +553,13 @@ class World {
     bool valid = false;
     ContactDamping damping;
   };
-  /// The contact law for contact k (`p`): reads the bodies' states and the previous step's
-  /// history (walking `history_cursor` forward through it), writes only slot k; `pair`
-  /// keeps the coefficients of the pair before it.
-  void evaluate_contact(const Pending& p, std::size_t k, std::size_t& history_cursor, std::size_t& bond_cursor,
-                        PairDamping& pair);
+  /// The contact law's inputs for contact k (`p`): its kinematics into `kin`, the previous
+  /// step's history copied into next_history_[k] (walking `history_cursor` forward through
+  /// history_), the pair's coefficients into `pair` (kept from the pair before when the
+  /// same); returns the parameters that apply. Reads the bodies' states, writes only slot k.
+  const ContactParams& contact_inputs(const Pending& p, std::size_t k, std::size_t& history_cursor,
+                                      std::size_t& bond_cursor, PairDamping& pair,
+                                      ContactKinematics& kin);
 
   WorldSettings settings_;
   std::vector<RigidShape> shapes_;
