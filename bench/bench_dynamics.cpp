@@ -12,6 +12,8 @@
 // timed steps went (World::set_timing: search, narrow phase, contact law, bonds, ...).
 // CLEAVE_BENCH_ALTERNATE=1 alternates the timed steps between AVX's lanes on and off
 // (WorldSettings::lanes) and prints each phase's time on both sides (step_phases.hpp).
+// CLEAVE_BENCH_HASH=1 prints each case's state hash after its timed steps (World::state_hash):
+// two builds that should give the same bits can be checked on the same cases.
 // For each case, in its own child process (so peak memory is its own): build the world,
 // take a few warm-up steps, time a fixed number of steps at the stable time step in blocks
 // of 10 and print microseconds per step (of the median block), nanoseconds per primitive contact,
@@ -317,6 +319,10 @@ Result run_case(int n, Case kind, const Pile& tile) {
   r.peak_mib = u.ru_maxrss / 1024.0;
   r.phases = world.timings();
   alternation.print();
+  if (const char* h = std::getenv("CLEAVE_BENCH_HASH"); h != nullptr && *h != '\0' && *h != '0')
+    std::printf("  state hash after %d steps: %016llx\n", steps,
+                static_cast<unsigned long long>(world.state_hash()));
+  std::fflush(stdout);  // (the child leaves by _exit)
   return r;
 }
 

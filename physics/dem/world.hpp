@@ -547,10 +547,13 @@ class World {
     const char* at = reinterpret_cast<const char*>(&posed_[slot]);
     for (int line = 0; line < 4; ++line) __builtin_prefetch(at + 64 * line);
   }
-  /// The damping coefficients of the last pair evaluate_contact saw (key a, body b).
+  /// The damping coefficients of the last pair contact_inputs saw (key a, body b), and
+  /// what they were made from (a wall or not, A's and B's masses and least moments).
   struct PairDamping {
     std::uint32_t a = 0, b = 0;
     bool valid = false;
+    bool wall = false;
+    double mass_a = 0.0, mass_b = 0.0, moment_a = 0.0, moment_b = 0.0;
     ContactDamping damping;
   };
   /// The contact law's inputs for contact k (`p`): its kinematics into `kin`, the previous
