@@ -303,6 +303,39 @@ TEST_P(ThreadCounts, OneAndTwoThreadsGiveBitIdenticalStates) {
 
 INSTANTIATE_TEST_SUITE_P(SearchModes, ThreadCounts, ::testing::Values(0.0, 0.02), search_name);
 
+TEST(ThreadCounts, AWideLayerOnAFloorGivesTheSameBitsOnOneAndTwoThreads) {
+  // One layer of about 1,200 grains pressed onto a floor: its wall contacts are listed in
+  // pieces of body slots, as the threads come free, and joined in order (World::
+  // wall_contacts); the floor's contacts fall in every piece. One and two threads must list
+  // them in the same order, so that each grain sums them alike: the same bits.
+  io::Scenario one = io::parse_scenario(kSmallDrop, "small_drop.toml");
+  one.specimen.outline = geometry::Outline::box(56e-3, 56e-3, 1e-3);
+  one.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
+  one.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
+  one.dynamics.lift = 0.05e-3 - 2.5e-6;
+  one.dynamics.dt = 1e-8;
+  io::Scenario two = one;
+  one.dynamics.threads = 1;
+  two.dynamics.threads = 2;
+  const geometry::Specimen specimen = geometry::build_specimen(one.specimen);
+  ASSERT_GT(specimen.grains.size(), 1100u);
+  World a = io::make_world(one, specimen);
+  World b = io::make_world(two, specimen);
+  for (int i = 0; i < 30; ++i) {
+    a.step();
+    b.step();
+  }
+  std::size_t on_floor = 0, last_slot = 0;
+  for (const auto& c : a.contacts()) {
+    if (!c.wall) continue;
+    ++on_floor;
+    last_slot = std::max<std::size_t>(last_slot, c.b);
+  }
+  EXPECT_GT(on_floor, 6000u);       // every grain on its six bottom corners
+  EXPECT_GT(last_slot, 1100u);      // in the pieces of the last slots too
+  EXPECT_EQ(state_hash(a), state_hash(b));
+}
+
 // ---- persistent contact manifolds (WorldSettings::manifold_tolerance > 0) -----------------
 
 TEST(ContactManifolds, AWorldReadBackFromItsStateCarriesOnBitForBit) {

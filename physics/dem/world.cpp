@@ -315,6 +315,8 @@ namespace {
 /// Loops shorter than this run on one thread: for small worlds the cost of waking threads
 /// every step exceeds the work (and oversubscribed cores make it far worse).
 constexpr std::ptrdiff_t kParallelMin = 512;
+/// Body slots per piece of the wall contacts (World::wall_contacts).
+constexpr std::size_t kWallPiece = 512;
 /// Pairs per chunk of the narrow phase (body_contacts); join_pending finds the chunks' lists
 /// by it.
 constexpr std::size_t kPairChunk = 256;
@@ -635,7 +637,7 @@ void World::body_contacts(int nt, bool stale) {
   if (chunk_pending_.size() < chunks) chunk_pending_.resize(chunks);
   if (cell_on_ && chunk_shift_.size() < chunks) chunk_shift_.resize(chunks);
   parts_.clear();
-  for (std::size_t chunk = 0; chunk < chunks; ++chunk) parts_.push_back(&chunk_pending_[chunk]);
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) parts_.push_back(&chunk_pending_[chunk].list);
   // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
   // them gives what the full search would, bit for bit, and skips what cannot touch.
   const bool cached = settings_.feature_skin > 0.0;
@@ -657,9 +659,9 @@ void World::body_contacts(int nt, bool stale) {
     PosedShape image;  // B's image across a periodic face
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
-      auto& out = chunk_pending_[chunk];
+      auto& out = chunk_pending_[chunk].list;
       out.clear();
-      if (cell_on_) chunk_shift_[chunk].clear();
+      if (cell_on_) chunk_shift_[chunk].list.clear();
       const std::size_t begin = chunk * kChunk, end = std::min(n, begin + kChunk);
       for (std::size_t p = begin; p < end; ++p) {
         const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
@@ -685,7 +687,7 @@ void World::body_contacts(int nt, bool stale) {
           for (const auto& fc : features) {
             if (fc.contact.penetration > 0.0) {
               out.push_back({{a, b, fc.feature_a, fc.feature_b}, fc.contact});
-              chunk_shift_[chunk].push_back(t);
+              chunk_shift_[chunk].list.push_back(t);
             }
           }
           continue;
@@ -772,26 +774,30 @@ void World::plan_pairs(int nt) {
 }
 
 void World::wall_contacts(int nt) {
-  // Each thread takes a block of body slots and lists its contacts with every wall; the
-  // blocks are joined in order, wall by wall, as one thread would list them.
+  // The body slots in pieces, handed to the threads as they come free; each piece lists its
+  // contacts with every wall, and the pieces' lists are joined in order, wall by wall, as
+  // one thread would list them, for any number of threads. Each list has cache lines of its
+  // own (OwnLines): side by side, two threads' lists shared the line holding their ends, and
+  // the settled pile's wall contacts took 0.27 ms a step on two threads, 0.15 on one.
   const auto slots = live_slots_.size();
   if (static_cast<std::ptrdiff_t>(slots) < kParallelMin || walls_.empty()) nt = 1;
-  const std::size_t lists = static_cast<std::size_t>(nt) * walls_.size();
+  const std::size_t pieces = std::max<std::size_t>(1, (slots + kWallPiece - 1) / kWallPiece);
+  const std::size_t lists = pieces * walls_.size();
   if (wall_pending_.size() < lists) wall_pending_.resize(lists);
-  for (std::size_t k = 0; k < lists; ++k) wall_pending_[k].clear();  // OpenMP may run fewer threads
-#pragma omp parallel num_threads(nt) if (nt > 1)
-  {
-    const auto [t, begin, end] = thread_block(slots);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1) if (nt > 1)
+  for (std::size_t piece = 0; piece < pieces; ++piece) {
+    for (std::uint32_t w = 0; w < walls_.size(); ++w) wall_pending_[w * pieces + piece].list.clear();
     // Body by body, wall by wall within: one pass over the bodies; each wall's list still
     // takes its contacts in body order.
-    for (std::size_t k = begin; k < end; ++k) {
+    const std::size_t end = std::min(slots, (piece + 1) * kWallPiece);
+    for (std::size_t k = piece * kWallPiece; k < end; ++k) {
       const std::uint32_t slot = live_slots_[k];
       if (!owns(slot)) continue;  // a ghost's wall contacts are its owner's
       const std::uint32_t reach = wall_reach_[slot];
       if (reach == 0) continue;
       const PosedShape& p = posed_[slot];
       for (std::uint32_t w = 0; w < walls_.size(); ++w) {
-        auto& out = wall_pending_[w * static_cast<std::size_t>(nt) + t];
+        auto& out = wall_pending_[w * pieces + piece].list;
         const Wall& wall = walls_[w];
         const std::uint32_t a = w | kWallFlag;
         if ((reach & wall_bit(w)) == 0) continue;
@@ -813,7 +819,7 @@ void World::wall_contacts(int nt) {
       }
     }
   }
-  for (std::size_t k = 0; k < lists; ++k) parts_.push_back(&wall_pending_[k]);
+  for (std::size_t k = 0; k < lists; ++k) parts_.push_back(&wall_pending_[k].list);
 }
 
 void World::join_pending() {
@@ -825,7 +831,7 @@ void World::join_pending() {
     contact_shift_.assign(part_start_.back(), Eigen::Vector3d::Zero());
     const std::size_t chunks = (pairs_.size() + kPairChunk - 1) / kPairChunk;
     for (std::size_t c = 0; c < chunks && c < parts_.size(); ++c)
-      std::copy(chunk_shift_[c].begin(), chunk_shift_[c].end(), contact_shift_.begin() + static_cast<std::ptrdiff_t>(part_start_[c]));
+      std::copy(chunk_shift_[c].list.begin(), chunk_shift_[c].list.end(), contact_shift_.begin() + static_cast<std::ptrdiff_t>(part_start_[c]));
   }
 }
 
@@ -1043,7 +1049,7 @@ template <class F>
     const std::uint32_t p = body_pairs_[e] >> 1;
     const bool is_b = (body_pairs_[e] & 1u) != 0;
     const std::size_t chunk = p / kPairChunk;
-    const std::vector<Pending>& list = chunk_pending_[chunk];
+    const std::vector<Pending>& list = chunk_pending_[chunk].list;
     const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
     const std::size_t base = part_start_[chunk];
     for (std::size_t j = pair_first_[p]; j < stop; ++j) f(is_b, list[j], base + j);

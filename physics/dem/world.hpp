@@ -588,7 +588,14 @@ class World {
   double stress_modulus_ = 0.0, stress_tau_ = 0.0;      // set_stress_control
   Eigen::Matrix3d cell_at_search_ = Eigen::Matrix3d::Zero();  // the cell vectors at the last search
   std::vector<Eigen::Vector3i> pair_image_;  // by pair, in a cell: B's nearest image (fixed between searches)
-  std::vector<std::vector<Eigen::Vector3d>> chunk_shift_;  // in a cell: per chunk_pending_ entry, B's shift
+  /// A list on cache lines of its own: lists that threads fill side by side shared the
+  /// line holding their ends (false sharing: the wall contacts on two threads took longer
+  /// than on one).
+  template <class T>
+  struct alignas(64) OwnLines {
+    std::vector<T> list;
+  };
+  std::vector<OwnLines<Eigen::Vector3d>> chunk_shift_;  // in a cell: per chunk_pending_ entry, B's shift
   std::vector<Eigen::Vector3d> contact_shift_;             // in a cell: per pending contact (walls: zero)
   std::vector<NearFeatures> near_;  // by pair; cleared with each new pair list and on load
   std::vector<ContactManifold> manifolds_;  // by pair (manifold_tolerance > 0); follow the pairs
@@ -610,7 +617,7 @@ class World {
   /// This step's contacts, in the order the law and the sums go through them: the lists of
   /// the chunks of pairs, then those of the walls (wall by wall, thread by thread), read in
   /// place rather than copied into one list.
-  std::vector<std::vector<Pending>> chunk_pending_, wall_pending_;
+  std::vector<OwnLines<Pending>> chunk_pending_, wall_pending_;
   std::vector<const std::vector<Pending>*> parts_;  // the lists in order
   std::vector<std::size_t> part_start_;             // index of each list's first contact; back(): all
   [[nodiscard]] std::size_t pending_count() const { return part_start_.empty() ? 0 : part_start_.back(); }
