@@ -1,13 +1,17 @@
 // Bonds in the world (sec. 2.3.3 of seed 000): bond initialisation with stored overlaps,
 // the bond stiffness of a bonded chain against the series-spring formula, a bonded
 // specimen at rest, and each failure mode of eq. 2.16 alone, exactly at its limit, under a
-// prescribed motion.
+// prescribed motion; the gallop that finds a contact's bond.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
+#include <vector>
 
 #include "geometry/exact_polyhedron.hpp"
+#include "physics/dem/gallop.hpp"
 #include "physics/dem/world.hpp"
 #include "prism_row.hpp"
 #include "stress_sum_reference.hpp"
@@ -569,4 +573,25 @@ TEST(GrainStressSums, ByBodyGiveTheBitsOfAWalkOverTheContactRecordsAndBonds) {
     world.step();
     expect_sums_match_the_records(world, "the step after");
   }
+}
+
+TEST(Gallop, StopsWhereAForwardWalkStops) {
+  // gallop.hpp against the walk it replaces (World::initial_overlap's cursor through the
+  // bonds), on random sorted arrays with runs of equal keys, from random starts, for targets
+  // near and far: the same index every time.
+  std::mt19937_64 rng(31);
+  int far = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::vector<int> v(rng() % 300);
+    for (int& x : v) x = static_cast<int>(rng() % 200);
+    std::sort(v.begin(), v.end());
+    const std::size_t from = v.empty() ? 0 : rng() % (v.size() + 1);
+    const int key = static_cast<int>(rng() % 210) - 5;
+    auto before = [&](int x) { return x < key; };
+    std::size_t walk = from;
+    while (walk < v.size() && before(v[walk])) ++walk;
+    ASSERT_EQ(physics::gallop(v, from, before), walk) << trial;
+    far += walk > from + 16 ? 1 : 0;
+  }
+  EXPECT_GT(far, 2000);  // long strides were taken, not only the first steps
 }

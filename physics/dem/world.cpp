@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "physics/dem/gallop.hpp"
 #include "physics/dem/integrator.hpp"
 
 #ifdef _OPENMP
@@ -867,8 +868,9 @@ void World::evaluate_and_apply(int nt) {
   forces_.resize(n);
   overlaps_.resize(n);
   next_history_.resize(n);
-  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
-#pragma omp parallel num_threads(nt) if (nt > 1)
+  // (Few contacts take one thread; their sums below go by body, on all of them.)
+  const int law_threads = static_cast<std::ptrdiff_t>(n) < kParallelMin ? 1 : nt;
+#pragma omp parallel num_threads(law_threads) if (law_threads > 1)
   {
     // Plain variables, not a structured binding: the lambda below captures them.
     const Block block = thread_block(n);
@@ -1066,8 +1068,10 @@ void World::sum_forces(int nt) {
   const std::size_t n = pending_count();
   records_current_ = false;  // contacts() makes them from this evaluation when asked
   if (body_pairs_stale_ || body_pair_start_.size() != states_.size() + 1) list_body_pairs();
-  if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
   const std::size_t slots = states_.size();
+  // By body: a loaded disc's few hundred contacts still leave 10,000 bodies to sum (one
+  // thread took 0.14 ms a step over them).
+  if (static_cast<std::ptrdiff_t>(slots) < kParallelMin) nt = 1;
   const std::size_t wall_begin = wall_contacts_begin();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
@@ -1422,7 +1426,10 @@ double World::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa
                          }) -
         bonds_.begin());
   }
-  while (cursor < bonds_.size() && before(bonds_[cursor])) ++cursor;
+  // Forward by gallop (gallop.hpp), to the bond a walk would stop at: a loaded disc's few
+  // hundred contacts lie far apart among its 30,000 bonds, and a walk read a cache line of
+  // every bond between them (the disc's contact law: 0.14 ms a step, 0.02 after).
+  cursor = gallop(bonds_, cursor, before);
   if (cursor == bonds_.size() || bonds_[cursor].a != a || bonds_[cursor].b != b) return 0.0;
   // The features' own stored overlap; a feature pair that did not touch at bonding (the
   // search may name another vertex or edge for a contact of the same faces once they move,
