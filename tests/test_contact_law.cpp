@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <random>
 
@@ -216,27 +217,42 @@ ContactForce eigen_contact_force(const ContactParams& p, const ContactKinematics
   return out;
 }
 
-}  // namespace
-
-TEST(ContactLaw, ScalarFormGivesEigensBits) {
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-8.0, 0.0);
-  auto vec = [&](double scale) {
+/// Random draws for the law's bit tests: u uniform in [-1, 1), e in [-8, 0) (decades),
+/// vectors of a scale, and parameters near table 2.3's (rolling and torsion on when asked).
+struct LawDraws {
+  std::mt19937_64 rng;
+  std::uniform_real_distribution<double> u{-1.0, 1.0}, e{-8.0, 0.0};
+  explicit LawDraws(std::uint64_t seed) : rng(seed) {}
+  Eigen::Vector3d vec(double scale) {
     const double x = u(rng), y = u(rng), z = u(rng);
     return Eigen::Vector3d(x * scale, y * scale, z * scale);
-  };
-  int sliding = 0, sticking = 0;
-  for (int trial = 0; trial < 20000; ++trial) {
+  }
+  ContactParams params(bool rolling) {
     ContactParams p;
     p.kn = 5e6 * (1.0 + u(rng));
     p.ks = 2e6 * (1.0 + u(rng));
     p.c_res = 1.0 + std::abs(u(rng));
     p.mu_s = 0.3 + 0.2 * u(rng);
-    if (trial % 2) {  // rolling and torsion on every other trial
+    if (rolling) {
       p.kr = 1e-3 * (1.0 + u(rng));
       p.kt = 1e-3 * (1.0 + u(rng));
       p.mu_r = 0.1;
     }
+    return p;
+  }
+};
+
+}  // namespace
+
+TEST(ContactLaw, ScalarFormGivesEigensBits) {
+  LawDraws draw(3);
+  auto& rng = draw.rng;
+  auto& u = draw.u;
+  auto& e = draw.e;
+  auto vec = [&](double scale) { return draw.vec(scale); };
+  int sliding = 0, sticking = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const ContactParams p = draw.params(trial % 2 != 0);  // rolling and torsion every other trial
     ContactKinematics k;
     k.normal = vec(1.0).normalized();
     k.overlap = 1e-6 * u(rng);
@@ -310,26 +326,16 @@ TEST(ContactQuad, GivesTheScalarLawsBitsInEachLane) {
   // torsion clamped either side, springs along the normal, no overlap, fresh histories),
   // each lane its own coefficients. A reordered product or a swapped select fails it.
   if (!has_avx()) GTEST_SKIP() << "no AVX on this processor";
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-8.0, 0.0);
-  auto vec = [&](double scale) {
-    const double x = u(rng), y = u(rng), z = u(rng);
-    return Eigen::Vector3d(x * scale, y * scale, z * scale);
-  };
+  LawDraws draw(17);
+  auto& rng = draw.rng;
+  auto& u = draw.u;
+  auto& e = draw.e;
+  auto vec = [&](double scale) { return draw.vec(scale); };
   int sliding = 0, sticking = 0, rolled_capped = 0, clamped_low = 0, clamped_high = 0,
       unloading = 0, apart = 0;
   for (int trial = 0; trial < 10000; ++trial) {
-    ContactParams p;
-    p.kn = 5e6 * (1.0 + u(rng));
-    p.ks = 2e6 * (1.0 + u(rng));
-    p.c_res = 1.0 + std::abs(u(rng));
-    p.mu_s = 0.3 + 0.2 * u(rng);
+    ContactParams p = draw.params(trial % 2 != 0);  // rolling and torsion every other quad
     p.damping_ratio = trial % 5 == 0 ? 0.0 : 0.1;
-    if (trial % 2) {  // rolling and torsion on every other quad
-      p.kr = 1e-3 * (1.0 + u(rng));
-      p.kt = 1e-3 * (1.0 + u(rng));
-      p.mu_r = 0.1;
-    }
     ContactKinematics k[4];
     ContactDamping d[4];
     ContactHistory h[4], h_ref[4];

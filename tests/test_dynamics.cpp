@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
@@ -272,30 +273,46 @@ TEST(DropTest, TheContactLawInLanesChangesNoBit) {
   EXPECT_EQ(state_hash(lanes), state_hash(single));
 }
 
+namespace {
+
+/// kSmallDrop's grains packed in a box of x by y by z (m) on its floor, each pressed 5 um
+/// into its neighbours' dilated surfaces and 2.5 um into the floor's, with a time step short
+/// enough that the packing holds over the steps compared.
+io::Scenario pressed_on_the_floor(double x, double y, double z, double manifold_tolerance) {
+  io::Scenario s = io::parse_scenario(kSmallDrop, "small_drop.toml");
+  s.specimen.outline = geometry::Outline::box(x, y, z);
+  s.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
+  s.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
+  s.dynamics.lift = 0.05e-3 - 2.5e-6;
+  s.dynamics.dt = 1e-8;
+  s.dynamics.manifold_tolerance = manifold_tolerance;
+  return s;
+}
+
+/// `scenario` stepped `steps` times on one thread and on two.
+std::pair<World, World> on_one_and_two_threads(io::Scenario scenario, int steps) {
+  io::Scenario two = scenario;
+  scenario.dynamics.threads = 1;
+  two.dynamics.threads = 2;
+  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
+  std::pair<World, World> worlds{io::make_world(scenario, specimen), io::make_world(two, specimen)};
+  for (int i = 0; i < steps; ++i) {
+    worlds.first.step();
+    worlds.second.step();
+  }
+  return worlds;
+}
+
+}  // namespace
+
 // A packed block of 168 grains pressed 5 um into each other on a floor (about 850 touching
 // pairs and 4,500 contacts, enough for every loop to run on both threads), run on one and
 // on two threads, with the exact search and with the contacts carried: each pair of runs
 // must end in the same bits.
 
 TEST_P(ThreadCounts, OneAndTwoThreadsGiveBitIdenticalStates) {
-  io::Scenario one = io::parse_scenario(kSmallDrop, "small_drop.toml");
-  one.specimen.outline = geometry::Outline::box(12e-3, 12e-3, 4e-3);
-  one.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
-  one.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
-  one.dynamics.lift = 0.05e-3 - 2.5e-6;
-  one.dynamics.dt = 1e-8;  // the block stays packed over the steps compared
-  one.dynamics.manifold_tolerance = GetParam();
-  io::Scenario two = one;
-  one.dynamics.threads = 1;
-  two.dynamics.threads = 2;
-  const geometry::Specimen specimen = geometry::build_specimen(one.specimen);
-  ASSERT_EQ(specimen.grains.size(), 168u);
-  World a = io::make_world(one, specimen);
-  World b = io::make_world(two, specimen);
-  for (int i = 0; i < 300; ++i) {
-    a.step();
-    b.step();
-  }
+  const auto [a, b] = on_one_and_two_threads(pressed_on_the_floor(12e-3, 12e-3, 4e-3, GetParam()), 300);
+  ASSERT_EQ(a.body_ids().size(), 168u);
   EXPECT_GT(a.contacts().size(), 2000u);
   EXPECT_EQ(a.contacts().size(), b.contacts().size());
   EXPECT_EQ(state_hash(a), state_hash(b));
@@ -308,23 +325,8 @@ TEST(ThreadCounts, AWideLayerOnAFloorGivesTheSameBitsOnOneAndTwoThreads) {
   // pieces of body slots, as the threads come free, and joined in order (World::
   // wall_contacts); the floor's contacts fall in every piece. One and two threads must list
   // them in the same order, so that each grain sums them alike: the same bits.
-  io::Scenario one = io::parse_scenario(kSmallDrop, "small_drop.toml");
-  one.specimen.outline = geometry::Outline::box(56e-3, 56e-3, 1e-3);
-  one.specimen.r_bar = 1e-3 - (0.1e-3 - 5e-6) / std::sqrt(3.0);
-  one.specimen.t_bar = 1e-3 - (0.1e-3 - 5e-6);
-  one.dynamics.lift = 0.05e-3 - 2.5e-6;
-  one.dynamics.dt = 1e-8;
-  io::Scenario two = one;
-  one.dynamics.threads = 1;
-  two.dynamics.threads = 2;
-  const geometry::Specimen specimen = geometry::build_specimen(one.specimen);
-  ASSERT_GT(specimen.grains.size(), 1100u);
-  World a = io::make_world(one, specimen);
-  World b = io::make_world(two, specimen);
-  for (int i = 0; i < 30; ++i) {
-    a.step();
-    b.step();
-  }
+  const auto [a, b] = on_one_and_two_threads(pressed_on_the_floor(56e-3, 56e-3, 1e-3, 0.0), 30);
+  ASSERT_GT(a.body_ids().size(), 1100u);
   std::size_t on_floor = 0, last_slot = 0;
   for (const auto& c : a.contacts()) {
     if (!c.wall) continue;
