@@ -1,9 +1,10 @@
 #pragma once
 /// \file
 /// Arithmetic on two doubles (SSE2) or four (AVX) side by side, each lane rounded exactly as
-/// the scalar instruction rounds it: the helpers of bond_pair.hpp's bond law and of the
-/// integrator's batch drift, which do several bodies' or bonds' scalar arithmetic at once,
-/// in its order, to the bit. Every function is compiled for AVX (target attribute, not
+/// the scalar instruction rounds it: the helpers of bond_pair.hpp's bond law, of
+/// contact_law.cpp's contact_force_quad and of the integrator's batch drift and kick, which
+/// do several bodies', bonds' or contacts' scalar arithmetic at once, in its order, to the
+/// bit. Every function is compiled for AVX (target attribute, not
 /// FMA: no multiply-add is fused); callers check has_avx() first.
 
 #include <immintrin.h>
@@ -43,6 +44,13 @@ CLEAVE_LANES D2 div(D2 a, D2 b) { return _mm_div_pd(a, b); }
 CLEAVE_LANES D2 root(D2 a) { return _mm_sqrt_pd(a); }
 CLEAVE_LANES D2 equal(D2 a, D2 b) { return _mm_cmpeq_pd(a, b); }
 CLEAVE_LANES D2 greater(D2 a, D2 b) { return _mm_cmpgt_pd(a, b); }
+CLEAVE_LANES D2 at_least(D2 a, D2 b) { return _mm_cmpge_pd(a, b); }
+CLEAVE_LANES D2 less(D2 a, D2 b) { return _mm_cmplt_pd(a, b); }
+/// std::max(b, a) and std::min(b, a), lane by lane: max_pd (min_pd) gives its second operand
+/// unless the first is strictly greater (smaller), as std::max(b, a) gives b unless b < a
+/// (NaNs and signed zeros included).
+CLEAVE_LANES D2 max_of(D2 a, D2 b) { return _mm_max_pd(a, b); }
+CLEAVE_LANES D2 min_of(D2 a, D2 b) { return _mm_min_pd(a, b); }
 CLEAVE_LANES D2 flip(D2 a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }  // the sign bit
 /// `mask ? a : b`, lane by lane.
 CLEAVE_LANES D2 pick(D2 mask, D2 a, D2 b) {
@@ -55,6 +63,10 @@ CLEAVE_LANES D4 div(D4 a, D4 b) { return _mm256_div_pd(a, b); }
 CLEAVE_LANES D4 root(D4 a) { return _mm256_sqrt_pd(a); }
 CLEAVE_LANES D4 equal(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
 CLEAVE_LANES D4 greater(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
+CLEAVE_LANES D4 at_least(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
+CLEAVE_LANES D4 less(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+CLEAVE_LANES D4 max_of(D4 a, D4 b) { return _mm256_max_pd(a, b); }
+CLEAVE_LANES D4 min_of(D4 a, D4 b) { return _mm256_min_pd(a, b); }
 CLEAVE_LANES D4 flip(D4 a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
 CLEAVE_LANES D4 pick(D4 mask, D4 a, D4 b) {
   return _mm256_or_pd(_mm256_and_pd(mask, a), _mm256_andnot_pd(mask, b));

@@ -89,25 +89,15 @@ using namespace wide;
 /// The vectors (*in[i]).*field in lanes i.
 template <class T>
 CLEAVE_LANES Wide<D4> gather(const T* const in[4], Eigen::Vector3d T::*field) {
-  return {_mm256_set_pd(((*in[3]).*field).x(), ((*in[2]).*field).x(), ((*in[1]).*field).x(),
-                        ((*in[0]).*field).x()),
-          _mm256_set_pd(((*in[3]).*field).y(), ((*in[2]).*field).y(), ((*in[1]).*field).y(),
-                        ((*in[0]).*field).y()),
-          _mm256_set_pd(((*in[3]).*field).z(), ((*in[2]).*field).z(), ((*in[1]).*field).z(),
-                        ((*in[0]).*field).z())};
+  return {lanes<D4>([&](int i) { return ((*in[i]).*field).x(); }),
+          lanes<D4>([&](int i) { return ((*in[i]).*field).y(); }),
+          lanes<D4>([&](int i) { return ((*in[i]).*field).z(); })};
 }
 /// The scalars (*in[i]).*field in lanes i.
 template <class T>
 CLEAVE_LANES D4 gather(const T* const in[4], double T::*field) {
-  return _mm256_set_pd((*in[3]).*field, (*in[2]).*field, (*in[1]).*field, (*in[0]).*field);
+  return lanes<D4>([&](int i) { return (*in[i]).*field; });
 }
-/// std::max(b, a) and std::min(b, a) as the scalar code writes them: max_pd and min_pd give
-/// their second operand unless the first is strictly greater (smaller), as std::max(b, a)
-/// gives b unless b < a.
-CLEAVE_LANES D4 max_of(D4 a, D4 b) { return _mm256_max_pd(a, b); }
-CLEAVE_LANES D4 min_of(D4 a, D4 b) { return _mm256_min_pd(a, b); }
-CLEAVE_LANES D4 at_least(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
-CLEAVE_LANES D4 less(D4 a, D4 b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
 CLEAVE_LANES void put(const Wide<D4>& v, Eigen::Vector3d* const out[4]) {
   alignas(32) double x[4], y[4], z[4];
   _mm256_store_pd(x, v.x);

@@ -114,8 +114,8 @@ struct WorldSettings {
   /// of its plane (USER_GUIDE, "Quasi-static loading"). A choice of the run, like
   /// manifold_tolerance: a restart takes it from the settings it is given, not the file.
   bool in_plane = false;
-  /// Bonds and drifts four at a time in AVX's lanes where the processor has them
-  /// (physics/bonds/lanes.hpp), else one at a time: the same bits either way. Off, the
+  /// Bonds, contacts, drifts and kicks four at a time in AVX's lanes where the processor
+  /// has them (physics/bonds/lanes.hpp), else one at a time: the same bits either way. Off, the
   /// lanes' gain can be measured (the benchmarks' CLEAVE_BENCH_ALTERNATE). A choice of the
   /// run, as in_plane.
   bool lanes = true;
@@ -556,13 +556,14 @@ class World {
     double mass_a = 0.0, mass_b = 0.0, moment_a = 0.0, moment_b = 0.0;
     ContactDamping damping;
   };
-  /// The contact law's inputs for contact k (`p`): its kinematics into `kin`, the previous
-  /// step's history copied into next_history_[k] (walking `history_cursor` forward through
-  /// history_), the pair's coefficients into `pair` (kept from the pair before when the
-  /// same); returns the parameters that apply. Reads the bodies' states, writes only slot k.
-  const ContactParams& contact_inputs(const Pending& p, std::size_t k, std::size_t& history_cursor,
-                                      std::size_t& bond_cursor, PairDamping& pair,
-                                      ContactKinematics& kin);
+  /// The contact law's inputs for contact k (`p`, under `params`: the walls' or the
+  /// pairs'): its kinematics into `kin`, the previous step's history copied into
+  /// next_history_[k] (walking `history_cursor` forward through history_), the pair's
+  /// coefficients into `pair` (kept from the pair before when the same). Reads the bodies'
+  /// states, writes only slot k.
+  void contact_inputs(const Pending& p, std::size_t k, const ContactParams& params,
+                      std::size_t& history_cursor, std::size_t& bond_cursor, PairDamping& pair,
+                      ContactKinematics& kin);
 
   WorldSettings settings_;
   std::vector<RigidShape> shapes_;
@@ -615,8 +616,8 @@ class World {
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
   /// This step's contacts, in the order the law and the sums go through them: the lists of
-  /// the chunks of pairs, then those of the walls (wall by wall, thread by thread), read in
-  /// place rather than copied into one list.
+  /// the chunks of pairs, then those of the walls (wall by wall, piece of body slots by
+  /// piece), read in place rather than copied into one list.
   std::vector<OwnLines<Pending>> chunk_pending_, wall_pending_;
   std::vector<const std::vector<Pending>*> parts_;  // the lists in order
   std::vector<std::size_t> part_start_;             // index of each list's first contact; back(): all
