@@ -1,8 +1,11 @@
 #include "physics/lattice/cubic_lattice.hpp"
 
+#include "physics/bonds/lanes.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -160,18 +163,27 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
         }
       throw std::logic_error("lattice: a link joins no first or second neighbour");
     };
-    std::vector<int> colours(links_.size());
-    for (std::size_t k = 0; k < links_.size(); ++k) colours[k] = colour(links_[k]);
+    // Sorted by colour, and within a colour the connective links before the breakable ones
+    // (the lanes take the first four at a time); stable, so each part keeps the grid's order.
+    std::vector<int> keys(links_.size());
+    for (std::size_t k = 0; k < links_.size(); ++k)
+      keys[k] = 2 * colour(links_[k]) + (links_[k].breakable ? 1 : 0);
     std::vector<int> order(links_.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return colours[a] < colours[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] < keys[b]; });
     std::vector<LatticeLink> sorted(links_.size());
-    colour_start_.assign(19, 0);
+    std::vector<int> counts(37, 0);
     for (std::size_t k = 0; k < order.size(); ++k) {
       sorted[k] = links_[order[k]];
-      ++colour_start_[colours[order[k]] + 1];
+      ++counts[keys[order[k]] + 1];
     }
-    for (int c = 0; c < 18; ++c) colour_start_[c + 1] += colour_start_[c];
+    for (int key = 0; key < 36; ++key) counts[key + 1] += counts[key];
+    colour_start_.assign(19, 0);
+    breakable_start_.assign(18, 0);
+    for (int c = 0; c < 18; ++c) {
+      colour_start_[c + 1] = counts[2 * c + 2];
+      breakable_start_[c] = counts[2 * c + 1];
+    }
     links_ = std::move(sorted);
   }
   // Hot data: the classes of link, and each link's ends and class.
@@ -241,9 +253,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     const int upper = nx_ * ny_;
     contact_state_.assign(upper * kStencil * kStencil, {});
     contact_force_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
-    contact_moment_up_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
     contact_moment_down_.assign(upper * kStencil * kStencil, Eigen::Vector3d::Zero());
-    contact_active_.assign(upper * kStencil * kStencil, 0);
+    contact_live_.assign(upper, 0);
     contact_centre_.resize(upper);
     for (int u = 0; u < upper; ++u) contact_centre_[u] = {u % nx_, u / nx_};
     // The link (if any) between each upper body and the lower body of each stencil slot.
@@ -350,8 +361,7 @@ void CubicLattice::compute_forces(double dt) {
     }
     freedom_[plane_bodies_[p]] = sum / static_cast<double>(cross_start_[p + 1] - cross_start_[p]);
   }
-  const bool plane_compression = def_.material.compression == Compression::plane;
-  const int layer = nx_ * ny_;
+  const bool quads = def_.lanes && has_avx();
 #pragma omp parallel if (nl >= kParallelMin)
   {
 #pragma omp for schedule(static)
@@ -360,75 +370,193 @@ void CubicLattice::compute_forces(double dt) {
       m_[b].setZero();
     }
     for (int colour = 0; colour + 1 < static_cast<int>(colour_start_.size()); ++colour) {
-      // No two links of a colour share a body: each adds onto its two bodies directly. The
-      // implicit barrier at the end of each loop orders the colours.
+      // No two links of a colour share a body: each adds onto its two bodies directly, in
+      // any order. The implicit barrier at the end of each loop orders the colours. Items:
+      // the quads of connective links, then one at a time the rest (the breakable ones).
+      const int begin = colour_start_[colour];
+      const int quad_count = quads ? (breakable_start_[colour] - begin) / 4 : 0;
+      const int singles = begin + 4 * quad_count;
+      const int items = quad_count + (colour_start_[colour + 1] - singles);
 #pragma omp for schedule(static)
-      for (int k = colour_start_[colour]; k < colour_start_[colour + 1]; ++k) {
-        const LinkEnds e = ends_[k];
-        const LinkClass& c = classes_[e.cls];
-        if (c.breakable && links_[k].state.phase == LinkPhase::contact) continue;
-        const Eigen::Vector3d d = x_[e.j] - x_[e.i];
-        const double dist = d.norm();
-        const Eigen::Vector3d nrm = d * (1.0 / dist);
-        const Eigen::Vector3d half = 0.5 * d;
-        // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
-        const Eigen::Vector3d vrel = (v_[e.j] - v_[e.i]) - (w_[e.j] + w_[e.i]).cross(half);
-        const Eigen::Vector3d vs = vrel - vrel.dot(nrm) * nrm;
-        Eigen::Vector3d& shear = shear_[k];
-        shear = turn_into_plane(shear, nrm) + dt * vs;  // eqs 54-55
-        const double dn = dist - c.rest;                // opening is positive
-        Eigen::Vector3d fj;
-        if (!c.breakable) {
-          // Eqs 1 and 5: connective springs.
-          double kn = c.kn, ks = c.ks;
-          if (c.faced) {
-            const double w = 0.5 * (freedom_[e.i] + freedom_[e.j]);
-            kn += w * c.face_kn;
-            ks += w * c.face_ks;
-          }
-          fj = -kn * dn * nrm - ks * shear;
-        } else {
-          LatticeLink& l = links_[k];
-          const bool first = c.kind == 1;
-          const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
-          const double ds = shear.norm();
-          double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
-          if (plane_compression) {
-            // The plane's own opening here: the mean opening of the two first-neighbour links
-            // across it at the ends of this one (i below the plane, j above).
-            const double ja =
-                (x_[e.i + layer] - x_[e.i]).norm() - (x0_[e.i + layer] - x0_[e.i]).norm();
-            const double jb =
-                (x_[e.j] - x_[e.j - layer]).norm() - (x0_[e.j] - x0_[e.j - layer]).norm();
-            const double jn = 0.5 * (ja + jb);
-            closing = std::min(jn, 0.0) * (x0_[e.j].z() - x0_[e.i].z()) / c.rest;
-          }
-          const CohesiveTraction t =
-              cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
-          // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
-          fj = -p.area * t.tn * nrm;
-          if (ds > 0.0) fj -= (p.area * t.ts / ds) * shear;
-        }
-        // Eq. 6: the same moment on i and j (r_i = -r_j, f_i = -f_j).
-        const Eigen::Vector3d moment = (-half).cross(fj);
-        f_[e.j] += fj;
-        f_[e.i] -= fj;
-        if (c.kb > 0.0) {  // connective first neighbours only (never across the weak plane)
-          const Eigen::Vector3d wrel = w_[e.j] - w_[e.i];
-          Eigen::Vector3d& bend = bend_[k];
-          bend = turn_into_plane(bend, nrm) + dt * (wrel - wrel.dot(nrm) * nrm);
-          const Eigen::Vector3d couple = -c.kb * bend;  // on j; its opposite on i
-          m_[e.j] += moment + couple;
-          m_[e.i] += moment - couple;
-        } else {
-          m_[e.j] += moment;
-          m_[e.i] += moment;
-        }
+      for (int t = 0; t < items; ++t) {
+        if (t < quad_count)
+          connective_quad(begin + 4 * t, dt);
+        else
+          link_force(singles + (t - quad_count), dt);
       }
     }
   }
   if (!contact_state_.empty()) face_contacts(dt);
   forces_current_ = true;
+}
+
+void CubicLattice::link_force(int k, double dt) {
+  const LinkEnds e = ends_[k];
+  const LinkClass& c = classes_[e.cls];
+  if (c.breakable && links_[k].state.phase == LinkPhase::contact) return;
+  const Eigen::Vector3d d = x_[e.j] - x_[e.i];
+  const double dist = d.norm();
+  const Eigen::Vector3d nrm = d * (1.0 / dist);
+  const Eigen::Vector3d half = 0.5 * d;
+  // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
+  const Eigen::Vector3d vrel = (v_[e.j] - v_[e.i]) - (w_[e.j] + w_[e.i]).cross(half);
+  const Eigen::Vector3d vs = vrel - vrel.dot(nrm) * nrm;
+  Eigen::Vector3d& shear = shear_[k];
+  shear = turn_into_plane(shear, nrm) + dt * vs;  // eqs 54-55
+  const double dn = dist - c.rest;                // opening is positive
+  Eigen::Vector3d fj;
+  if (!c.breakable) {
+    // Eqs 1 and 5: connective springs.
+    double kn = c.kn, ks = c.ks;
+    if (c.faced) {
+      const double w = 0.5 * (freedom_[e.i] + freedom_[e.j]);
+      kn += w * c.face_kn;
+      ks += w * c.face_ks;
+    }
+    fj = -kn * dn * nrm - ks * shear;
+  } else {
+    LatticeLink& l = links_[k];
+    const bool first = c.kind == 1;
+    const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
+    const double ds = shear.norm();
+    double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
+    if (def_.material.compression == Compression::plane) {
+      // The plane's own opening here: the mean opening of the two first-neighbour links
+      // across it at the ends of this one (i below the plane, j above).
+      const int layer = nx_ * ny_;
+      const double ja = (x_[e.i + layer] - x_[e.i]).norm() - (x0_[e.i + layer] - x0_[e.i]).norm();
+      const double jb = (x_[e.j] - x_[e.j - layer]).norm() - (x0_[e.j] - x0_[e.j - layer]).norm();
+      const double jn = 0.5 * (ja + jb);
+      closing = std::min(jn, 0.0) * (x0_[e.j].z() - x0_[e.i].z()) / c.rest;
+    }
+    const CohesiveTraction t =
+        cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
+    // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
+    fj = -p.area * t.tn * nrm;
+    if (ds > 0.0) fj -= (p.area * t.ts / ds) * shear;
+  }
+  // Eq. 6: the same moment on i and j (r_i = -r_j, f_i = -f_j).
+  const Eigen::Vector3d moment = (-half).cross(fj);
+  f_[e.j] += fj;
+  f_[e.i] -= fj;
+  if (c.kb > 0.0) {  // connective first neighbours only (never across the weak plane)
+    const Eigen::Vector3d wrel = w_[e.j] - w_[e.i];
+    Eigen::Vector3d& bend = bend_[k];
+    bend = turn_into_plane(bend, nrm) + dt * (wrel - wrel.dot(nrm) * nrm);
+    const Eigen::Vector3d couple = -c.kb * bend;  // on j; its opposite on i
+    m_[e.j] += moment + couple;
+    m_[e.i] += moment - couple;
+  } else {
+    m_[e.j] += moment;
+    m_[e.i] += moment;
+  }
+}
+
+namespace {
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wignored-attributes"
+using wide::D4;
+using Wide4 = wide::Wide<D4>;
+#pragma GCC diagnostic pop
+
+/// p[idx[0]], ..., p[idx[3]] side by side: lane l holds p[idx[l]].
+CLEAVE_LANES Wide4 gather(const Eigen::Vector3d* p, const int* idx) {
+  const __m128d a0 = _mm_loadu_pd(p[idx[0]].data()), a1 = _mm_loadu_pd(p[idx[1]].data());
+  const __m128d a2 = _mm_loadu_pd(p[idx[2]].data()), a3 = _mm_loadu_pd(p[idx[3]].data());
+  const __m256d xy02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a0), a2, 1);
+  const __m256d xy13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a1), a3, 1);
+  return {_mm256_unpacklo_pd(xy02, xy13), _mm256_unpackhi_pd(xy02, xy13),
+          _mm256_set_pd(p[idx[3]].z(), p[idx[2]].z(), p[idx[1]].z(), p[idx[0]].z())};
+}
+
+/// The inverse of gather: lane l of v into p[idx[l]].
+CLEAVE_LANES void scatter(Eigen::Vector3d* p, const int* idx, const Wide4& v) {
+  const __m256d xy02 = _mm256_unpacklo_pd(v.x, v.y), xy13 = _mm256_unpackhi_pd(v.x, v.y);
+  _mm_storeu_pd(p[idx[0]].data(), _mm256_castpd256_pd128(xy02));
+  _mm_storeu_pd(p[idx[1]].data(), _mm256_castpd256_pd128(xy13));
+  _mm_storeu_pd(p[idx[2]].data(), _mm256_extractf128_pd(xy02, 1));
+  _mm_storeu_pd(p[idx[3]].data(), _mm256_extractf128_pd(xy13, 1));
+  alignas(32) double z[4];
+  _mm256_store_pd(z, v.z);
+  for (int l = 0; l < 4; ++l) p[idx[l]].z() = z[l];
+}
+
+/// a - s (a . n) n lane by lane, as turn_into_plane (and `v - v.dot(n) * n`) round it.
+CLEAVE_LANES Wide4 off_axis(const Wide4& a, const Wide4& n) {
+  return wide::sub(a, wide::scale(wide::dot(a, n), n));
+}
+
+/// Field f of the four links' classes as lanes (one load when they share their class).
+template <class C>
+CLEAVE_LANES D4 class_field(const C* const* c, double C::*f) {
+  return c[0] == c[1] && c[0] == c[2] && c[0] == c[3]
+             ? _mm256_broadcast_sd(&(c[0]->*f))
+             : _mm256_set_pd(c[3]->*f, c[2]->*f, c[1]->*f, c[0]->*f);
+}
+
+/// All ones in the lanes whose class has flag f set.
+template <class C>
+CLEAVE_LANES D4 class_flag(const C* const* c, bool C::*f) {
+  return _mm256_castsi256_pd(_mm256_set_epi64x(c[3]->*f ? -1 : 0, c[2]->*f ? -1 : 0,
+                                               c[1]->*f ? -1 : 0, c[0]->*f ? -1 : 0));
+}
+
+}  // namespace
+
+/// link_force's connective branch for four links at once, lane l being link k + l, each
+/// rounded as link_force rounds it (Eigen sums a dot product as (a0 b0 + a1 b1) + a2 b2, as
+/// wide::dot does; no multiply-add is fused): the same bits.
+[[gnu::target("avx")]] void CubicLattice::connective_quad(int k, double dt) {
+  using namespace wide;
+  int I[4], J[4];
+  const int K[4] = {k, k + 1, k + 2, k + 3};
+  for (int l = 0; l < 4; ++l) {
+    I[l] = ends_[k + l].i;
+    J[l] = ends_[k + l].j;
+  }
+  // The links' classes: as a rule the four share one (a colour runs along a row of the grid).
+  const LinkClass* c[4];
+  for (int l = 0; l < 4; ++l) c[l] = &classes_[ends_[k + l].cls];
+  const Wide4 xi = gather(x_.data(), I), xj = gather(x_.data(), J);
+  const Wide4 vi = gather(v_.data(), I), vj = gather(v_.data(), J);
+  const Wide4 wi = gather(w_.data(), I), wj = gather(w_.data(), J);
+  const Wide4 d = sub(xj, xi);
+  const D4 dist = root(dot(d, d));
+  const Wide4 nrm = scale(div(splat<D4>(1.0), dist), d);
+  const Wide4 half = scale(splat<D4>(0.5), d);
+  // Eqs 50-52 and 54-55, as in link_force.
+  const Wide4 vrel = sub(sub(vj, vi), cross(add(wj, wi), half));
+  const Wide4 vs = off_axis(vrel, nrm);
+  const Wide4 shear = add(off_axis(gather(shear_.data(), K), nrm), scale(splat<D4>(dt), vs));
+  scatter(shear_.data(), K, shear);
+  const D4 dn = sub(dist, class_field(c, &LinkClass::rest));
+  D4 knv = class_field(c, &LinkClass::kn), ksv = class_field(c, &LinkClass::ks);
+  if (c[0]->faced || c[1]->faced || c[2]->faced || c[3]->faced) {
+    const D4 w = mul(splat<D4>(0.5), lanes<D4>([&](int l) { return freedom_[I[l]] + freedom_[J[l]]; }));
+    const D4 on = class_flag(c, &LinkClass::faced);
+    knv = pick(on, add(knv, mul(w, class_field(c, &LinkClass::face_kn))), knv);
+    ksv = pick(on, add(ksv, mul(w, class_field(c, &LinkClass::face_ks))), ksv);
+  }
+  // Eqs 1 and 5, then eq. 6's moment.
+  const Wide4 fj = sub(scale(mul(flip(knv), dn), nrm), scale(ksv, shear));
+  const Wide4 moment = cross(Wide4{flip(half.x), flip(half.y), flip(half.z)}, fj);
+  scatter(f_.data(), J, add(gather(f_.data(), J), fj));
+  scatter(f_.data(), I, sub(gather(f_.data(), I), fj));
+  Wide4 on_j = moment, on_i = moment;
+  const D4 kb = class_field(c, &LinkClass::kb);
+  const D4 on = greater(kb, splat<D4>(0.0));
+  if (_mm256_movemask_pd(on) != 0) {
+    const Wide4 old_bend = gather(bend_.data(), K);
+    const Wide4 bend = pick(on, add(off_axis(old_bend, nrm), scale(splat<D4>(dt), off_axis(sub(wj, wi), nrm))),
+                            old_bend);
+    scatter(bend_.data(), K, bend);
+    const Wide4 couple = scale(flip(kb), bend);
+    on_j = pick(on, add(moment, couple), moment);
+    on_i = pick(on, sub(moment, couple), moment);
+  }
+  scatter(m_.data(), J, add(gather(m_.data(), J), on_j));
+  scatter(m_.data(), I, add(gather(m_.data(), I), on_i));
 }
 
 void CubicLattice::face_contacts(double dt) {
@@ -459,7 +587,11 @@ void CubicLattice::face_contacts(double dt) {
     const auto dy = [&](int jy) { return std::abs(x_[index(cx, jy, down)].y() - xu.y()); };
     while (cy + 1 < ny_ && dy(cy + 1) < dy(cy)) ++cy;
     while (cy > 0 && dy(cy - 1) < dy(cy)) --cy;
+    // The slots touching at the last step: every other slot's state is still the zero state
+    // (each is reset as it stops touching), unless the stencil moves now.
+    std::uint32_t was_live = contact_live_[u];
     if (cx != contact_centre_[u][0] || cy != contact_centre_[u][1]) {
+      was_live = ~0u;
       // The same lower bodies keep their contact state in their new slots.
       const int mx = cx - contact_centre_[u][0], my = cy - contact_centre_[u][1];
       std::array<HertzMindlinState, kStencil * kStencil> moved{};
@@ -472,11 +604,11 @@ void CubicLattice::face_contacts(double dt) {
       std::copy(moved.begin(), moved.end(), contact_state_.begin() + u * kStencil * kStencil);
       contact_centre_[u] = {cx, cy};
     }
+    std::uint32_t live = 0;
     for (int sy = 0; sy < kStencil; ++sy)
       for (int sx = 0; sx < kStencil; ++sx) {
         const int slot = u * kStencil * kStencil + sy * kStencil + sx;
         const int jx = cx + sx - half, jy = cy + sy - half;
-        contact_active_[slot] = 0;
         if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
         const int bd = index(jx, jy, down);
         // A pair with a live spring between them is held by it (links join neighbours in
@@ -487,14 +619,18 @@ void CubicLattice::face_contacts(double dt) {
                              : -1;
         const bool linked = link >= 0 && links_[link].state.phase != LinkPhase::contact;
         HertzMindlinState& state = contact_state_[slot];
+        const std::uint32_t bit = 1u << (sy * kStencil + sx);
+        const auto untouched = [&] {
+          if (was_live & bit) state = {};
+        };
         if (linked) {
-          state = {};
+          untouched();
           continue;
         }
         // Far apart sideways (beyond what any tilt of the faces could bring within reach).
         const Eigen::Vector3d gap = x_[bu] - x_[bd];
         if (std::abs(gap.x()) >= 3.0 * r || std::abs(gap.y()) >= 3.0 * r || gap.z() >= 3.0 * r) {
-          state = {};
+          untouched();
           continue;
         }
         const Eigen::Matrix3d& Rd = rotation_[jx + nx_ * jy];
@@ -508,7 +644,7 @@ void CubicLattice::face_contacts(double dt) {
         const double fx = 1.0 - std::abs(t.dot(Rd.col(0))) / (2.0 * r);
         const double fy = 1.0 - std::abs(t.dot(Rd.col(1))) / (2.0 * r);
         if (overlap <= 0.0 || fx <= 0.0 || fy <= 0.0) {
-          state = {};
+          untouched();
           continue;
         }
         // The axis of least penetration (the separating axes of two nearly aligned cubes):
@@ -536,28 +672,26 @@ void CubicLattice::face_contacts(double dt) {
         const Eigen::Vector3d vrel = (v_[bu] + w_[bu].cross(rb)) - (v_[bd] + w_[bd].cross(ra));
         const HertzMindlinForce hm = hertz_mindlin_force(hertz_, depth, axis, vrel, state, dt);
         const Eigen::Vector3d fb = fraction * hm.force;
-        contact_active_[slot] = 1;
+        live |= bit;
+        // The upper body is this loop's own: its slots add onto it here, in slot order.
+        f_[bu] += fb;
+        m_[bu] += rb.cross(fb);
         contact_force_[slot] = fb;
-        contact_moment_up_[slot] = rb.cross(fb);
         contact_moment_down_[slot] = ra.cross(-fb);
       }
+    contact_live_[u] = live;
   }
-  // Gather serially in a fixed order (any thread count sums alike): each upper body its 25
-  // slots, each slot's reaction to its lower body.
+  // The lower bodies' reactions, serially in a fixed order (any thread count sums alike): the
+  // upper bodies in turn, each its touching slots in slot order.
   for (int u = 0; u < upper_count; ++u) {
-    const int bu = index(u % nx_, u / nx_, up);
     const int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
-    for (int sy = 0; sy < kStencil; ++sy)
-      for (int sx = 0; sx < kStencil; ++sx) {
-        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
-        if (!contact_active_[slot]) continue;  // no force (or out of the grid)
-        f_[bu] += contact_force_[slot];
-        m_[bu] += contact_moment_up_[slot];
-        const int jx = cx + sx - half, jy = cy + sy - half;
-        const int bd = index(jx, jy, down);
-        f_[bd] -= contact_force_[slot];
-        m_[bd] += contact_moment_down_[slot];
-      }
+    for (std::uint32_t live = contact_live_[u]; live != 0; live &= live - 1) {
+      const int s = std::countr_zero(live);
+      const int slot = u * kStencil * kStencil + s;
+      const int bd = index(cx + s % kStencil - half, cy + s / kStencil - half, down);
+      f_[bd] -= contact_force_[slot];
+      m_[bd] += contact_moment_down_[slot];
+    }
   }
 }
 

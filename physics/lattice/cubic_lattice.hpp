@@ -148,6 +148,9 @@ struct CubicLatticeDef {
   /// Effective areas that tile the plane (see tiled_areas): true by default; false gives the
   /// paper's areas of eq. 10 as they stand.
   bool tiled_areas = true;
+  /// The connective links four at a time in AVX's lanes where the processor has AVX (each
+  /// lane rounded as the scalar code rounds it: the same bits); false: one at a time.
+  bool lanes = true;
 };
 
 /// One link (eq. 1): bodies i < j, rest length, shear separation and its cohesive state.
@@ -223,6 +226,10 @@ class CubicLattice {
 
  private:
   void compute_forces(double dt);
+  /// Link k's forces and moments onto its two bodies (eqs 1-6, 27-29 and 50-55).
+  void link_force(int k, double dt);
+  /// The same for the connective links k .. k + 3 (none breakable), in AVX's lanes.
+  void connective_quad(int k, double dt);
   void face_contacts(double dt);
 
   CubicLatticeDef def_;
@@ -257,16 +264,20 @@ class CubicLattice {
   // links add their forces straight onto both bodies from any number of threads, and each
   // body sums its links in colour order whatever the thread count (bit-identical runs). A
   // colour is one of the 9 link directions with i < j (3 first, then 6 second neighbours)
-  // and the parity of i's cell along an axis on which the direction moves: 18 in all.
-  std::vector<int> colour_start_;
+  // and the parity of i's cell along an axis on which the direction moves: 18 in all. Within
+  // a colour the connective links come first, in the grid's order, then from
+  // breakable_start_[c] the breakable ones (the order within a colour changes no sum).
+  std::vector<int> colour_start_, breakable_start_;
   // Incident links of each body, CSR: link index * 2 + (1 if the body is j).
   std::vector<int> incident_start_, incident_;
   // Face contacts across the weak plane: body above, stencil slot (5 x 5 lower bodies around
   // the one nearest under it, contact_centre_, which follows the faces' slip).
   static constexpr int kStencil = 5;
   std::vector<HertzMindlinState> contact_state_;           // per upper body x 25
-  std::vector<Eigen::Vector3d> contact_force_, contact_moment_up_, contact_moment_down_;
-  std::vector<std::uint8_t> contact_active_;  // per slot: touching this step (else no force)
+  std::vector<Eigen::Vector3d> contact_force_, contact_moment_down_;  // per slot, on the lower
+  // Per upper body, bit s: slot s touched at this step (it has a force; a slot that does not
+  // touch holds the zero state).
+  std::vector<std::uint32_t> contact_live_;
   std::vector<std::array<int, 2>> contact_centre_;         // per upper body: (jx, jy) below
   std::vector<int> stencil_link_;  // per upper body x 25 offsets from its own (ix, iy)
   // Bodies next to the weak plane: how free each is (mean damage of its links across the
