@@ -1,7 +1,5 @@
 #include "physics/lattice/cubic_lattice.hpp"
 
-#include "physics/bonds/lanes.hpp"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -9,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+
+#include "physics/bonds/lanes.hpp"
 
 namespace cleave::physics {
 
@@ -83,8 +83,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     limits1_ = cohesive_limits(cohesive1_);
     limits2_ = cohesive_limits(cohesive2_);
   }
-  hertz_ = hertz_mindlin_params(mat.young, mat.poisson, r, mat.young, mat.poisson, r,
-                                mat.kappa, mat.friction);
+  hertz_ = hertz_mindlin_params(mat.young, mat.poisson, r, mat.young, mat.poisson, r, mat.kappa,
+                                mat.friction);
   mass_ = mat.density * 8.0 * r * r * r;
   inertia_ = mass_ * 4.0 * r * r / 6.0;
 
@@ -93,8 +93,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
   for (int iz = 0; iz < nz_; ++iz)
     for (int iy = 0; iy < ny_; ++iy)
       for (int ix = 0; ix < nx_; ++ix)
-        x0_[index(ix, iy, iz)] = Eigen::Vector3d((2 * ix + 1) * r, (2 * iy + 1) * r,
-                                                 (2 * iz + 1) * r);
+        x0_[index(ix, iy, iz)] =
+            Eigen::Vector3d((2 * ix + 1) * r, (2 * iy + 1) * r, (2 * iz + 1) * r);
   x_ = x0_;
   v_.assign(n, Eigen::Vector3d::Zero());
   w_.assign(n, Eigen::Vector3d::Zero());
@@ -202,7 +202,8 @@ CubicLattice::CubicLattice(const CubicLatticeDef& def)
     c.faced = l.face_kn != 0.0 || l.face_ks != 0.0;
     const auto same = [&](const LinkClass& o) {
       return o.rest == c.rest && o.kn == c.kn && o.ks == c.ks && o.face_kn == c.face_kn &&
-             o.face_ks == c.face_ks && o.kb == c.kb && o.kind == c.kind && o.breakable == c.breakable;
+             o.face_ks == c.face_ks && o.kb == c.kb && o.kind == c.kind &&
+             o.breakable == c.breakable;
     };
     const auto found = std::find_if(classes_.begin(), classes_.end(), same);
     const int cls = static_cast<int>(found - classes_.begin());
@@ -351,23 +352,25 @@ void CubicLattice::step(double dt) {
 void CubicLattice::compute_forces(double dt) {
   const int nl = static_cast<int>(links_.size());
   const int n = size();
-  // How free each crack-face body is, from the damage of its links across the plane as the
-  // last evaluation left them.
-  for (std::size_t p = 0; p < plane_bodies_.size(); ++p) {
-    double sum = 0.0;
-    for (int e = cross_start_[p]; e < cross_start_[p + 1]; ++e) {
-      const LatticeLink& l = links_[cross_links_[e]];
-      sum += damage(l.kind == 1 ? limits1_ : limits2_, l.state);
-    }
-    freedom_[plane_bodies_[p]] = sum / static_cast<double>(cross_start_[p + 1] - cross_start_[p]);
-  }
   const bool quads = def_.lanes && has_avx();
+  const int plane_count = static_cast<int>(plane_bodies_.size());
 #pragma omp parallel if (nl >= kParallelMin)
   {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (int b = 0; b < n; ++b) {
       f_[b].setZero();
       m_[b].setZero();
+    }
+    // How free each crack-face body is, from the damage of its links across the plane as the
+    // last evaluation left them.
+#pragma omp for schedule(static)
+    for (int p = 0; p < plane_count; ++p) {
+      double sum = 0.0;
+      for (int e = cross_start_[p]; e < cross_start_[p + 1]; ++e) {
+        const LatticeLink& l = links_[cross_links_[e]];
+        sum += damage(l.kind == 1 ? limits1_ : limits2_, l.state);
+      }
+      freedom_[plane_bodies_[p]] = sum / static_cast<double>(cross_start_[p + 1] - cross_start_[p]);
     }
     for (int colour = 0; colour + 1 < static_cast<int>(colour_start_.size()); ++colour) {
       // No two links of a colour share a body: each adds onto its two bodies directly, in
@@ -533,7 +536,8 @@ CLEAVE_LANES D4 class_flag(const C* const* c, bool C::*f) {
   const D4 dn = sub(dist, class_field(c, &LinkClass::rest));
   D4 knv = class_field(c, &LinkClass::kn), ksv = class_field(c, &LinkClass::ks);
   if (c[0]->faced || c[1]->faced || c[2]->faced || c[3]->faced) {
-    const D4 w = mul(splat<D4>(0.5), lanes<D4>([&](int l) { return freedom_[I[l]] + freedom_[J[l]]; }));
+    const D4 w =
+        mul(splat<D4>(0.5), lanes<D4>([&](int l) { return freedom_[I[l]] + freedom_[J[l]]; }));
     const D4 on = class_flag(c, &LinkClass::faced);
     knv = pick(on, add(knv, mul(w, class_field(c, &LinkClass::face_kn))), knv);
     ksv = pick(on, add(ksv, mul(w, class_field(c, &LinkClass::face_ks))), ksv);
@@ -548,8 +552,9 @@ CLEAVE_LANES D4 class_flag(const C* const* c, bool C::*f) {
   const D4 on = greater(kb, splat<D4>(0.0));
   if (_mm256_movemask_pd(on) != 0) {
     const Wide4 old_bend = gather(bend_.data(), K);
-    const Wide4 bend = pick(on, add(off_axis(old_bend, nrm), scale(splat<D4>(dt), off_axis(sub(wj, wi), nrm))),
-                            old_bend);
+    const Wide4 bend =
+        pick(on, add(off_axis(old_bend, nrm), scale(splat<D4>(dt), off_axis(sub(wj, wi), nrm))),
+             old_bend);
     scatter(bend_.data(), K, bend);
     const Wide4 couple = scale(flip(kb), bend);
     on_j = pick(on, add(moment, couple), moment);
@@ -565,121 +570,126 @@ void CubicLattice::face_contacts(double dt) {
   const int half = kStencil / 2;
   const int upper_count = nx_ * ny_;
   rotation_.resize(2 * upper_count);
-  for (int u = 0; u < upper_count; ++u) {
-    rotation_[u] = q_[index(u % nx_, u / nx_, down)].toRotationMatrix();
-    rotation_[upper_count + u] = q_[index(u % nx_, u / nx_, up)].toRotationMatrix();
-  }
-  // The live link (if any) of each stencil pair: a pair still linked by a connective or
-  // cohesive spring does not touch through a contact as well.
-#pragma omp parallel for schedule(static) if (upper_count * 25 >= kParallelMin)
-  for (int u = 0; u < upper_count; ++u) {
-    const int ix = u % nx_, iy = u / nx_;
-    const int bu = index(ix, iy, up);
-    const Eigen::Matrix3d& Ru = rotation_[upper_count + u];
-    // The stencil follows the slip of the faces: it is centred on the lower body nearest
-    // under this one, walked from last step's (the faces slip far less than a cube a step).
-    // Once a beam is split, nothing bounds how far its halves slide along each other.
-    int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
-    const Eigen::Vector3d& xu = x_[bu];
-    const auto dx = [&](int jx) { return std::abs(x_[index(jx, cy, down)].x() - xu.x()); };
-    while (cx + 1 < nx_ && dx(cx + 1) < dx(cx)) ++cx;
-    while (cx > 0 && dx(cx - 1) < dx(cx)) --cx;
-    const auto dy = [&](int jy) { return std::abs(x_[index(cx, jy, down)].y() - xu.y()); };
-    while (cy + 1 < ny_ && dy(cy + 1) < dy(cy)) ++cy;
-    while (cy > 0 && dy(cy - 1) < dy(cy)) --cy;
-    // The slots touching at the last step: every other slot's state is still the zero state
-    // (each is reset as it stops touching), unless the stencil moves now.
-    std::uint32_t was_live = contact_live_[u];
-    if (cx != contact_centre_[u][0] || cy != contact_centre_[u][1]) {
-      was_live = ~0u;
-      // The same lower bodies keep their contact state in their new slots.
-      const int mx = cx - contact_centre_[u][0], my = cy - contact_centre_[u][1];
-      std::array<HertzMindlinState, kStencil * kStencil> moved{};
+#pragma omp parallel if (upper_count * 25 >= kParallelMin)
+  {
+#pragma omp for schedule(static)
+    for (int u = 0; u < upper_count; ++u) {
+      rotation_[u] = q_[index(u % nx_, u / nx_, down)].toRotationMatrix();
+      rotation_[upper_count + u] = q_[index(u % nx_, u / nx_, up)].toRotationMatrix();
+    }
+    // The live link (if any) of each stencil pair: a pair still linked by a connective or
+    // cohesive spring does not touch through a contact as well.
+#pragma omp for schedule(static)
+    for (int u = 0; u < upper_count; ++u) {
+      const int ix = u % nx_, iy = u / nx_;
+      const int bu = index(ix, iy, up);
+      const Eigen::Matrix3d& Ru = rotation_[upper_count + u];
+      // The stencil follows the slip of the faces: it is centred on the lower body nearest
+      // under this one, walked from last step's (the faces slip far less than a cube a step).
+      // Once a beam is split, nothing bounds how far its halves slide along each other.
+      int cx = contact_centre_[u][0], cy = contact_centre_[u][1];
+      const Eigen::Vector3d& xu = x_[bu];
+      const auto dx = [&](int jx) { return std::abs(x_[index(jx, cy, down)].x() - xu.x()); };
+      while (cx + 1 < nx_ && dx(cx + 1) < dx(cx)) ++cx;
+      while (cx > 0 && dx(cx - 1) < dx(cx)) --cx;
+      const auto dy = [&](int jy) { return std::abs(x_[index(cx, jy, down)].y() - xu.y()); };
+      while (cy + 1 < ny_ && dy(cy + 1) < dy(cy)) ++cy;
+      while (cy > 0 && dy(cy - 1) < dy(cy)) --cy;
+      // The slots touching at the last step: every other slot's state is still the zero state
+      // (each is reset as it stops touching), unless the stencil moves now.
+      std::uint32_t was_live = contact_live_[u];
+      if (cx != contact_centre_[u][0] || cy != contact_centre_[u][1]) {
+        was_live = ~0u;
+        // The same lower bodies keep their contact state in their new slots.
+        const int mx = cx - contact_centre_[u][0], my = cy - contact_centre_[u][1];
+        std::array<HertzMindlinState, kStencil * kStencil> moved{};
+        for (int sy = 0; sy < kStencil; ++sy)
+          for (int sx = 0; sx < kStencil; ++sx) {
+            const int ox = sx + mx, oy = sy + my;
+            if (ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil)
+              moved[sy * kStencil + sx] =
+                  contact_state_[u * kStencil * kStencil + oy * kStencil + ox];
+          }
+        std::copy(moved.begin(), moved.end(), contact_state_.begin() + u * kStencil * kStencil);
+        contact_centre_[u] = {cx, cy};
+      }
+      std::uint32_t live = 0;
       for (int sy = 0; sy < kStencil; ++sy)
         for (int sx = 0; sx < kStencil; ++sx) {
-          const int ox = sx + mx, oy = sy + my;
-          if (ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil)
-            moved[sy * kStencil + sx] = contact_state_[u * kStencil * kStencil + oy * kStencil + ox];
-        }
-      std::copy(moved.begin(), moved.end(), contact_state_.begin() + u * kStencil * kStencil);
-      contact_centre_[u] = {cx, cy};
-    }
-    std::uint32_t live = 0;
-    for (int sy = 0; sy < kStencil; ++sy)
-      for (int sx = 0; sx < kStencil; ++sx) {
-        const int slot = u * kStencil * kStencil + sy * kStencil + sx;
-        const int jx = cx + sx - half, jy = cy + sy - half;
-        if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
-        const int bd = index(jx, jy, down);
-        // A pair with a live spring between them is held by it (links join neighbours in
-        // the rest lattice, so by offsets from this body's own column).
-        const int ox = jx - ix + half, oy = jy - iy + half;
-        const int link = ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil
-                             ? stencil_link_[u * kStencil * kStencil + oy * kStencil + ox]
-                             : -1;
-        const bool linked = link >= 0 && links_[link].state.phase != LinkPhase::contact;
-        HertzMindlinState& state = contact_state_[slot];
-        const std::uint32_t bit = 1u << (sy * kStencil + sx);
-        const auto untouched = [&] {
-          if (was_live & bit) state = {};
-        };
-        if (linked) {
-          untouched();
-          continue;
-        }
-        // Far apart sideways (beyond what any tilt of the faces could bring within reach).
-        const Eigen::Vector3d gap = x_[bu] - x_[bd];
-        if (std::abs(gap.x()) >= 3.0 * r || std::abs(gap.y()) >= 3.0 * r || gap.z() >= 3.0 * r) {
-          untouched();
-          continue;
-        }
-        const Eigen::Matrix3d& Rd = rotation_[jx + nx_ * jy];
-        // Mean face normal, from the lower cube (A) towards the upper (B).
-        Eigen::Vector3d nrm = Rd.col(2) + Ru.col(2);
-        nrm.normalize();
-        const Eigen::Vector3d d = x_[bu] - x_[bd];
-        const double s = d.dot(nrm);
-        const double overlap = 2.0 * r - s;
-        const Eigen::Vector3d t = d - s * nrm;
-        const double fx = 1.0 - std::abs(t.dot(Rd.col(0))) / (2.0 * r);
-        const double fy = 1.0 - std::abs(t.dot(Rd.col(1))) / (2.0 * r);
-        if (overlap <= 0.0 || fx <= 0.0 || fy <= 0.0) {
-          untouched();
-          continue;
-        }
-        // The axis of least penetration (the separating axes of two nearly aligned cubes):
-        // the faces, as a rule; a side face when a cube comes in from the side deeper than it
-        // overlaps sideways (a beam's end sliding past the end of the beam below it), which
-        // the faces' Hertz law would meet with the full depth at once.
-        Eigen::Vector3d axis = nrm;
-        double depth = overlap, fraction = fx * fy;
-        const double side_x = 2.0 * r * fx, side_y = 2.0 * r * fy;  // sideways overlaps
-        if (side_x < depth || side_y < depth) {
-          const double fz = std::min(1.0, overlap / (2.0 * r));
-          if (side_x <= side_y) {
-            axis = (t.dot(Rd.col(0)) >= 0.0 ? 1.0 : -1.0) * Rd.col(0);
-            depth = side_x;
-            fraction = fz * fy;
-          } else {
-            axis = (t.dot(Rd.col(1)) >= 0.0 ? 1.0 : -1.0) * Rd.col(1);
-            depth = side_y;
-            fraction = fz * fx;
+          const int slot = u * kStencil * kStencil + sy * kStencil + sx;
+          const int jx = cx + sx - half, jy = cy + sy - half;
+          if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
+          const int bd = index(jx, jy, down);
+          // A pair with a live spring between them is held by it (links join neighbours in
+          // the rest lattice, so by offsets from this body's own column).
+          const int ox = jx - ix + half, oy = jy - iy + half;
+          const int link = ox >= 0 && oy >= 0 && ox < kStencil && oy < kStencil
+                               ? stencil_link_[u * kStencil * kStencil + oy * kStencil + ox]
+                               : -1;
+          const bool linked = link >= 0 && links_[link].state.phase != LinkPhase::contact;
+          HertzMindlinState& state = contact_state_[slot];
+          const std::uint32_t bit = 1u << (sy * kStencil + sx);
+          const auto untouched = [&] {
+            if (was_live & bit) state = {};
+          };
+          if (linked) {
+            untouched();
+            continue;
           }
+          // Far apart sideways (beyond what any tilt of the faces could bring within reach).
+          const Eigen::Vector3d gap = x_[bu] - x_[bd];
+          if (std::abs(gap.x()) >= 3.0 * r || std::abs(gap.y()) >= 3.0 * r || gap.z() >= 3.0 * r) {
+            untouched();
+            continue;
+          }
+          const Eigen::Matrix3d& Rd = rotation_[jx + nx_ * jy];
+          // Mean face normal, from the lower cube (A) towards the upper (B).
+          Eigen::Vector3d nrm = Rd.col(2) + Ru.col(2);
+          nrm.normalize();
+          const Eigen::Vector3d d = x_[bu] - x_[bd];
+          const double s = d.dot(nrm);
+          const double overlap = 2.0 * r - s;
+          const Eigen::Vector3d t = d - s * nrm;
+          const double fx = 1.0 - std::abs(t.dot(Rd.col(0))) / (2.0 * r);
+          const double fy = 1.0 - std::abs(t.dot(Rd.col(1))) / (2.0 * r);
+          if (overlap <= 0.0 || fx <= 0.0 || fy <= 0.0) {
+            untouched();
+            continue;
+          }
+          // The axis of least penetration (the separating axes of two nearly aligned cubes):
+          // the faces, as a rule; a side face when a cube comes in from the side deeper than it
+          // overlaps sideways (a beam's end sliding past the end of the beam below it), which
+          // the faces' Hertz law would meet with the full depth at once.
+          Eigen::Vector3d axis = nrm;
+          double depth = overlap, fraction = fx * fy;
+          const double side_x = 2.0 * r * fx, side_y = 2.0 * r * fy;  // sideways overlaps
+          if (side_x < depth || side_y < depth) {
+            const double fz = std::min(1.0, overlap / (2.0 * r));
+            if (side_x <= side_y) {
+              axis = (t.dot(Rd.col(0)) >= 0.0 ? 1.0 : -1.0) * Rd.col(0);
+              depth = side_x;
+              fraction = fz * fy;
+            } else {
+              axis = (t.dot(Rd.col(1)) >= 0.0 ? 1.0 : -1.0) * Rd.col(1);
+              depth = side_y;
+              fraction = fz * fx;
+            }
+          }
+          // The contact point: between the faces, over the middle of their common patch.
+          const Eigen::Vector3d c = x_[bd] + 0.5 * (s * nrm) + 0.5 * t;
+          const Eigen::Vector3d rb = c - x_[bu], ra = c - x_[bd];
+          const Eigen::Vector3d vrel = (v_[bu] + w_[bu].cross(rb)) - (v_[bd] + w_[bd].cross(ra));
+          const HertzMindlinForce hm = hertz_mindlin_force(hertz_, depth, axis, vrel, state, dt);
+          const Eigen::Vector3d fb = fraction * hm.force;
+          live |= bit;
+          // The upper body is this loop's own: its slots add onto it here, in slot order.
+          f_[bu] += fb;
+          m_[bu] += rb.cross(fb);
+          contact_force_[slot] = fb;
+          contact_moment_down_[slot] = ra.cross(-fb);
         }
-        // The contact point: between the faces, over the middle of their common patch.
-        const Eigen::Vector3d c = x_[bd] + 0.5 * (s * nrm) + 0.5 * t;
-        const Eigen::Vector3d rb = c - x_[bu], ra = c - x_[bd];
-        const Eigen::Vector3d vrel = (v_[bu] + w_[bu].cross(rb)) - (v_[bd] + w_[bd].cross(ra));
-        const HertzMindlinForce hm = hertz_mindlin_force(hertz_, depth, axis, vrel, state, dt);
-        const Eigen::Vector3d fb = fraction * hm.force;
-        live |= bit;
-        // The upper body is this loop's own: its slots add onto it here, in slot order.
-        f_[bu] += fb;
-        m_[bu] += rb.cross(fb);
-        contact_force_[slot] = fb;
-        contact_moment_down_[slot] = ra.cross(-fb);
-      }
-    contact_live_[u] = live;
+      contact_live_[u] = live;
+    }
   }
   // The lower bodies' reactions, serially in a fixed order (any thread count sums alike): the
   // upper bodies in turn, each its touching slots in slot order.
@@ -702,11 +712,15 @@ LatticeEnergy CubicLattice::energy() const {
   for (std::size_t k = 0; k < links_.size(); ++k) {
     const LatticeLink& l = links_[k];
     if (l.state.phase != LinkPhase::connective) continue;
-    const double w = l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
-    const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
-    const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
+    const double w =
+        l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
+    const double kn =
+        l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
+    const double ks =
+        l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
     const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * shear_[k].squaredNorm() + 0.5 * l.kb * bend_[k].squaredNorm();
+    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * shear_[k].squaredNorm() +
+                 0.5 * l.kb * bend_[k].squaredNorm();
   }
   return e;
 }
@@ -717,11 +731,15 @@ double CubicLattice::body_elastic_energy(int b) const {
     const int k = incident_[a] / 2;
     const LatticeLink& l = links_[k];
     if (l.state.phase != LinkPhase::connective) continue;
-    const double w = l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
-    const double kn = l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
-    const double ks = l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
+    const double w =
+        l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
+    const double kn =
+        l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
+    const double ks =
+        l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
     const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e += 0.25 * kn * dn * dn + 0.25 * ks * shear_[k].squaredNorm() + 0.25 * l.kb * bend_[k].squaredNorm();
+    e += 0.25 * kn * dn * dn + 0.25 * ks * shear_[k].squaredNorm() +
+         0.25 * l.kb * bend_[k].squaredNorm();
   }
   return e;
 }
@@ -731,9 +749,15 @@ CubicLattice::PhaseCounts CubicLattice::phase_counts() const {
   for (const LatticeLink& l : links_) {
     if (!l.breakable) continue;
     switch (l.state.phase) {
-      case LinkPhase::connective: ++c.connective; break;
-      case LinkPhase::cohesive: ++c.cohesive; break;
-      case LinkPhase::contact: ++c.contact; break;
+      case LinkPhase::connective:
+        ++c.connective;
+        break;
+      case LinkPhase::cohesive:
+        ++c.cohesive;
+        break;
+      case LinkPhase::contact:
+        ++c.contact;
+        break;
     }
   }
   return c;
