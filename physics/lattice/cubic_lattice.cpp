@@ -705,42 +705,32 @@ void CubicLattice::face_contacts(double dt) {
   }
 }
 
+double CubicLattice::link_elastic_energy(std::size_t k) const {
+  const LatticeLink& l = links_[k];
+  if (l.state.phase != LinkPhase::connective) return 0.0;
+  const double w =
+      l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
+  const double kn =
+      l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
+  const double ks =
+      l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
+  const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
+  return 0.5 * kn * dn * dn + 0.5 * ks * shear_[k].squaredNorm() +
+         0.5 * l.kb * bend_[k].squaredNorm();
+}
+
 LatticeEnergy CubicLattice::energy() const {
   LatticeEnergy e;
   for (int b = 0; b < size(); ++b)
     e.kinetic += 0.5 * mass_ * v_[b].squaredNorm() + 0.5 * inertia_ * w_[b].squaredNorm();
-  for (std::size_t k = 0; k < links_.size(); ++k) {
-    const LatticeLink& l = links_[k];
-    if (l.state.phase != LinkPhase::connective) continue;
-    const double w =
-        l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
-    const double kn =
-        l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
-    const double ks =
-        l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
-    const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e.elastic += 0.5 * kn * dn * dn + 0.5 * ks * shear_[k].squaredNorm() +
-                 0.5 * l.kb * bend_[k].squaredNorm();
-  }
+  for (std::size_t k = 0; k < links_.size(); ++k) e.elastic += link_elastic_energy(k);
   return e;
 }
 
 double CubicLattice::body_elastic_energy(int b) const {
   double e = 0.0;
-  for (int a = incident_start_[b]; a < incident_start_[b + 1]; ++a) {
-    const int k = incident_[a] / 2;
-    const LatticeLink& l = links_[k];
-    if (l.state.phase != LinkPhase::connective) continue;
-    const double w =
-        l.face_kn != 0.0 || l.face_ks != 0.0 ? 0.5 * (freedom_[l.i] + freedom_[l.j]) : 0.0;
-    const double kn =
-        l.breakable ? (l.kind == 1 ? springs_.kn1 : springs_.kn2) : l.kn + w * l.face_kn;
-    const double ks =
-        l.breakable ? (l.kind == 1 ? springs_.ks1 : springs_.ks2) : l.ks + w * l.face_ks;
-    const double dn = (x_[l.j] - x_[l.i]).norm() - l.rest;
-    e += 0.25 * kn * dn * dn + 0.25 * ks * shear_[k].squaredNorm() +
-         0.25 * l.kb * bend_[k].squaredNorm();
-  }
+  for (int a = incident_start_[b]; a < incident_start_[b + 1]; ++a)
+    e += 0.5 * link_elastic_energy(static_cast<std::size_t>(incident_[a] / 2));
   return e;
 }
 

@@ -231,6 +231,8 @@ class CubicLattice {
   /// The same for the connective links k .. k + 3 (none breakable), in AVX's lanes.
   void connective_quad(int k, double dt);
   void face_contacts(double dt);
+  /// The energy stored in link k if it is connective (J), else 0.
+  [[nodiscard]] double link_elastic_energy(std::size_t k) const;
 
   CubicLatticeDef def_;
   int nx_, ny_, nz_;
