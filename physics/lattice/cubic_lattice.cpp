@@ -16,9 +16,9 @@ namespace {
 
 constexpr int kParallelMin = 2048;
 
-/// Turns a stored shear separation into the plane normal to n (the link turned since it was
-/// stored). A link turns by a tiny angle in one step, so dropping the normal component loses
-/// only a second-order sliver of the length.
+/// The part of s in the plane normal to n: a relative velocity's sliding part, or a stored
+/// shear separation turned with its link (a link turns by a tiny angle in one step, so
+/// dropping the normal component loses only a second-order sliver of the length).
 Eigen::Vector3d turn_into_plane(const Eigen::Vector3d& s, const Eigen::Vector3d& n) {
   return s - s.dot(n) * n;
 }
@@ -403,7 +403,7 @@ void CubicLattice::link_force(int k, double dt) {
   const Eigen::Vector3d half = 0.5 * d;
   // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
   const Eigen::Vector3d vrel = (v_[e.j] - v_[e.i]) - (w_[e.j] + w_[e.i]).cross(half);
-  const Eigen::Vector3d vs = vrel - vrel.dot(nrm) * nrm;
+  const Eigen::Vector3d vs = turn_into_plane(vrel, nrm);
   Eigen::Vector3d& shear = shear_[k];
   shear = turn_into_plane(shear, nrm) + dt * vs;  // eqs 54-55
   const double dn = dist - c.rest;                // opening is positive
@@ -445,7 +445,7 @@ void CubicLattice::link_force(int k, double dt) {
   if (c.kb > 0.0) {  // connective first neighbours only (never across the weak plane)
     const Eigen::Vector3d wrel = w_[e.j] - w_[e.i];
     Eigen::Vector3d& bend = bend_[k];
-    bend = turn_into_plane(bend, nrm) + dt * (wrel - wrel.dot(nrm) * nrm);
+    bend = turn_into_plane(bend, nrm) + dt * turn_into_plane(wrel, nrm);
     const Eigen::Vector3d couple = -c.kb * bend;  // on j; its opposite on i
     m_[e.j] += moment + couple;
     m_[e.i] += moment - couple;
@@ -485,7 +485,7 @@ CLEAVE_LANES void scatter(Eigen::Vector3d* p, const int* idx, const Wide4& v) {
   for (int l = 0; l < 4; ++l) p[idx[l]].z() = z[l];
 }
 
-/// a - s (a . n) n lane by lane, as turn_into_plane (and `v - v.dot(n) * n`) round it.
+/// turn_into_plane lane by lane: a - (a . n) n, rounded as it rounds it.
 CLEAVE_LANES Wide4 off_axis(const Wide4& a, const Wide4& n) {
   return wide::sub(a, wide::scale(wide::dot(a, n), n));
 }
