@@ -162,6 +162,38 @@ WallReading read_wall(const physics::Wall& w, const Eigen::Vector3d& origin0) {
   return {-w.reaction.dot(w.load_axis), moved.dot(w.load_axis)};
 }
 
+}  // namespace
+
+MachineReading machine_reading(const physics::World& world, const std::vector<std::size_t>& load_walls,
+                               const std::vector<Eigen::Vector3d>& origins) {
+  std::vector<Eigen::Vector3d> axes;
+  std::vector<double> force, travel;
+  std::vector<int> members;
+  for (std::size_t w : load_walls) {
+    const physics::Wall& wall = world.walls()[w];
+    const WallReading r = read_wall(wall, origins[w]);
+    std::size_t k = 0;
+    while (k < axes.size() && !(wall.load_axis.squaredNorm() > 0.0 && axes[k].dot(wall.load_axis) > 0.99)) ++k;
+    if (k == axes.size()) {
+      axes.push_back(wall.load_axis);
+      force.push_back(0.0);
+      travel.push_back(0.0);
+      members.push_back(0);
+    }
+    force[k] += r.force;
+    travel[k] += r.displacement;
+    ++members[k];
+  }
+  MachineReading out;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    out.load += force[k] / static_cast<double>(axes.size());
+    out.displacement += travel[k] / members[k];
+  }
+  return out;
+}
+
+namespace {
+
 /// Where the loop of one stage is: what a checkpoint saves of it besides the world.
 struct StageProgress {
   StageSummary st;
@@ -609,7 +641,7 @@ class Dynamics::Runner {
     }
     const double overlap = overlap_now ? *overlap_now : max_overlap(world_);
     sum_.max_overlap = std::max(sum_.max_overlap, overlap);
-    const auto [load, closure] = machine_reading(load_walls, stage_origin);
+    const auto [load, closure] = machine_reading(world_, load_walls, stage_origin);
     if (!load_walls.empty() && load > st.peak_load) {
       st.peak_load = load;
       st.peak_displacement = closure;
@@ -826,38 +858,6 @@ class Dynamics::Runner {
     return p;
   }
 
-  /// What the testing machine reads: load walls whose load axes agree are one crosshead
-  /// (four-point bending: both loading rollers); the load is the total force on a
-  /// crosshead, averaged over the crossheads (Brazilian, compression: the two platens carry
-  /// the same force P), and the load-point displacement is the sum over the crossheads of
-  /// their mean travel (two platens closing in: the closure). Returns (load, displacement).
-  std::pair<double, double> machine_reading(const std::vector<std::size_t>& load_walls,
-                                            const std::vector<Eigen::Vector3d>& stage_origin) const {
-    std::vector<Eigen::Vector3d> axes;
-    std::vector<double> force, travel;
-    std::vector<int> members;
-    for (std::size_t w : load_walls) {
-      const physics::Wall& wall = world_.walls()[w];
-      const WallReading r = read_wall(wall, stage_origin[w]);
-      std::size_t k = 0;
-      while (k < axes.size() && !(wall.load_axis.squaredNorm() > 0.0 && axes[k].dot(wall.load_axis) > 0.99)) ++k;
-      if (k == axes.size()) {
-        axes.push_back(wall.load_axis);
-        force.push_back(0.0);
-        travel.push_back(0.0);
-        members.push_back(0);
-      }
-      force[k] += r.force;
-      travel[k] += r.displacement;
-      ++members[k];
-    }
-    double load = 0.0, displacement = 0.0;
-    for (std::size_t k = 0; k < axes.size(); ++k) {
-      load += force[k] / static_cast<double>(axes.size());
-      displacement += travel[k] / members[k];
-    }
-    return {load, displacement};
-  }
 
   /// The transgranular check of sec. 3.4 on every body; logs each split. Returns how many.
   std::size_t split_grains() {

@@ -35,6 +35,18 @@ struct StageSummary {
   std::string plot;            ///< load-displacement picture written for it (file name)
 };
 
+/// What a testing machine reads off the loading walls. Walls whose load axes agree are one
+/// crosshead (four-point bending: both loading rollers); the load is the force on a
+/// crosshead, averaged over the crossheads (Brazilian, compression: each platen carries the
+/// load P, not 2P), and the load-point displacement is the sum over the crossheads of their
+/// mean travel from `origins` (indexed by wall; two platens closing in: the closure).
+struct MachineReading {
+  double load = 0.0;          ///< N
+  double displacement = 0.0;  ///< m
+};
+MachineReading machine_reading(const physics::World& world, const std::vector<std::size_t>& load_walls,
+                               const std::vector<Eigen::Vector3d>& origins);
+
 /// How a dynamic run ended.
 enum class RunEnding {
   completed,    ///< every stage ran (or --max-steps was reached)

@@ -235,14 +235,16 @@ void run_strength_test(Simulation& sim, Measurement& m, const SectionProbe* prob
     while (!sim.done()) {
       if (sim.advance(chunk) == 0) break;
       if (sim.dynamics()->stage() != loading.name) break;
-      double load = 0.0;
       for (std::size_t k = 0; k < loaders.size(); ++k) {
         const physics::Wall& w = world.walls()[loaders[k]];
         work -= 0.5 * (w.reaction + last_reaction[k]).dot(w.origin - last_origin[k]);
-        load += -w.reaction.dot(w.load_axis);
         last_origin[k] = w.origin;
         last_reaction[k] = w.reaction;
       }
+      // The load as the run's table and peak read it (two platens each carry P, not 2P).
+      std::vector<Eigen::Vector3d> origins;
+      for (const physics::Wall& w : world.walls()) origins.push_back(w.origin);
+      const double load = machine_reading(world, loaders, origins).load;
       if (m.first_crack.empty()) {
         if (world.body_count() != bodies0) m.first_crack = "grain";
         else if (world.bond_counts().broken() != broken0) m.first_crack = "bond";

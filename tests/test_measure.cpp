@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -16,6 +17,7 @@
 #include "physics/dem/world.hpp"
 #include "sim/dynamics.hpp"
 #include "sim/measure.hpp"
+#include "cli_helpers.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleave;
@@ -84,6 +86,49 @@ TEST(MaterialTest, BrazilianStrengthScalesLinearlyWithTheBondStrengths) {
   EXPECT_NEAR(full.value / 250e6, 1.0, 0.03) << full.value;
   EXPECT_NEAR(half.value / full.value, 0.5, 0.03);
   EXPECT_NEAR(full.value, 2.0 * full.peak_load / (M_PI * 1.04e-3 * 0.13e-3), 1e-9 * full.value);
+}
+
+namespace {
+
+/// Column `name` of a CSV table as numbers (empty when the file or column is missing).
+std::vector<double> column(const fs::path& file, const std::string& name) {
+  const auto rows = cleave::testing::read_csv_cells(file);
+  std::vector<double> out;
+  if (rows.empty()) return out;
+  const auto at = std::find(rows[0].begin(), rows[0].end(), name);
+  if (at == rows[0].end()) return out;
+  const auto k = static_cast<std::size_t>(at - rows[0].begin());
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const std::string& cell = k < rows[i].size() ? rows[i][k] : std::string();
+    out.push_back(cell.empty() ? NAN : std::stod(cell));  // a stage without load walls
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MaterialTest, TheBrazilianFirstCrackLoadIsTheLoadTheTableShowsJustBeforeTheFirstCrack) {
+  // measure.toml's first_crack_load_N is the testing machine's load (one platen's force P)
+  // just before the first bond breaks or grain splits: the load_displacement.csv row
+  // before that time, within the spacing of the two samplings, and never above the peak.
+  const fs::path disc = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_brazilian.toml";
+  const sim::Measurement m = run(sim::Test::brazilian, disc, "first_crack");
+  const fs::path out = fs::temp_directory_path() / "cleave_test_measure_first_crack";
+  double first = INFINITY;
+  for (const double t : column(out / "bond_breaks.csv", "time_s")) first = std::min(first, t);
+  for (const double t : column(out / "splits.csv", "time_s")) first = std::min(first, t);
+  ASSERT_TRUE(std::isfinite(first)) << "no crack in " << out;
+  const std::vector<double> time = column(out / "load_displacement.csv", "time_s");
+  const std::vector<double> load = column(out / "load_displacement.csv", "load_N");
+  ASSERT_EQ(time.size(), load.size());
+  double before = NAN;
+  for (std::size_t i = 0; i < time.size() && time[i] < first; ++i) {
+    if (std::isfinite(load[i])) before = load[i];
+  }
+  ASSERT_TRUE(std::isfinite(before));
+  EXPECT_NEAR(m.first_crack_load / before, 1.0, 0.03) << m.first_crack_load << " N against " << before << " N";
+  EXPECT_LE(m.first_crack_load, m.peak_load * (1.0 + 1e-12));
+  EXPECT_LE(m.value_at_first_crack, m.value * (1.0 + 1e-12));
 }
 
 // ---- quasi-static loading: the rate study, the ramp, density scaling ----------------------

@@ -8,7 +8,12 @@ namespace cleave::physics {
 Eigen::Matrix3d average_stress(std::span<const ArmForce> forces, double volume) {
   Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
   for (const ArmForce& af : forces) s += af.arm * af.force.transpose();
-  return (s + s.transpose()) / (2.0 * volume);
+  return stress_from_sum(s, volume);
+}
+
+Eigen::Matrix3d stress_from_sum(const Eigen::Matrix3d& sum, double volume) {
+  const Eigen::Matrix3d transposed = sum.transpose();
+  return (sum + transposed) / (2.0 * volume);
 }
 
 PlaneInvariants plane_invariants(const Eigen::Matrix3d& sigma) {

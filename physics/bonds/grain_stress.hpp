@@ -23,6 +23,10 @@ struct ArmForce {
 /// Eq. 2.17: the symmetric average stress of a body of volume `volume` (Pa; tension > 0).
 Eigen::Matrix3d average_stress(std::span<const ArmForce> forces, double volume);
 
+/// Eq. 2.17 from a body's sum of arm (x) force: (S + S^T) / 2V. The one place that
+/// symmetrises, so that no caller writes S into itself while reading S^T (Eigen aliasing).
+Eigen::Matrix3d stress_from_sum(const Eigen::Matrix3d& sum, double volume);
+
 /// Eq. 2.18: p = (sxx + syy) / 2, q = sqrt((sxx - syy)^2 / 4 + sxy^2),
 /// theta = atan2(2 sxy, sxx - syy) / 2.
 struct PlaneInvariants {

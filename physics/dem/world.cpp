@@ -1,5 +1,6 @@
 #include "physics/dem/world.hpp"
 #include "physics/bonds/bond_pair.hpp"
+#include "physics/bonds/grain_stress.hpp"
 #include "physics/bonds/vec3.hpp"
 
 #include <algorithm>
@@ -1400,15 +1401,13 @@ void World::forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const 
 }
 
 std::vector<Eigen::Matrix3d> World::body_stresses() const {
-  // Eq. 2.17: the sums of d (x) f per body (contact order: deterministic), symmetrised and
-  // divided by 2V.
-  std::vector<Eigen::Matrix3d> sum = stress_sums();
-  for (std::size_t i = 0; i < sum.size(); ++i) {
-    if (!infos_[i].alive) continue;
-    const double volume = shapes_[infos_[i].shape].volume;
-    sum[i] = (sum[i] + sum[i].transpose()) / (2.0 * volume);
+  // Eq. 2.17: the sums of d (x) f per body (contact order: deterministic).
+  const std::vector<Eigen::Matrix3d>& sums = stress_sums();
+  std::vector<Eigen::Matrix3d> out(sums.size(), Eigen::Matrix3d::Zero());
+  for (std::size_t i = 0; i < sums.size(); ++i) {
+    if (infos_[i].alive) out[i] = stress_from_sum(sums[i], shapes_[infos_[i].shape].volume);
   }
-  return sum;
+  return out;
 }
 
 double World::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa,

@@ -1,4 +1,5 @@
 #include "physics/transgranular/transgranular.hpp"
+#include "physics/bonds/grain_stress.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -100,11 +101,9 @@ int check_threads(const World& world) {
   return wanted > 0 ? wanted : omp_get_max_threads();
 }
 
-/// Eq. 2.17 from the body's sum of (point - centroid) (x) force (World::stress_sums):
-/// symmetrised, over 2V (the bits of World::body_stresses).
+/// Eq. 2.17 from the body's sum of (point - centroid) (x) force (World::stress_sums).
 Eigen::Matrix3d stress_from(const World& world, std::uint32_t slot, const Eigen::Matrix3d& sum) {
-  const double volume = world.shape(world.slot_infos()[slot].shape).volume;
-  return (sum + sum.transpose()) / (2.0 * volume);
+  return stress_from_sum(sum, world.shape(world.slot_infos()[slot].shape).volume);
 }
 
 /// The forces acting on a body (World::forces_on) as the traction code takes them.
