@@ -111,6 +111,11 @@ int run_command(const RunOptions& options) {
     case sim::RunReport::Status::interrupted:
       fmt::print(stderr, "cleave: {}; the result folder {} holds what was done so far (status "
                          "interrupted)\n", report.message, report.out.string());
+      if (std::filesystem::exists(report.out / io::kCheckpointName)) {
+        fmt::print(stderr, "cleave: continue it with: cleave restart {}\n", report.out.string());
+      } else {
+        fmt::print(stderr, "cleave: it stopped before its dynamics began (no checkpoint): run it again\n");
+      }
       return exit_code_for_signal(stop_signal());
   }
   return 1;

@@ -150,6 +150,15 @@ double lowest_vertex(const physics::World& world) {
   return z;
 }
 
+/// The progress line's ETA: the time left to the stage's step limit when the limit ends it;
+/// an upper bound when settling may end a plain run sooner; none when an event (a load drop, walls
+/// touching) ends it, since its time limit says nothing about when that comes.
+std::string eta_text(const io::StageDef& stage, bool may_settle, double seconds_left) {
+  if (may_settle) return fmt::format("  ETA <= {:.0f} s   ", seconds_left);
+  if (stage.until == io::StageDef::Until::limit) return fmt::format("  ETA {:.0f} s   ", seconds_left);
+  return fmt::format("  until {}   ", io::to_string(stage.until));
+}
+
 /// What a testing machine reads off one wall: the force the specimen presses it with and
 /// how far it has moved, both along its load axis (magnitudes when it has none).
 struct WallReading {
@@ -700,7 +709,7 @@ class Dynamics::Runner {
     if (!quiet_ && root_ && (seconds_since(r.last_print) > 1.0 || i == limit || event || halt)) {
       r.last_print = std::chrono::steady_clock::now();
       const double elapsed = seconds_since(r.t0);
-      const double eta = elapsed / static_cast<double>(i) * static_cast<double>(limit - i);
+      const double left = elapsed / static_cast<double>(i) * static_cast<double>(limit - i);
       std::string line = fmt::format(
           "\r  stage {:<12} step {}/{}  t = {:.4g} s  bodies {}  contacts {}  KE {:.3g} J",
           stage.name, i, limit, world_.time(), world_.body_count(),
@@ -710,7 +719,7 @@ class Dynamics::Runner {
       }
       if (book_) line += fmt::format("  splits {}", sum_.splits);
       if (!load_walls.empty()) line += fmt::format("  load {:.4g} N", load);
-      line += fmt::format("  ETA {:.0f} s   ", eta);
+      line += eta_text(stage, plain && scenario_.dynamics.settle_ratio > 0.0, left);
       std::fputs(line.c_str(), stderr);
       progress_shown_ = true;
     }

@@ -274,6 +274,8 @@ TEST_F(Checkpoint, SigtermLeavesACheckpointThatRestartsToTheUninterruptedHash) {
   const io::Checkpoint ck = io::read_checkpoint(out / io::kCheckpointName);
   EXPECT_EQ(ck.world.steps(), at);
   EXPECT_FALSE(fs::exists(out / "checkpoint.tmp"));
+  // The message names the command that continues it, even with --quiet.
+  EXPECT_NE(log().find("continue it with: cleave restart " + out.string()), std::string::npos) << log();
 
   // `cleave restart DIR` continues it to the end: the same final state and histories.
   ASSERT_EQ(wait_for(spawn({"restart", out.string(), "--quiet"})), 0) << log();

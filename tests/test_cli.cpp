@@ -276,3 +276,20 @@ TEST_F(CleaveCli, StlExportsPerFragmentAndRefusesVoxelCheckOfAnUnnamedScene) {
   EXPECT_EQ(refused.code, 2);
   EXPECT_NE(refused.output.find("STL keeps no mesh names"), std::string::npos) << refused.output;
 }
+
+TEST_F(CleaveCli, TheProgressLineGivesAnEtaOnlyWhereTheStepLimitEndsTheStage) {
+  // The approach stage of the Brazilian disc ends when the platens touch (an event), not at
+  // its time limit: the progress line names the event instead of a time. A drop test ends
+  // at its duration or sooner, when the grains settle: an upper bound.
+  const fs::path root(CLEAVE_SOURCE_DIR);
+  const Outcome disc = run_cleave("run " + (root / "scenarios/brazilian_fracture.toml").string() +
+                                  " --max-steps 300 --out " + (dir_ / "disc").string());
+  ASSERT_EQ(disc.code, 0) << disc.output;
+  EXPECT_NE(disc.output.find("stage approach"), std::string::npos) << disc.output;
+  EXPECT_NE(disc.output.find("until walls_touch"), std::string::npos) << disc.output;
+  EXPECT_EQ(disc.output.find("ETA"), std::string::npos) << disc.output;
+  const Outcome drop = run_cleave("run " + (root / "scenarios/demo_drop.toml").string() +
+                                  " --max-steps 300 --out " + (dir_ / "drop").string());
+  ASSERT_EQ(drop.code, 0) << drop.output;
+  EXPECT_NE(drop.output.find("ETA <= "), std::string::npos) << drop.output;
+}
