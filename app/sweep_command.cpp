@@ -310,12 +310,13 @@ int sweep_command(const SweepOptions& o) {
     io::write_file_atomically(out / "summary.csv", csv);
     // The picture: the first swept key against the peak load (and strength), or for a seed
     // ensemble the Weibull plot.
-    const bool seeds = axes.size() == 1 && axes[0].key.find("seed") != std::string::npos;
-    // A size (any numeric key) swept with a seed: the size effect. Keys given one value (a
-    // longer stage for every run, say) do not count.
+    // Keys given one value (a longer stage for every run, a strength scatter, say) do not
+    // count as swept: a seed alone among the varied keys makes an ensemble; a size (any
+    // numeric key) varied with a seed, the size effect.
     std::vector<std::size_t> varied;
     for (std::size_t k = 0; k < axes.size(); ++k)
       if (axes[k].values.size() > 1) varied.push_back(k);
+    const bool seeds = varied.size() == 1 && axes[varied[0]].key.find("seed") != std::string::npos;
     int seed_axis = -1, size_axis = -1;
     if (varied.size() == 2) {
       for (int a = 0; a < 2; ++a)

@@ -507,6 +507,20 @@ PYBIND11_MODULE(_cleave, m) {
                                for (std::size_t i = 0; i < world_of(s).walls().size(); ++i) out.append(WallRef{self, i});
                                return out;
                              })
+      .def(
+          "wall",
+          [](py::object self, const std::string& name) {
+            Simulation& s = self.cast<Simulation&>();
+            std::string names;
+            const auto& walls = world_of(s).walls();
+            for (std::size_t i = 0; i < walls.size(); ++i) {
+              if (walls[i].name == name) return WallRef{self, i};
+              names += (names.empty() ? "" : ", ") + walls[i].name;
+            }
+            throw py::key_error(fmt::format("no wall named '{}' in {} (its walls: {})", name, s.scenario().source,
+                                            names.empty() ? "none" : names));
+          },
+          "name"_a, "The wall of that name ([[wall]] name in the scenario); KeyError naming the others.")
       .def_property_readonly("slabs",
                              [](Simulation& s) {
                                py::list out;

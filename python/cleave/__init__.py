@@ -8,9 +8,31 @@
     cleave.plot.load_displacement(res, path="ld.png")
 
 The run is sim::Simulation (the same code as `cleave run`): the same scenario gives the same
-files and the same final state hash. numpy is needed for the state arrays and results,
-matplotlib for cleave.plot; both are imported only when used.
+files and the same final state hash. It runs under the interpreter it was built for
+(Debian's /usr/bin/python3) with numpy, both checked here at import; matplotlib is needed for
+cleave.plot alone, imported when used.
 """
+
+import sys as _sys
+
+from ._built_for import executable as _built_for, version as _built_version
+
+
+def _refuse(missing):
+    here = f"{_sys.version_info.major}.{_sys.version_info.minor}"
+    raise ImportError(
+        f"cleave: {missing}. This is {_sys.executable} (Python {here}); cleave's extension was "
+        f"built for {_built_for} (Python {_built_version}), which has numpy: run "
+        f"`PYTHONPATH=build/python {_built_for} ...`, or rebuild cleave with "
+        f"-DPython3_EXECUTABLE={_sys.executable} after installing numpy for it.")
+
+
+if f"{_sys.version_info.major}.{_sys.version_info.minor}" != _built_version:
+    _refuse(f"the extension was built for Python {_built_version}")
+try:
+    import numpy as _numpy  # noqa: F401  (the state arrays and results are numpy arrays)
+except ImportError:
+    _refuse("numpy is missing for this interpreter")
 
 from ._cleave import (  # noqa: F401
     CheckpointError,

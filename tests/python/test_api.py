@@ -222,3 +222,15 @@ def test_a_temperature_field_set_from_python_each_step_is_the_scenarios_prescrib
     t[3] = -1.0
     with pytest.raises(ValueError, match="slot 3"):
         b.set_temperatures(t)
+
+
+def test_import_under_an_interpreter_without_numpy_names_what_is_missing_and_what_to_use():
+    # -S leaves out site-packages (numpy among them): as a python3 that is not Debian's.
+    import os
+    import sys
+
+    done = subprocess.run([sys.executable, "-S", "-c", "import cleave"], capture_output=True, text=True,
+                          env=dict(os.environ))
+    assert done.returncode != 0
+    assert "numpy is missing for this interpreter" in done.stderr, done.stderr
+    assert "built for /usr/bin/python3" in done.stderr, done.stderr
