@@ -11,6 +11,7 @@
 #include <assimp/Importer.hpp>
 #include <atomic>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <exception>
@@ -23,18 +24,19 @@
 #include <system_error>
 #include <utility>
 
-// What assimp 5.2.5 does with the three formats (checked against its exporter and importer
-// sources and by tests/test_mesh_io.cpp):
-//  * STL ("stl", "stlb"): the exporters run aiProcess_PreTransformVertices and then write
-//    every mesh of the scene into one stream: binary STL has a single facet count, ASCII STL
-//    a single "solid AssimpScene" block. Mesh names are lost, and a scene file reads back
-//    as one mesh holding all bodies (disjoint bodies stay disjoint; bodies that touch share
-//    their coincident corners after the join in read_meshes). Per-fragment STL files keep
-//    the name in the file name.
-//  * OBJ: each mesh is written as a "g <mesh name>" group, polygons are kept as polygons,
-//    and the importer turns each group back into one named mesh with the same polygons.
-//  * assimp is built with single-precision ai_real, so coordinates go through float in
-//    every format (binary STL stores float32 anyway).
+// What is written (checked by tests/test_mesh_io.cpp, and with meshio and VTK's readers by
+// tests/python/test_paraview_outputs.py):
+//  * Binary STL goes through assimp ("stlb"): it runs aiProcess_PreTransformVertices and
+//    writes every mesh of the scene under a single facet count. Mesh names are lost, and a
+//    scene file reads back as one mesh holding all bodies (disjoint bodies stay disjoint;
+//    bodies that touch share their coincident corners after the join in read_meshes).
+//    Per-fragment STL files keep the name in the file name. assimp is built with
+//    single-precision ai_real, and binary STL stores float32 anyway.
+//  * OBJ and ASCII STL are written here, in double precision: assimp 5.2's OBJ has one
+//    "vn" per distinct normal, which meshio refuses (it wants one per "v"), and its ASCII STL
+//    a blank line between facets, which meshio's reader cannot skip. The OBJ has one
+//    "g <mesh name>" group per body with its polygons as they are, no normals and no .mtl;
+//    the ASCII STL one solid named after the file's stem (one solid, as assimp writes).
 //  * aiProcess_JoinIdenticalVertices is not used on import: it also merges some distinct
 //    vertices closer than about 1e-6 (absolute), see read_meshes.
 
@@ -199,9 +201,95 @@ class StagingDir {
   fs::path path_;
 };
 
-/// Exports `meshes` as one file `dir/file_name`: assimp writes it (and for OBJ its .mtl)
-/// into a staging directory next to the target, then each file is renamed into `dir`,
-/// companions first and the main file last. Returns the final paths, main file first.
+/// A double as the shortest text that reads back as the same double.
+void append_number(std::string& out, double v) {
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, res.ptr);
+}
+
+void append_point(std::string& out, const Eigen::Vector3d& p) {
+  for (int k = 0; k < 3; ++k) {
+    out += ' ';
+    append_number(out, p[k]);
+  }
+}
+
+/// Wavefront OBJ: every body's vertices, then its group and polygons (1-based indices
+/// counting over the whole file).
+std::string obj_text(const std::vector<const PolygonMesh*>& meshes) {
+  std::string out = "# cleave fragments: one group per body, named after its lineage\n";
+  std::size_t base = 1;
+  for (const PolygonMesh* m : meshes) {
+    out += "g ";
+    out += m->name;
+    out += '\n';
+    for (const auto& v : m->vertices) {
+      out += 'v';
+      append_point(out, v);
+      out += '\n';
+    }
+    for (const auto& f : m->faces) {
+      out += 'f';
+      for (int v : f) {
+        out += ' ';
+        out += std::to_string(base + static_cast<std::size_t>(v));
+      }
+      out += '\n';
+    }
+    base += m->vertices.size();
+  }
+  return out;
+}
+
+/// ASCII STL: one solid `name` holding every body's triangles, each with its face normal.
+std::string stl_ascii_text(const std::vector<const PolygonMesh*>& triangulated,
+                           const std::string& name) {
+  std::string out = "solid " + name + "\n";
+  for (const PolygonMesh* m : triangulated) {
+    for (const auto& f : m->faces) {
+      const aiVector3D n = face_normal(*m, f);
+      out += "facet normal";
+      append_point(out, Eigen::Vector3d(n.x, n.y, n.z));
+      out += "\nouter loop\n";
+      for (int v : f) {
+        out += "vertex";
+        append_point(out, m->vertices[static_cast<std::size_t>(v)]);
+        out += '\n';
+      }
+      out += "endloop\nendfacet\n";
+    }
+  }
+  out += "endsolid " + name + "\n";
+  return out;
+}
+
+/// Writes `text` to `target` through a temporary file in the same folder and a rename.
+void write_text_file(const fs::path& target, const std::string& text) {
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) fail(target, "cannot create the temporary file '" + tmp.string() + "'");
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      fail(target, "cannot write the temporary file '" + tmp.string() + "'");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    fail(target, "cannot rename the finished temporary file: " + ec.message());
+  }
+}
+
+/// Exports `meshes` as one file `dir/file_name`. OBJ and ASCII STL are written here; assimp
+/// writes binary STL into a staging directory next to the target, then each file it made is
+/// renamed into `dir`, companions first and the main file last. Returns the final paths,
+/// main file first.
 std::vector<fs::path> export_file(const std::vector<const PolygonMesh*>& meshes,
                                   const fs::path& dir, const std::string& file_name,
                                   MeshFormat format) {
@@ -217,6 +305,14 @@ std::vector<fs::path> export_file(const std::vector<const PolygonMesh*>& meshes,
     for (const PolygonMesh& m : triangulated) to_write.push_back(&m);
   } else {
     to_write = meshes;
+  }
+  if (format == MeshFormat::obj) {
+    write_text_file(target, obj_text(to_write));
+    return {target};
+  }
+  if (format == MeshFormat::stl_ascii) {
+    write_text_file(target, stl_ascii_text(to_write, fs::path(file_name).stem().string()));
+    return {target};
   }
   const std::unique_ptr<aiScene> scene = build_scene(to_write);
 

@@ -35,12 +35,12 @@ std::string extension(MeshFormat f);
 /// Writes `meshes` (closed, outward polygon meshes; STL gets them fan-triangulated) into
 /// `dir` (created if missing). With MeshLayout::scene one file `<stem><ext>` holds one named
 /// mesh per body; with per_fragment each body goes to `<mesh.name><ext>`. Each file is written
-/// to a temporary name and renamed when complete. Returns the paths written, each OBJ followed
-/// by the `.mtl` assimp writes beside it (same stem).
-/// Format limits (assimp 5.2): coordinates are stored in single precision; assimp's STL
-/// exporters put all meshes of a scene into one solid ("AssimpScene"), so an STL scene file
-/// reads back as one mesh holding every body and the body names survive only in
-/// per_fragment file names; OBJ keeps one named group per body and keeps polygons.
+/// to a temporary name and renamed when complete. Returns the paths written.
+/// Format limits: binary STL (through assimp 5.2) stores single precision, OBJ and ASCII STL
+/// the shortest text of each double; an STL scene holds one solid (ASCII: named after the
+/// stem), so it reads back as one mesh holding every body and the body names survive only in
+/// per_fragment file names; OBJ keeps one named group ("g") per body and keeps polygons.
+/// meshio 5+ and VTK's vtkOBJReader and vtkSTLReader read all three.
 /// Throws MeshIoError naming the file for an empty scene, a mesh without faces or with an
 /// out-of-range index, a per_fragment name that is not a plain file name or is used twice,
 /// or any export or rename failure.

@@ -1,5 +1,6 @@
 #include "io/vtk_output.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <charconv>
@@ -10,11 +11,13 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
 #include <utility>
+
 #include "io/xml_text.hpp"
 
 // File layout (what tests/test_vtk_output.cpp reads back):
@@ -28,8 +31,11 @@
 //  * Non-finite values (NaN, +-inf) in positions or fields are written as they are, and VTK
 //    reads them back unchanged (the test checks this with VTK 9.1 where it is installed).
 //  * Field names must be non-empty, free of control characters and distinct across the
-//    scalars, vectors and ids of one FieldSet; "body_index" (bodies) and "link_index" (links)
-//    are reserved for the index array this writer adds. Names are XML-escaped.
+//    scalars, vectors, ids and strings of one FieldSet; the index array's name ("body_index"
+//    or BodyFrame::index_name, "link_index" for links) is reserved. Names are XML-escaped.
+//  * String fields are DataArrays of type "String" written inline with format="ascii", as
+//    vtkXMLWriter writes a vtkStringArray: each string as its bytes' decimal codes, ended by
+//    a 0 (so any text, control characters included, survives).
 //  * Bodies: points are every mesh's vertices in mesh order, cells are their faces as Polys.
 //  * Links: VTK stores cell data in the order Verts, Lines, Strips, Polys, so the zero-length
 //    links (Verts) come first, then the others (Lines), each group in input order; the fields
@@ -120,8 +126,8 @@ class AtomicFile {
   bool committed_ = false;
 };
 
-/// Element type of a DataArray; both are 8 bytes wide.
-enum class ValueType { float64, int64 };
+/// Element type of a DataArray; the numbers are 8 bytes wide, strings are written inline.
+enum class ValueType { float64, int64, string };
 
 /// One DataArray of the appended block: `fill` writes its `values` 8-byte numbers (tuples
 /// times components) to the buffer it is given.
@@ -131,6 +137,7 @@ struct Array {
   int components = 1;
   std::size_t values = 0;
   std::function<void(char*)> fill;
+  std::string ascii;  ///< a string array's inline text (ValueType::string)
 };
 
 /// A cell section of PolyData ("Verts", "Lines" or "Polys"): its cell count and its
@@ -146,6 +153,7 @@ struct CellSection {
 struct Piece {
   std::size_t points = 0;
   std::vector<Array> cell_data;
+  std::string active_scalars;  ///< the cell data's "Scalars" attribute, when not empty
   Array point_coords;
   std::vector<CellSection> sections;
 };
@@ -166,6 +174,16 @@ void write_piece(const fs::path& file, const Piece& piece) {
   std::uint64_t offset = 0;
   auto data_array = [&](const Array& a) {
     xml += "        <DataArray type=\"";
+    if (a.type == ValueType::string) {
+      xml += "String\" Name=\"";
+      append_xml_escaped(xml, a.name);
+      xml += "\" NumberOfComponents=\"1\" NumberOfTuples=\"";
+      append_int(xml, a.values);
+      xml += "\" format=\"ascii\">\n";
+      xml += a.ascii;
+      xml += "\n        </DataArray>\n";
+      return;
+    }
     xml += a.type == ValueType::float64 ? "Float64" : "Int64";
     xml += "\" Name=\"";
     append_xml_escaped(xml, a.name);
@@ -196,7 +214,13 @@ void write_piece(const fs::path& file, const Piece& piece) {
     xml += "=\"";
     append_int(xml, count_of(tag));
   }
-  xml += "\">\n      <CellData>\n";
+  xml += "\">\n      <CellData";
+  if (!piece.active_scalars.empty()) {
+    xml += " Scalars=\"";
+    append_xml_escaped(xml, piece.active_scalars);
+    xml += "\"";
+  }
+  xml += ">\n";
   for (const auto& a : piece.cell_data) data_array(a);
   xml += "      </CellData>\n      <Points>\n";
   data_array(piece.point_coords);
@@ -291,6 +315,21 @@ void add_fields(const fs::path& file, const FieldSet& fields, std::size_t items,
                      }
                    }});
   }
+  for (const auto& [name, values] : fields.strings) {
+    check_name(file, name, used);
+    check_length(file, name, values, items, item_word);
+    Array a{name, ValueType::string, 1, cells, {}, {}};
+    a.ascii.reserve(cells * 16);
+    for (std::size_t c = 0; c < cells; ++c) {
+      a.ascii += c % 8 == 0 ? (c == 0 ? "          " : "\n          ") : " ";
+      for (const char ch : values[cell_item[c]]) {
+        append_int(a.ascii, static_cast<int>(static_cast<unsigned char>(ch)));
+        a.ascii += ' ';
+      }
+      a.ascii += '0';
+    }
+    out.push_back(std::move(a));
+  }
 }
 
 /// The index array the writer adds: cell `c` gets `cell_item[c]`.
@@ -358,9 +397,19 @@ void write_vtp(const fs::path& file, const BodyFrame& frame) {
 
   Piece piece;
   piece.points = points;
-  piece.cell_data.push_back(index_array("body_index", cell_item));
-  add_fields(file, frame.body_fields, meshes.size(), "bodies", "body_index", cell_item,
+  if (frame.index_name.empty() || has_control_char(frame.index_name)) {
+    fail(file,
+         "the index array's name '" + frame.index_name + "' is empty or has a control character");
+  }
+  piece.cell_data.push_back(index_array(frame.index_name, cell_item));
+  add_fields(file, frame.body_fields, meshes.size(), "bodies", frame.index_name, cell_item,
              piece.cell_data);
+  if (!frame.active_scalars.empty()) {
+    const bool known = std::any_of(piece.cell_data.begin(), piece.cell_data.end(),
+                                   [&](const Array& a) { return a.name == frame.active_scalars; });
+    if (!known) fail(file, "the active scalars '" + frame.active_scalars + "' are no field");
+    piece.active_scalars = frame.active_scalars;
+  }
   piece.point_coords = {"Points", ValueType::float64, 3, 3 * points, [&meshes](char* p) {
                           for (const auto& m : meshes) {
                             for (const auto& v : m.vertices) {
@@ -440,6 +489,13 @@ void PvdSeries::add(double time, const fs::path& relative_file, int part) {
   if (name.empty() || has_control_char(name)) {
     fail(file_, "dataset file name '" + name + "' is empty or has a control character");
   }
+  // A second dataset at the same time and part (a frame rewritten at the same step) takes
+  // the last entry's place: ParaView would otherwise show both at once.
+  std::optional<Entry> replaced;
+  if (!entries_.empty() && entries_.back().time == time && entries_.back().part == part) {
+    replaced = entries_.back();
+    entries_.pop_back();
+  }
   entries_.push_back({time, std::move(name), part});
 
   std::string xml;
@@ -464,6 +520,7 @@ void PvdSeries::add(double time, const fs::path& relative_file, int part) {
     out.commit();
   } catch (...) {
     entries_.pop_back();
+    if (replaced) entries_.push_back(std::move(*replaced));
     throw;
   }
 }

@@ -13,18 +13,26 @@
 
 namespace cleave::io {
 
-/// Per-item data arrays: scalars (1 component), vectors (3) or integer ids.
+/// Per-item data arrays: scalars (1 component), vectors (3), integer ids or strings (a
+/// vtkStringArray: a wall's name).
 struct FieldSet {
   std::map<std::string, std::vector<double>> scalars;
   std::map<std::string, std::vector<Eigen::Vector3d>> vectors;
   std::map<std::string, std::vector<long long>> ids;
+  std::map<std::string, std::vector<std::string>> strings;
 };
 
 /// Bodies as polygons: every body's world-space mesh; `body_fields` hold one value per
-/// body and are written as cell data (repeated on each of the body's faces).
+/// body and are written as cell data (repeated on each of the body's faces). The same serves
+/// for walls and crack faces, with another `index_name`.
 struct BodyFrame {
   std::vector<geometry::PolygonMesh> meshes;
   FieldSet body_fields;
+  /// The cell array giving each cell's mesh index.
+  std::string index_name = "body_index";
+  /// A field ParaView colours by when the file is opened (the cell data's active scalars);
+  /// empty: none.
+  std::string active_scalars;
 };
 
 /// Contacts (or bonds) as lines from `a[i]` to `b[i]` (a zero-length line is written as a
@@ -36,11 +44,12 @@ struct LinkFrame {
 };
 
 /// Writes a .vtp with raw binary appended data (as VTK's own writer does without base64;
-/// ParaView 5.x opens it). Bodies get a cell array "body_index" (the mesh's index in the
+/// ParaView 5.x opens it; strings are written inline as ASCII, VTK's way for a
+/// vtkStringArray). Bodies get a cell array named `index_name` (the mesh's index in the
 /// frame); links are written as Verts (zero-length links) then Lines, each in input order,
 /// with a cell array "link_index" giving each cell's link number. NaN and +-inf are written
 /// as they are. Field names must be non-empty, unique, free of control characters and not
-/// "body_index"/"link_index". Throws std::runtime_error naming the file for a field whose
+/// the index array's name. Throws std::runtime_error naming the file for a field whose
 /// length does not match, a bad name, a face with fewer than 3 or out-of-range vertices,
 /// or a file that cannot be written.
 void write_vtp(const std::filesystem::path& file, const BodyFrame& frame);
@@ -49,7 +58,8 @@ void write_vtp(const std::filesystem::path& file, const LinkFrame& frame);
 /// A time series of files for ParaView: `add` records (time, file relative to the .pvd's
 /// folder, part index) and rewrites the .pvd at once, so a run that stops early still has a
 /// valid series of the frames written so far. `add` throws std::runtime_error for a
-/// non-finite time, an empty file name or a failed write; a failed entry is not kept.
+/// non-finite time, an empty file name or a failed write; a failed entry is not kept. A
+/// dataset at the time and part of the last entry replaces that entry: one entry per time.
 class PvdSeries {
  public:
   explicit PvdSeries(std::filesystem::path pvd_file);

@@ -12,6 +12,7 @@
 
 #include "io/field_expression.hpp"
 #include "io/mesh_io.hpp"
+#include "io/paraview_frames.hpp"
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
@@ -278,7 +279,9 @@ class Dynamics::Runner {
         bodies_pvd_(out_ / "bodies.pvd"),
         contacts_pvd_(out_ / "contacts.pvd"),
         bonds_pvd_(out_ / "bonds.pvd"),
-        cell_pvd_(out_ / "cell.pvd") {
+        cell_pvd_(out_ / "cell.pvd"),
+        walls_pvd_(out_ / "walls.pvd"),
+        cracks_pvd_(out_ / "cracks.pvd") {
     fs::create_directories(out_ / "frames");
     for (const auto& w : world_.walls()) origin0_.push_back(w.origin);
     pe0_ = world_.potential_energy();
@@ -857,6 +860,14 @@ class Dynamics::Runner {
         }
         pvd->restore(std::move(entries));
       }
+      // The walls and cracks are written with every bodies frame (write_frame): their lists
+      // are the bodies' under their own names.
+      for (auto [pvd, name] : {std::pair{&walls_pvd_, "walls_"}, std::pair{&cracks_pvd_, "cracks_"}}) {
+        if (!(pvd == &walls_pvd_ ? writes_walls() : writes_cracks())) continue;
+        std::vector<io::PvdSeries::Entry> entries = bodies_pvd_.entries();
+        for (auto& e : entries) e.file.replace(e.file.find("bodies_"), 7, name);
+        pvd->restore(std::move(entries));
+      }
       if (!r.done()) r.fail("unread bytes after the run state");
       if (origin0_.size() != world_.walls().size() || p.stage_origin.size() != world_.walls().size()) {
         r.fail("the walls of the run state do not match the world's");
@@ -1035,34 +1046,41 @@ class Dynamics::Runner {
     }
   }
 
+  bool writes_walls() const { return !world_.walls().empty(); }
+  bool writes_cracks() const { return scenario_.bond.enabled || book_.has_value(); }
+
   /// `gathered`: on several processes, the whole world is here already.
   void write_frame(bool gathered = false) {
     if (domain() && !gathered) domain()->gather_all(world_, true);  // the whole world, its contacts too
+    // A second frame at the step of the last one (the bond stage right after the first
+    // frame) replaces it: every series lists each time once.
+    const bool again = sum_.frames > 0 && world_.steps() == last_frame_step_;
     if (!root_) {  // several processes: the first writes the frames
-      ++sum_.frames;
+      if (!again) ++sum_.frames;
       last_frame_step_ = world_.steps();
       return;
     }
-    const std::string stem = fmt::format("{:06d}", sum_.frames);
+    const std::string stem = fmt::format("{:06d}", again ? sum_.frames - 1 : sum_.frames);
     const fs::path dir = "frames";
-    io::write_vtp(out_ / dir / ("bodies_" + stem + ".vtp"), body_frame(world_, specimen_));
-    io::write_vtp(out_ / dir / ("contacts_" + stem + ".vtp"), contact_frame(world_));
-    bodies_pvd_.add(world_.time(), dir / ("bodies_" + stem + ".vtp"));
-    contacts_pvd_.add(world_.time(), dir / ("contacts_" + stem + ".vtp"));
-    if (scenario_.bond.enabled) {
-      io::write_vtp(out_ / dir / ("bonds_" + stem + ".vtp"), bond_frame(world_));
-      bonds_pvd_.add(world_.time(), dir / ("bonds_" + stem + ".vtp"));
-    }
-    if (const physics::PeriodicCell* cell = world_.cell()) {
-      io::write_vtp(out_ / dir / ("cell_" + stem + ".vtp"), cell_frame(*cell));
-      cell_pvd_.add(world_.time(), dir / ("cell_" + stem + ".vtp"));
-    }
+    auto write = [&](io::PvdSeries& pvd, const std::string& kind, const auto& frame) {
+      const fs::path file = dir / (kind + "_" + stem + ".vtp");
+      io::write_vtp(out_ / file, frame);
+      pvd.add(world_.time(), file);
+    };
+    write(bodies_pvd_, "bodies", body_frame(world_, specimen_));
+    write(contacts_pvd_, "contacts", contact_frame(world_));
+    if (scenario_.bond.enabled) write(bonds_pvd_, "bonds", bond_frame(world_));
+    if (const physics::PeriodicCell* cell = world_.cell()) write(cell_pvd_, "cell", cell_frame(*cell));
+    if (writes_walls()) write(walls_pvd_, "walls", io::wall_frame(world_));
+    if (writes_cracks()) write(cracks_pvd_, "cracks", io::crack_frame(world_, book_ ? &*book_ : nullptr));
     if (scenario_.output.frame_meshes) write_frame_meshes(stem);
-    ++sum_.frames;
+    if (!again) ++sum_.frames;
     last_frame_step_ = world_.steps();
   }
 
-  /// Every body as a mesh in its world pose, named by its lineage (grain_0017.1.0).
+  /// Every body as a mesh in its world pose, named by its lineage (grain_0017.1.0), in a
+  /// folder of the frame's own (frame_meshes/frame_NNNNNN/): per-fragment files of
+  /// different frames never meet.
   void write_frame_meshes(const std::string& stem) {
     std::vector<geometry::PolygonMesh> meshes;
     for (const physics::BodyId id : world_.body_ids()) {
@@ -1071,7 +1089,9 @@ class Dynamics::Runner {
                                             : geometry::Lineage{world_.info(id).grain_id, {}}.name();
       meshes.push_back(std::move(mesh));
     }
-    io::write_meshes(meshes, out_ / "frame_meshes", "frame_" + stem, scenario_.output.mesh_format,
+    const fs::path folder = out_ / "frame_meshes" / ("frame_" + stem);
+    fs::remove_all(folder);  // a frame rewritten at the same step, or after a restart
+    io::write_meshes(meshes, folder, "frame_" + stem, scenario_.output.mesh_format,
                      scenario_.output.mesh_layout);
   }
 
@@ -1290,7 +1310,7 @@ class Dynamics::Runner {
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   physics::World world_;
   double stable_dt_ = io::stable_time_step(scenario_, specimen_);  // for blow-up messages
-  io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_, cell_pvd_;
+  io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_, cell_pvd_, walls_pvd_, cracks_pvd_;
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;
   std::string energy_, walls_, loads_, bond_counts_, splits_, thermal_;

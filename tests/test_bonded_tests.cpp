@@ -246,17 +246,18 @@ TEST_F(BondedTest, FallingGrainsFragmentOverGenerationsAndKeepEveryGrainsExactVo
   // Exact: every grain's live pieces sum to the grain (the check exits 0 only then).
   std::string log;
   EXPECT_EQ(run_cleave("check volume " + dir.string() + " --summary", &log), 0) << log;
-  // The last frame's meshes carry the pieces' lineage names (grain_0017.0, ...).
+  // The last frame's meshes (frame_meshes/frame_NNNNNN/frame_NNNNNN.obj) carry the pieces'
+  // lineage names (grain_0017.0, ...).
+  fs::path last;
+  for (const auto& entry : fs::directory_iterator(dir / "frame_meshes")) last = std::max(last, entry.path());
+  ASSERT_FALSE(last.empty());
   std::size_t named = 0;
-  for (const auto& entry : fs::directory_iterator(dir / "frame_meshes")) {
-    if (entry.path().filename() != "frame_000001.obj") continue;
-    const std::string obj = cleave::io::read_file(entry.path());
-    for (auto at = obj.find("\ng grain_"); at != std::string::npos; at = obj.find("\ng grain_", at + 1)) {
-      const auto end = obj.find('\n', at + 1);
-      named += obj.substr(at, end - at).find('.') != std::string::npos;
-    }
+  const std::string obj = cleave::io::read_file(last / (last.filename().string() + ".obj"));
+  for (auto at = obj.find("\ng grain_"); at != std::string::npos; at = obj.find("\ng grain_", at + 1)) {
+    const auto end = obj.find('\n', at + 1);
+    named += obj.substr(at, end - at).find('.') != std::string::npos;
   }
-  EXPECT_GE(named, splits.size()) << "pieces named by lineage in frame_meshes/frame_000001.obj";
+  EXPECT_GE(named, splits.size()) << "pieces named by lineage in " << last;
   // No piece below the minimum fraction (5 %) of the body it was cut from: at depth d a
   // piece holds at least 0.05^d of its grain (the prism of side 0.5 mm and thickness 1 mm).
   const double prism = 1.5 * std::sqrt(3.0) * 0.5e-3 * 0.5e-3 * 1.0e-3;

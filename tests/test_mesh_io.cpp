@@ -236,17 +236,12 @@ TEST_P(RoundTrip, KeepsBodiesTopologyAndVolume) {
   const std::vector<fs::path> written =
       cleave::io::write_meshes(meshes, dir_, "fragments", format, layout);
 
-  // Exactly the announced files exist: no temporary left behind, the OBJ material beside
-  // its OBJ under the OBJ's stem.
+  // Exactly the announced files exist: no temporary left behind, no material file.
   std::set<fs::path> expected_files;
   if (layout == MeshLayout::scene) {
     expected_files.insert(dir_ / ("fragments" + ext));
-    if (obj) expected_files.insert(dir_ / "fragments.mtl");
   } else {
-    for (const Body& b : bodies) {
-      expected_files.insert(dir_ / (b.mesh.name + ext));
-      if (obj) expected_files.insert(dir_ / (b.mesh.name + ".mtl"));
-    }
+    for (const Body& b : bodies) expected_files.insert(dir_ / (b.mesh.name + ext));
   }
   EXPECT_EQ(std::set<fs::path>(written.begin(), written.end()), expected_files);
   EXPECT_EQ(written.size(), expected_files.size());

@@ -701,6 +701,29 @@ TEST(VtkOutput, PvdListsEveryAddedFrameInOrder) {
   EXPECT_EQ(entries.back().at("part"), "0");
 }
 
+/// ParaView shows every dataset of one time and part at once: a frame written again at the
+/// same time (the bond stage right after the first frame) replaces the entry, and a failed
+/// replacement keeps the old one.
+TEST(VtkOutput, PvdListsEachTimeAndPartOnce) {
+  TempDir dir;
+  const fs::path pvd = dir / "run.pvd";
+  PvdSeries series(pvd);
+  series.add(0.0, "frames/bodies_000000.vtp");
+  series.add(0.0, "frames/cell_000000.vtp", 1);  // another part at the same time stays
+  series.add(0.0, "frames/cell_again.vtp", 1);
+  series.add(0.5, "frames/bodies_000001.vtp");
+  series.add(0.5, "frames/bodies_again.vtp");
+  auto entries = read_pvd(pvd);
+  ASSERT_EQ(entries.size(), 3u);
+  EXPECT_EQ(entries[1].at("file"), "frames/cell_again.vtp");
+  EXPECT_EQ(entries[2].at("file"), "frames/bodies_again.vtp");
+  EXPECT_EQ(series.entries().size(), 3u);
+  fs::create_directory(dir / "run.pvd.tmp");  // the next write fails
+  EXPECT_THROW(series.add(0.5, "frames/lost.vtp"), std::runtime_error);
+  ASSERT_EQ(series.entries().size(), 3u);
+  EXPECT_EQ(series.entries().back().file, "frames/bodies_again.vtp");
+}
+
 TEST(VtkOutput, PvdEntryThatCouldNotBeWrittenIsNotKept) {
   TempDir dir;
   const fs::path pvd = dir / "later" / "run.pvd";

@@ -1,0 +1,320 @@
+"""What ParaView, VTK and meshio make of a result folder: the cleave binary runs short
+scenarios and its outputs are read back with third-party readers (VTK's XML, OBJ and STL
+readers from python3-vtk9, meshio from python3-meshio) and checked against the scenario,
+the run's CSV tables and closed forms (polygon areas, divergence-theorem volumes)."""
+
+import csv
+import math
+import os
+import pathlib
+import subprocess
+import tomllib
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+vtk = pytest.importorskip("vtkmodules.all", reason="python3-vtk9 is not installed")
+meshio = pytest.importorskip("meshio", reason="python3-meshio is not installed")
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SCENARIO = ROOT / "tests" / "data" / "paraview_brazilian.toml"
+MM = 1e-3  # the test scenario's length unit
+
+
+def run_cleave(binary, *args):
+    done = subprocess.run([binary, *map(str, args)], capture_output=True, text=True,
+                          env={**os.environ, "OMP_NUM_THREADS": "1"})
+    assert done.returncode == 0, done.stderr[-3000:]
+
+
+@pytest.fixture(scope="module")
+def binary():
+    path = os.environ.get("CLEAVE_BINARY", str(ROOT / "build" / "app" / "cleave"))
+    if not os.path.exists(path):
+        pytest.fail(f"the cleave binary is not at {path} (set CLEAVE_BINARY)")
+    return path
+
+
+@pytest.fixture(scope="module")
+def result(binary, tmp_path_factory):
+    """The small bonded Brazilian disc, run once (about a second)."""
+    out = tmp_path_factory.mktemp("paraview") / "run"
+    run_cleave(binary, "run", SCENARIO, "--out", out, "--quiet")
+    return out
+
+
+@pytest.fixture(scope="module")
+def scenario():
+    with open(SCENARIO, "rb") as f:
+        return tomllib.load(f)
+
+
+def pvd_entries(pvd):
+    """(time, file) of each DataSet of a .pvd, read with Python's XML parser."""
+    root = ET.parse(pvd).getroot()
+    assert root.tag == "VTKFile" and root.get("type") == "Collection"
+    return [(float(d.get("timestep")), d.get("file")) for d in root.iter("DataSet")]
+
+
+def read_vtp(path):
+    """A .vtp through vtkXMLPolyDataReader; fails on any error or warning VTK reports."""
+    reader = vtk.vtkXMLPolyDataReader()
+    errors = []
+    reader.AddObserver(vtk.vtkCommand.ErrorEvent, lambda o, e: errors.append(e))
+    reader.AddObserver(vtk.vtkCommand.WarningEvent, lambda o, e: errors.append(e))
+    reader.SetFileName(str(path))
+    reader.Update()
+    assert not errors, f"VTK reported {errors} reading {path}"
+    return reader.GetOutput()
+
+
+def cell_array(poly, name):
+    a = poly.GetCellData().GetAbstractArray(name)
+    assert a is not None, f"no cell array {name}"
+    if isinstance(a, vtk.vtkStringArray):
+        return [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+    return vtk_to_numpy(a)
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def up_to(rows, time):
+    """Rows of a CSV table with time_s at or before `time` (the tables print 9 digits)."""
+    return [r for r in rows if float(r["time_s"]) <= time * (1 + 1e-8) + 1e-15]
+
+
+def polygon_area(points):
+    """Area of a planar polygon: half the norm of the sum of its corners' cross products."""
+    p = np.asarray(points)
+    return 0.5 * np.linalg.norm(np.sum(np.cross(p, np.roll(p, -1, axis=0)), axis=0))
+
+
+def cell_points(poly, c):
+    ids = poly.GetCell(c).GetPointIds()
+    return [poly.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())]
+
+
+def closed_volume(points, faces):
+    """Divergence theorem over fan-triangulated faces (positive for outward faces)."""
+    v = 0.0
+    for f in faces:
+        a = points[f[0]]
+        for k in range(1, len(f) - 1):
+            v += np.dot(a, np.cross(points[f[k]], points[f[k + 1]])) / 6.0
+    return v
+
+
+def mesh_volume(mesh):
+    return sum(closed_volume(mesh.points, block.data) for block in mesh.cells)
+
+
+# ------------------------------------------------------------------------------------------
+# The .pvd series
+
+
+def series(folder):
+    return sorted(p.stem for p in folder.glob("*.pvd"))
+
+
+def test_every_series_lists_each_time_once_and_every_file_reads(result):
+    names = series(result)
+    frames = None
+    for name in names:
+        entries = pvd_entries(result / f"{name}.pvd")
+        times = [t for t, _ in entries]
+        assert len(times) == len(set(times)), f"{name}.pvd lists a time twice: {times}"
+        assert times == sorted(times)
+        frames = frames or len(entries)
+        assert len(entries) == frames, f"{name}.pvd has {len(entries)} frames, bodies {frames}"
+        for _, file in entries:
+            assert (result / file).is_file(), f"{name}.pvd names {file}, which is missing"
+            read_vtp(result / file)
+    assert {"bodies", "contacts", "bonds", "walls", "cracks"} <= set(names)
+    # No frame file outside the lists: no duplicate left on disk.
+    listed = {f for n in names for _, f in pvd_entries(result / f"{n}.pvd")}
+    on_disk = {f"frames/{p.name}" for p in (result / "frames").iterdir()}
+    assert on_disk == listed
+
+
+def test_the_first_frame_is_the_bonded_one(result):
+    # The bond stage writes at t = 0 like the start does: the one frame kept there is the one
+    # with the bonds, as many as bonds.csv counts at t = 0.
+    time, file = pvd_entries(result / "bonds.pvd")[0]
+    assert time == 0.0
+    first = read_csv(result / "bonds.csv")[0]
+    assert float(first["time_s"]) == 0.0
+    assert read_vtp(result / file).GetNumberOfCells() == int(first["intact"])
+
+
+def test_a_restart_lists_each_time_once(binary, result, tmp_path):
+    out = tmp_path / "restarted"
+    run_cleave(binary, "run", SCENARIO, "--out", out, "--quiet", "--checkpoint-every", 1000)
+    assert (out / "checkpoint").is_file()
+    run_cleave(binary, "restart", out, "--quiet")
+    for name in series(result):
+        entries = pvd_entries(out / f"{name}.pvd")
+        times = [t for t, _ in entries]
+        assert len(times) == len(set(times)), f"{name}.pvd after a restart: {times}"
+        assert entries == pvd_entries(result / f"{name}.pvd")
+
+
+# ------------------------------------------------------------------------------------------
+# Walls
+
+
+def test_walls_are_drawn_with_their_sizes_and_reactions(result, scenario):
+    walls = scenario["wall"]
+    rows = read_csv(result / "walls.csv")
+    checked_reaction = 0
+    for time, file in pvd_entries(result / "walls.pvd"):
+        poly = read_vtp(result / file)
+        index = cell_array(poly, "wall_index")
+        assert sorted(set(index)) == list(range(len(walls)))
+        names = cell_array(poly, "name")
+        for c in range(poly.GetNumberOfCells()):
+            assert names[c] == walls[index[c]]["name"]
+        for w, wall in enumerate(walls):
+            cells = [c for c in range(poly.GetNumberOfCells()) if index[c] == w]
+            corners = np.array([p for c in cells for p in cell_points(poly, c)])
+            if wall["kind"] == "platen":
+                assert len(cells) == 1
+                area = polygon_area(cell_points(poly, cells[0]))
+                assert area == pytest.approx(wall["size"][0] * wall["size"][1] * MM**2, rel=1e-12)
+            elif wall["kind"] == "cylinder":
+                axis = np.array(wall["normal"]) / np.linalg.norm(wall["normal"])
+                end = cell_array(poly, "origin")[cells[0]]
+                along = (corners - end) @ axis
+                across = np.linalg.norm(corners - end - np.outer(along, axis), axis=1)
+                assert np.allclose(across, wall["radius"] * MM, rtol=1e-12)
+                assert along.min() == pytest.approx(0.0, abs=1e-15)
+                assert along.max() == pytest.approx(wall["length"] * MM, rel=1e-12)
+            else:  # an infinite plane, drawn under the whole specimen
+                normal = np.array(wall["normal"]) / np.linalg.norm(wall["normal"])
+                assert np.allclose((corners - np.array(wall["point"]) * MM) @ normal, 0.0, atol=1e-15)
+                bodies = read_vtp(result / file.replace("walls_", "bodies_")).GetBounds()
+                lo, hi = corners.min(axis=0), corners.max(axis=0)
+                for k in range(3):
+                    if abs(normal[k]) < 1e-12:
+                        assert lo[k] < bodies[2 * k] and hi[k] > bodies[2 * k + 1]
+        # The reaction field is walls.csv's row at the same time.
+        row = [r for r in rows if float(r["time_s"]) == pytest.approx(time, rel=1e-8, abs=1e-15)]
+        if not row:
+            continue
+        reaction = cell_array(poly, "reaction_force_N")
+        for w, wall in enumerate(walls):
+            c = list(index).index(w)
+            expected = [float(row[-1][f"{wall['name']}_F{a}_N"]) for a in "xyz"]
+            assert reaction[c] == pytest.approx(expected, rel=1e-8, abs=1e-20)
+        checked_reaction += 1
+    assert checked_reaction >= 2, "no frame time matched a walls.csv row"
+
+
+# ------------------------------------------------------------------------------------------
+# Cracks
+
+
+def test_cracks_are_the_broken_bonds_and_split_sections_so_far(result):
+    breaks = read_csv(result / "bond_breaks.csv")
+    splits = read_csv(result / "splits.csv")
+    assert breaks and splits, "the test scenario should break bonds and split grains"
+    seen_cracks = 0
+    for time, file in pvd_entries(result / "cracks.pvd"):
+        poly = read_vtp(result / file)
+        assert poly.GetCellData().GetScalars().GetName() == "mode"  # ParaView colours by it
+        kind = cell_array(poly, "kind") if poly.GetNumberOfCells() else np.array([], int)
+        bonds_so_far = up_to(breaks, time)
+        assert int(np.sum(kind == 1)) == len(bonds_so_far), f"frame at t = {time}"
+        # Each split leaves one section face at least (more once a piece splits again).
+        assert int(np.sum(kind == 2)) >= len(up_to(splits, time))
+        assert (int(np.sum(kind == 2)) == 0) == (len(up_to(splits, time)) == 0)
+        if len(kind):
+            mode = cell_array(poly, "mode")
+            modes = {"tension": 1, "shear": 2, "bending": 3, "torsion": 4}
+            assert sorted(mode[kind == 1]) == sorted(modes[r["mode"]] for r in bonds_so_far)
+            assert set(mode[kind == 2]) <= {5}
+            broken_at = cell_array(poly, "broken_at_s")[kind == 1]
+            assert sorted(broken_at) == pytest.approx(
+                sorted(float(r["time_s"]) for r in bonds_so_far), rel=1e-8)
+        seen_cracks = max(seen_cracks, len(kind))
+    assert seen_cracks > 0
+
+
+# ------------------------------------------------------------------------------------------
+# Meshes
+
+
+def obj_groups(path):
+    """The names of the OBJ's groups ("g" lines), read as text."""
+    with open(path) as f:
+        return [line.split(maxsplit=1)[1].strip() for line in f if line.startswith("g ")]
+
+
+def test_frame_meshes_have_a_folder_per_frame_holding_that_frames_bodies(result):
+    grains = len({r["grain_id"] for r in read_csv(result / "fragments.csv")})
+    total = sum(float(r["volume_m3"]) for r in read_csv(result / "fragments.csv"))
+    splits = read_csv(result / "splits.csv")
+    entries = pvd_entries(result / "bodies.pvd")
+    folders = sorted((result / "frame_meshes").iterdir())
+    assert all(p.is_dir() for p in folders)
+    assert [p.name for p in folders] == [
+        "frame_" + pathlib.Path(f).stem.removeprefix("bodies_") for _, f in entries]
+    for (time, _), folder in zip(entries, folders):
+        files = sorted(folder.iterdir())
+        # Every body of that frame once: the grains and one piece more per split so far.
+        assert len(files) == grains + len(up_to(splits, time)), folder.name
+        volume = 0.0
+        for f in files:
+            assert obj_groups(f) == [f.stem]
+            volume += mesh_volume(meshio.read(f))
+        assert volume == pytest.approx(total, rel=1e-9), folder.name
+
+
+@pytest.fixture(scope="module")
+def demo(binary, tmp_path_factory):
+    """scenarios/demo.toml's fragments in each mesh format (no dynamics: a fraction of a second)."""
+    base = tmp_path_factory.mktemp("demo")
+    for fmt in ("obj", "stl", "stl_ascii"):
+        run_cleave(binary, "run", ROOT / "scenarios" / "demo.toml", "--out", base / fmt,
+                   "--quiet", "--mesh-format", fmt)
+    return base
+
+
+def test_meshio_and_vtk_read_the_obj_with_a_named_group_per_fragment(demo):
+    rows = read_csv(demo / "obj" / "fragments.csv")
+    path = demo / "obj" / "meshes" / "fragments.obj"
+    assert obj_groups(path) == [r["name"] for r in rows]
+    mesh = meshio.read(path)
+    ids = np.concatenate(mesh.cell_data["obj:group_ids"])
+    assert sorted(set(ids)) == list(range(len(rows)))
+    volume = {}
+    for block, group in zip(mesh.cells, mesh.cell_data["obj:group_ids"]):
+        for face, g in zip(block.data, group):
+            volume[g] = volume.get(g, 0.0) + closed_volume(mesh.points, [face])
+    for g, r in enumerate(rows):
+        assert volume[g] == pytest.approx(float(r["volume_m3"]), rel=1e-9), r["name"]
+    reader = vtk.vtkOBJReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    out = reader.GetOutput()
+    assert out.GetNumberOfCells() == sum(len(b.data) for b in mesh.cells)
+    groups = vtk_to_numpy(out.GetCellData().GetArray("GroupIds"))
+    assert len(set(groups)) == len(rows)
+
+
+@pytest.mark.parametrize("fmt", ["stl", "stl_ascii"])
+def test_meshio_and_vtk_read_the_stl(demo, fmt):
+    rows = read_csv(demo / fmt / "fragments.csv")
+    path = demo / fmt / "meshes" / "fragments.stl"
+    mesh = meshio.read(path)
+    # Binary STL holds float32: the volume to single precision.
+    rel = 1e-5 if fmt == "stl" else 1e-9
+    assert mesh_volume(mesh) == pytest.approx(sum(float(r["volume_m3"]) for r in rows), rel=rel)
+    reader = vtk.vtkSTLReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    assert reader.GetOutput().GetNumberOfCells() == sum(len(b.data) for b in mesh.cells)
