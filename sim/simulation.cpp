@@ -329,6 +329,8 @@ RunReport Simulation::State::finish() {
       const DynamicsSummary& d = *result;
       std::string files = "bodies.pvd, contacts.pvd";
       if (scenario.bond.enabled) files += ", bonds.pvd";
+      if (!scenario.walls.empty()) files += ", walls.pvd";
+      if (scenario.bond.enabled || scenario.fracture.enabled) files += ", cracks.pvd";
       files += ", energy.csv, walls.csv, load_displacement.csv";
       if (scenario.bond.enabled) files += ", bonds.csv, bond_breaks.csv";
       if (scenario.thermal.enabled) files += ", thermal.csv";
