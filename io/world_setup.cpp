@@ -276,12 +276,14 @@ void check_grain_spacing(const Scenario& s, const physics::World& world, const s
                     "their shapes themselves intersect, which no contact can resolve; change {}",
                     grain_a, grain_b, in_unit(deepest), in_unit(2.0 * dilation), spacing_keys(s, in_unit)));
   }
-  if (deepest > tolerance && bond == nullptr) {
+  // Deeper than a dilation radius is no packing at rest (its overlaps are a small fraction of
+  // the dilation) but grains placed into each other.
+  if (deepest > dilation + tolerance && bond == nullptr) {
     throw ScenarioError(
         s.source, at.line, at.column, "contact.dilation_radius",
-        fmt::format("grains {} and {} overlap by {} at the start (their surfaces dilated by {}), and no bond "
-                    "stage comes first to store the overlap: their contact pushes them apart from step 1. "
-                    "Leave neighbours at least two dilation radii apart: change {}",
+        fmt::format("grains {} and {} overlap by {} at the start, more than the dilation radius ({}), and no "
+                    "bond stage comes first to store the overlap: their contact pushes them apart from step 1. "
+                    "Leave neighbours' dilated surfaces apart: change {}",
                     grain_a, grain_b, in_unit(deepest), in_unit(dilation), spacing_keys(s, in_unit)));
   }
   // A periodic cell's pairs across its faces are not searched here: its bonding is left to the run.
@@ -374,47 +376,70 @@ WallReach cylinder_reach(const physics::Wall& w, const std::vector<physics::Pose
 void check_walls(const Scenario& s, const physics::World& world, const std::vector<physics::BodyId>& ids,
                  const std::vector<physics::PosedShape>& posed) {
   const InUnit in_unit{s};
-  const double tolerance = 1e-6 * s.contact.dilation_radius;
+  const double dilation = s.contact.dilation_radius;
+  const double tolerance = 1e-6 * dilation;
   const std::vector<physics::Wall>& walls = world.walls();
+  auto wall_index = [&](const std::string& name) {
+    return static_cast<std::size_t>(
+        std::find_if(walls.begin(), walls.end(), [&](const auto& w) { return w.name == name; }) - walls.begin());
+  };
+  // A wall `depth` into grain body `b`'s dilated surface.
+  auto cut = [&](std::size_t k, double depth, std::size_t body, const std::string& why) {
+    const physics::Wall& w = walls[k];
+    const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
+    const std::string fix =
+        w.kind == physics::Wall::Kind::cylinder
+            ? "move its point clear of the specimen"
+            : fmt::format("move its point at least that far out along its normal, or give gap (its distance from "
+                          "the specimen's dilated surface, in {}), which places it whatever the grains' size",
+                          s.length_unit);
+    return ScenarioError(s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
+                         fmt::format("wall '{}' reaches {} into grain {} at the start (its surface dilated by {}): {}; "
+                                     "{}",
+                                     w.name, in_unit(depth), world.info(ids[body]).grain_id, in_unit(dilation), why,
+                                     fix));
+  };
   std::vector<WallReach> reach(walls.size());
   for (std::size_t k = 0; k < walls.size(); ++k) {
     const physics::Wall& w = walls[k];
     reach[k] = w.kind == physics::Wall::Kind::cylinder ? cylinder_reach(w, posed) : wall_reach(w, posed);
-    if (!(reach[k].gap < -tolerance)) continue;
-    const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
-    const int grain = world.info(ids[reach[k].body]).grain_id;
-    const std::string fix =
-        w.kind == physics::Wall::Kind::cylinder
-            ? "move its point clear of the specimen"
-            : fmt::format("move its point at least that far out along its normal, or give gap = (its distance "
-                          "from the specimen's surface, in {}) instead, which places it whatever the grains' "
-                          "size",
-                          s.length_unit);
-    throw ScenarioError(s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
-                        fmt::format("wall '{}' cuts {} into grain {} (its surface dilated by {}) at the start, so it "
-                                    "pushes the specimen from step 1; {}",
-                                    w.name, in_unit(-reach[k].gap), grain, in_unit(s.contact.dilation_radius), fix));
+    // Past the dilated skin into the grain itself: no contact at rest is that deep (a packing
+    // pressed onto a floor overlaps it by a small fraction of the dilation).
+    if (reach[k].gap < -dilation - tolerance) {
+      throw cut(k, -reach[k].gap, reach[k].body, "it cuts the grain itself and pushes the specimen from step 1");
+    }
   }
   // The walls' travel through the stages, while it is known (a stage that ends on an event
-  // leaves it unknown): a walls_touch stage must bring each moving load wall to the specimen.
+  // leaves it unknown): a walls_touch stage must start with its load walls clear of the
+  // specimen, and bring each one it moves to it.
   std::vector<double> closed(walls.size(), 0.0);
   for (std::size_t si = 0; si < s.stages.size(); ++si) {
     const StageDef& st = s.stages[si];
     if (st.kind != StageDef::Kind::motion) continue;
+    const std::string stage = fmt::format("stage[{}]", si + 1);
+    auto gap_of = [&](std::size_t k) { return reach[k].gap - closed[k]; };
+    if (st.until == StageDef::Until::walls_touch) {
+      for (const std::string& name : st.load_walls) {
+        const std::size_t k = wall_index(name);
+        if (k == walls.size() || walls[k].kind == physics::Wall::Kind::cylinder || !(gap_of(k) < -tolerance)) continue;
+        throw cut(k, -gap_of(k), reach[k].body,
+                  fmt::format("stage '{}' waits for it to touch the specimen, but it starts inside it and the "
+                              "stage ends at once on a specimen pressed by it",
+                              st.name));
+      }
+    }
     const double length = st.steps > 0 ? static_cast<double>(st.steps) * s.dynamics.dt : st.time;
-    // A velocity ramped up over ramp_time: the distance covered at full speed in this time.
+    // A velocity ramped up over ramp_time: the time at full speed that covers the same distance.
     const double full_speed_time = st.ramp_time >= length ? length * length / (2.0 * st.ramp_time)
                                                           : length - 0.5 * st.ramp_time;
     for (std::size_t j = 0; j < st.wall_velocity.size(); ++j) {
       const auto& [name, v] = st.wall_velocity[j];
-      const auto found = std::find_if(walls.begin(), walls.end(), [&](const auto& w) { return w.name == name; });
-      const std::size_t k = static_cast<std::size_t>(found - walls.begin());
-      if (found == walls.end() || found->kind == physics::Wall::Kind::cylinder) continue;
-      const double gap = reach[k].gap - closed[k];
-      const double speed = v.dot(found->normal);  // towards the bodies' side
+      const std::size_t k = wall_index(name);
+      if (k == walls.size() || walls[k].kind == physics::Wall::Kind::cylinder) continue;
+      const double gap = gap_of(k);
+      const double speed = v.dot(walls[k].normal);  // towards the bodies' side
       if (st.until == StageDef::Until::walls_touch &&
           std::find(st.load_walls.begin(), st.load_walls.end(), name) != st.load_walls.end() && gap > tolerance) {
-        const std::string stage = fmt::format("stage[{}]", si + 1);
         if (!std::isfinite(gap)) {
           const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
           throw ScenarioError(s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
@@ -428,18 +453,20 @@ void check_walls(const Scenario& s, const physics::World& world, const std::vect
               s.source, vat.line, vat.column, fmt::format("{}.wall_velocity.{}", stage, name),
               fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} the specimen (its velocity along "
                           "the wall's normal, towards the grains, is {} per s), but the specimen's surface is {} in "
-                          "front of it: the walls never touch; reverse the velocity",
+                          "front of it: the wall never touches; reverse the velocity",
                           st.name, name, speed < 0.0 ? "away from" : "parallel to", in_unit(speed), in_unit(gap)));
         }
         const double travel = speed * full_speed_time;
         if (travel < gap) {
-          const double needed = gap / speed + (st.ramp_time < length ? 0.5 * st.ramp_time : 0.0);
+          const double at_speed = gap / speed;  // the time needed without a ramp
+          const double needed = at_speed >= 0.5 * st.ramp_time ? at_speed + 0.5 * st.ramp_time
+                                                               : std::sqrt(2.0 * st.ramp_time * at_speed);
           throw ScenarioError(
               s.source, st.length_position.line, st.length_position.column,
               fmt::format("{}.{}", stage, st.steps > 0 ? "steps" : "time"),
               fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} towards the specimen in its {:.4g} "
-                          "s, but the specimen's surface is {} in front of it: the stage would end before the walls "
-                          "touch; give it at least {:.4g} s ({} steps), a faster wall_velocity, or place the wall "
+                          "s, but the specimen's surface is {} in front of it: the stage would end before the wall "
+                          "touches; give it at least {:.4g} s ({} steps), a faster wall_velocity, or place the wall "
                           "with gap",
                           st.name, name, in_unit(travel), length, in_unit(gap), needed,
                           static_cast<std::uint64_t>(std::ceil(needed / s.dynamics.dt))));
