@@ -919,8 +919,10 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     }
     const Number distance = t.number("distance", Range::non_negative(), 0.0);
     st.bond_distance = distance.value * unit;
-    if (distance.node != nullptr) st.distance_position = {line_of(distance.node->source()), column_of(distance.node->source())};
-    else st.distance_position = st.position;
+    if (distance.node != nullptr)
+      st.distance_position = {line_of(distance.node->source()), column_of(distance.node->source())};
+    else
+      st.distance_position = st.position;
     return st;
   }
   if (const toml::node* node = t.find("wall_velocity")) {

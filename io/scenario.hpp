@@ -238,8 +238,9 @@ struct Scenario {
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
   /// Per wall: `gap` (m), a plane or platen placed this far from the specimen's nearest grain
-  /// surface (dilated by the contact radius) along its normal when the world is made (the point's other coordinates kept); NaN: at
-  /// its point. A specimen whose size is swept keeps its platens against it.
+  /// surface (dilated by the contact radius) along its normal when the world is made, its
+  /// point fixing only its position in its plane; NaN: at its point. A specimen whose size
+  /// or grains change keeps its platens against it.
   std::vector<double> wall_gaps;
   /// Per wall: where its `point` key is in the file, for the start checks.
   std::vector<SourcePosition> wall_points;

@@ -1,15 +1,15 @@
 #include "io/world_setup.hpp"
 
-#include "geometry/rng.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <string>
-#include <limits>
+
+#include "geometry/rng.hpp"
 
 namespace cleave::io {
 
@@ -113,7 +113,8 @@ void check_time_step(const Scenario& scenario, const std::vector<physics::RigidS
         fmt::format("time step {:.3g} s is above the stable limit; use dt <= {} s "
                     "(= dt_safety {:g} x 2 sqrt(m/k): lightest body {:.3g} kg, I {:.3g} kg m^2, "
                     "stiffest spring C_res K_n (+ K_bn) = {:.3g} N/m)",
-                    dyn.dt, advised_time_step(s.dt), dyn.dt_safety, s.mass, s.inertia, s.stiffness));
+                    dyn.dt, advised_time_step(s.dt), dyn.dt_safety, s.mass, s.inertia,
+                    s.stiffness));
   }
 }
 }  // namespace
@@ -188,7 +189,8 @@ void check_in_plane(const Scenario& scenario, const physics::World& world) {
 
 namespace {
 /// The bodies of a world as the narrow phase sees them, for the start checks.
-std::vector<physics::PosedShape> posed_bodies(const physics::World& world, const std::vector<physics::BodyId>& ids) {
+std::vector<physics::PosedShape> posed_bodies(const physics::World& world,
+                                              const std::vector<physics::BodyId>& ids) {
   std::vector<physics::PosedShape> posed(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) {
     posed[i].update(world.shape(world.info(ids[i]).shape), world.state(ids[i]));
@@ -209,27 +211,31 @@ std::string spacing_keys(const Scenario& s, const InUnit& in_unit) {
   const geometry::SpecimenDef& d = s.specimen;
   switch (d.kind) {
     case geometry::SpecimenKind::lattice:
-      return fmt::format("[grain] r - r_bar (neighbouring side faces are sqrt(3) (r - r_bar) = {} apart) and "
-                         "[contact] dilation_radius ({})",
-                         in_unit(std::sqrt(3.0) * (d.r - d.r_bar)), in_unit(s.contact.dilation_radius));
+      return fmt::format(
+          "[grain] r - r_bar (neighbouring side faces are sqrt(3) (r - r_bar) = {} apart) and "
+          "[contact] dilation_radius ({})",
+          in_unit(std::sqrt(3.0) * (d.r - d.r_bar)), in_unit(s.contact.dilation_radius));
     case geometry::SpecimenKind::voronoi:
-      return fmt::format("[specimen] gap ({}) and [contact] dilation_radius ({})", in_unit(d.voronoi.gap),
-                         in_unit(s.contact.dilation_radius));
+      return fmt::format("[specimen] gap ({}) and [contact] dilation_radius ({})",
+                         in_unit(d.voronoi.gap), in_unit(s.contact.dilation_radius));
     default:
-      return fmt::format("the [[mesh_grain]] positions and scales and [contact] dilation_radius ({})",
-                         in_unit(s.contact.dilation_radius));
+      return fmt::format(
+          "the [[mesh_grain]] positions and scales and [contact] dilation_radius ({})",
+          in_unit(s.contact.dilation_radius));
   }
 }
 
 /// The first stage bonds (before anything moves): the overlaps at the start are stored.
 const StageDef* bond_stage_first(const Scenario& s) {
-  return !s.stages.empty() && s.stages.front().kind == StageDef::Kind::bond ? &s.stages.front() : nullptr;
+  return !s.stages.empty() && s.stages.front().kind == StageDef::Kind::bond ? &s.stages.front()
+                                                                            : nullptr;
 }
 
 /// Neighbouring grains: overlaps where no bond stage stores them, shapes that intersect, and
 /// a first bond stage that leaves a grain without a bond. One broad phase on the bounding
 /// spheres (within the reach the checks need) and the narrow phase on its pairs.
-void check_grain_spacing(const Scenario& s, const physics::World& world, const std::vector<physics::BodyId>& ids,
+void check_grain_spacing(const Scenario& s, const physics::World& world,
+                         const std::vector<physics::BodyId>& ids,
                          const std::vector<physics::PosedShape>& posed) {
   if (ids.size() < 2) return;
   const InUnit in_unit{s};
@@ -262,7 +268,8 @@ void check_grain_spacing(const Scenario& s, const physics::World& world, const s
       }
     }
     if (bond && !(bonded[i] && bonded[j])) {
-      if (bond->bond_distance > 0.0) physics::polyhedron_contacts(posed[i], posed[j], bond->bond_distance, features);
+      if (bond->bond_distance > 0.0)
+        physics::polyhedron_contacts(posed[i], posed[j], bond->bond_distance, features);
       if (!features.empty()) bonded[i] = bonded[j] = 1;
     }
   }
@@ -272,19 +279,22 @@ void check_grain_spacing(const Scenario& s, const physics::World& world, const s
   if (deepest > 2.0 * dilation + tolerance) {
     throw ScenarioError(
         s.source, at.line, at.column, "contact.dilation_radius",
-        fmt::format("grains {} and {} overlap by {} at the start, more than their two dilation radii ({}): "
-                    "their shapes themselves intersect, which no contact can resolve; change {}",
-                    grain_a, grain_b, in_unit(deepest), in_unit(2.0 * dilation), spacing_keys(s, in_unit)));
+        fmt::format(
+            "grains {} and {} overlap by {} at the start, more than their two dilation radii ({}): "
+            "their shapes themselves intersect, which no contact can resolve; change {}",
+            grain_a, grain_b, in_unit(deepest), in_unit(2.0 * dilation), spacing_keys(s, in_unit)));
   }
   // Deeper than a dilation radius is no packing at rest (its overlaps are a small fraction of
   // the dilation) but grains placed into each other.
   if (deepest > dilation + tolerance && bond == nullptr) {
-    throw ScenarioError(
-        s.source, at.line, at.column, "contact.dilation_radius",
-        fmt::format("grains {} and {} overlap by {} at the start, more than the dilation radius ({}), and no "
-                    "bond stage comes first to store the overlap: their contact pushes them apart from step 1. "
-                    "Leave neighbours' dilated surfaces apart: change {}",
-                    grain_a, grain_b, in_unit(deepest), in_unit(dilation), spacing_keys(s, in_unit)));
+    throw ScenarioError(s.source, at.line, at.column, "contact.dilation_radius",
+                        fmt::format("grains {} and {} overlap by {} at the start, more than the "
+                                    "dilation radius ({}), and no "
+                                    "bond stage comes first to store the overlap: their contact "
+                                    "pushes them apart from step 1. "
+                                    "Leave neighbours' dilated surfaces apart: change {}",
+                                    grain_a, grain_b, in_unit(deepest), in_unit(dilation),
+                                    spacing_keys(s, in_unit)));
   }
   // A periodic cell's pairs across its faces are not searched here: its bonding is left to the run.
   if (bond == nullptr || world.cell() != nullptr) return;
@@ -317,16 +327,19 @@ void check_grain_spacing(const Scenario& s, const physics::World& world, const s
   }
   const std::size_t index = static_cast<std::size_t>(bond - s.stages.data());
   const std::string nearest_text =
-      std::isfinite(widest) ? fmt::format("its nearest neighbour's dilated surface is {} away", in_unit(widest))
-                            : fmt::format("no other grain is within {} of it", in_unit(reach));
+      std::isfinite(widest)
+          ? fmt::format("its nearest neighbour's dilated surface is {} away", in_unit(widest))
+          : fmt::format("no other grain is within {} of it", in_unit(reach));
   throw ScenarioError(
       s.source, bond->distance_position.line, bond->distance_position.column,
       fmt::format("stage[{}].distance", index + 1),
-      fmt::format("bond stage '{}' bonds grains within {} of each other, but {} of the {} grains would get no "
+      fmt::format("bond stage '{}' bonds grains within {} of each other, but {} of the {} grains "
+                  "would get no "
                   "bond (grain {}: {}). Give a distance above the gap between neighbours' dilated "
                   "surfaces{}; when the grains change size, scale distance together with {}",
-                  bond->name, in_unit(bond->bond_distance), loose, ids.size(), loose_grain, nearest_text,
-                  std::isfinite(widest) ? " (" + in_unit(widest) + ")" : "", spacing_keys(s, in_unit)));
+                  bond->name, in_unit(bond->bond_distance), loose, ids.size(), loose_grain,
+                  nearest_text, std::isfinite(widest) ? " (" + in_unit(widest) + ")" : "",
+                  spacing_keys(s, in_unit)));
 }
 
 /// How far wall `w` (a plane or platen) is in front of the specimen: the least distance from
@@ -364,8 +377,8 @@ WallReach cylinder_reach(const physics::Wall& w, const std::vector<physics::Pose
     };
     for (const Eigen::Vector3d& v : p.vertices) take(w.sphere_contact(v, p.radius));
     for (const auto& e : p.primitives->edges) {
-      take(w.edge_contact(p.vertices[static_cast<std::size_t>(e.a)], p.vertices[static_cast<std::size_t>(e.b)],
-                          p.radius));
+      take(w.edge_contact(p.vertices[static_cast<std::size_t>(e.a)],
+                          p.vertices[static_cast<std::size_t>(e.b)], p.radius));
     }
   }
   return r;
@@ -373,7 +386,8 @@ WallReach cylinder_reach(const physics::Wall& w, const std::vector<physics::Pose
 
 /// Walls that cut into the specimen at the start, and walls_touch stages that cannot close
 /// their walls' gaps.
-void check_walls(const Scenario& s, const physics::World& world, const std::vector<physics::BodyId>& ids,
+void check_walls(const Scenario& s, const physics::World& world,
+                 const std::vector<physics::BodyId>& ids,
                  const std::vector<physics::PosedShape>& posed) {
   const InUnit in_unit{s};
   const double dilation = s.contact.dilation_radius;
@@ -381,32 +395,38 @@ void check_walls(const Scenario& s, const physics::World& world, const std::vect
   const std::vector<physics::Wall>& walls = world.walls();
   auto wall_index = [&](const std::string& name) {
     return static_cast<std::size_t>(
-        std::find_if(walls.begin(), walls.end(), [&](const auto& w) { return w.name == name; }) - walls.begin());
+        std::find_if(walls.begin(), walls.end(), [&](const auto& w) { return w.name == name; }) -
+        walls.begin());
   };
   // A wall `depth` into grain body `b`'s dilated surface.
   auto cut = [&](std::size_t k, double depth, std::size_t body, const std::string& why) {
     const physics::Wall& w = walls[k];
     const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
-    const std::string fix =
-        w.kind == physics::Wall::Kind::cylinder
-            ? "move its point clear of the specimen"
-            : fmt::format("move its point at least that far out along its normal, or give gap (its distance from "
-                          "the specimen's dilated surface, in {}), which places it whatever the grains' size",
-                          s.length_unit);
-    return ScenarioError(s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
-                         fmt::format("wall '{}' reaches {} into grain {} at the start (its surface dilated by {}): {}; "
-                                     "{}",
-                                     w.name, in_unit(depth), world.info(ids[body]).grain_id, in_unit(dilation), why,
-                                     fix));
+    const std::string fix = w.kind == physics::Wall::Kind::cylinder
+                                ? "move its point clear of the specimen"
+                                : fmt::format(
+                                      "move its point at least that far out along its normal, or "
+                                      "give gap (its distance from "
+                                      "the specimen's dilated surface, in {}), which places it "
+                                      "whatever the grains' size",
+                                      s.length_unit);
+    return ScenarioError(
+        s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
+        fmt::format(
+            "wall '{}' reaches {} into grain {} at the start (its surface dilated by {}): {}; "
+            "{}",
+            w.name, in_unit(depth), world.info(ids[body]).grain_id, in_unit(dilation), why, fix));
   };
   std::vector<WallReach> reach(walls.size());
   for (std::size_t k = 0; k < walls.size(); ++k) {
     const physics::Wall& w = walls[k];
-    reach[k] = w.kind == physics::Wall::Kind::cylinder ? cylinder_reach(w, posed) : wall_reach(w, posed);
+    reach[k] =
+        w.kind == physics::Wall::Kind::cylinder ? cylinder_reach(w, posed) : wall_reach(w, posed);
     // Past the dilated skin into the grain itself: no contact at rest is that deep (a packing
     // pressed onto a floor overlaps it by a small fraction of the dilation).
     if (reach[k].gap < -dilation - tolerance) {
-      throw cut(k, -reach[k].gap, reach[k].body, "it cuts the grain itself and pushes the specimen from step 1");
+      throw cut(k, -reach[k].gap, reach[k].body,
+                "it cuts the grain itself and pushes the specimen from step 1");
     }
   }
   // The walls' travel through the stages, while it is known (a stage that ends on an event
@@ -421,11 +441,15 @@ void check_walls(const Scenario& s, const physics::World& world, const std::vect
     if (st.until == StageDef::Until::walls_touch) {
       for (const std::string& name : st.load_walls) {
         const std::size_t k = wall_index(name);
-        if (k == walls.size() || walls[k].kind == physics::Wall::Kind::cylinder || !(gap_of(k) < -tolerance)) continue;
-        throw cut(k, -gap_of(k), reach[k].body,
-                  fmt::format("stage '{}' waits for it to touch the specimen, but it starts inside it and the "
-                              "stage ends at once on a specimen pressed by it",
-                              st.name));
+        if (k == walls.size() || walls[k].kind == physics::Wall::Kind::cylinder ||
+            !(gap_of(k) < -tolerance))
+          continue;
+        throw cut(
+            k, -gap_of(k), reach[k].body,
+            fmt::format(
+                "stage '{}' waits for it to touch the specimen, but it starts inside it and the "
+                "stage ends at once on a specimen pressed by it",
+                st.name));
       }
     }
     const double length = st.steps > 0 ? static_cast<double>(st.steps) * s.dynamics.dt : st.time;
@@ -439,34 +463,45 @@ void check_walls(const Scenario& s, const physics::World& world, const std::vect
       const double gap = gap_of(k);
       const double speed = v.dot(walls[k].normal);  // towards the bodies' side
       if (st.until == StageDef::Until::walls_touch &&
-          std::find(st.load_walls.begin(), st.load_walls.end(), name) != st.load_walls.end() && gap > tolerance) {
+          std::find(st.load_walls.begin(), st.load_walls.end(), name) != st.load_walls.end() &&
+          gap > tolerance) {
         if (!std::isfinite(gap)) {
           const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
-          throw ScenarioError(s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
-                              fmt::format("stage '{}' waits for wall '{}' to touch the specimen, but no grain lies in "
-                                          "front of it (its platen's footprint misses the specimen)",
-                                          st.name, name));
+          throw ScenarioError(
+              s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
+              fmt::format(
+                  "stage '{}' waits for wall '{}' to touch the specimen, but no grain lies in "
+                  "front of it (its platen's footprint misses the specimen)",
+                  st.name, name));
         }
-        const SourcePosition vat = j < st.wall_velocity_positions.size() ? st.wall_velocity_positions[j] : st.position;
+        const SourcePosition vat =
+            j < st.wall_velocity_positions.size() ? st.wall_velocity_positions[j] : st.position;
         if (!(speed > 0.0)) {
           throw ScenarioError(
               s.source, vat.line, vat.column, fmt::format("{}.wall_velocity.{}", stage, name),
-              fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} the specimen (its velocity along "
-                          "the wall's normal, towards the grains, is {} per s), but the specimen's surface is {} in "
+              fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} the specimen "
+                          "(its velocity along "
+                          "the wall's normal, towards the grains, is {} per s), but the specimen's "
+                          "surface is {} in "
                           "front of it: the wall never touches; reverse the velocity",
-                          st.name, name, speed < 0.0 ? "away from" : "parallel to", in_unit(speed), in_unit(gap)));
+                          st.name, name, speed < 0.0 ? "away from" : "parallel to", in_unit(speed),
+                          in_unit(gap)));
         }
         const double travel = speed * full_speed_time;
         if (travel < gap) {
           const double at_speed = gap / speed;  // the time needed without a ramp
-          const double needed = at_speed >= 0.5 * st.ramp_time ? at_speed + 0.5 * st.ramp_time
-                                                               : std::sqrt(2.0 * st.ramp_time * at_speed);
+          const double needed = at_speed >= 0.5 * st.ramp_time
+                                    ? at_speed + 0.5 * st.ramp_time
+                                    : std::sqrt(2.0 * st.ramp_time * at_speed);
           throw ScenarioError(
               s.source, st.length_position.line, st.length_position.column,
               fmt::format("{}.{}", stage, st.steps > 0 ? "steps" : "time"),
-              fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} towards the specimen in its {:.4g} "
-                          "s, but the specimen's surface is {} in front of it: the stage would end before the wall "
-                          "touches; give it at least {:.4g} s ({} steps), a faster wall_velocity, or place the wall "
+              fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} towards the "
+                          "specimen in its {:.4g} "
+                          "s, but the specimen's surface is {} in front of it: the stage would end "
+                          "before the wall "
+                          "touches; give it at least {:.4g} s ({} steps), a faster wall_velocity, "
+                          "or place the wall "
                           "with gap",
                           st.name, name, in_unit(travel), length, in_unit(gap), needed,
                           static_cast<std::uint64_t>(std::ceil(needed / s.dynamics.dt))));
@@ -479,34 +514,42 @@ void check_walls(const Scenario& s, const physics::World& world, const std::vect
 }
 }  // namespace
 
-std::vector<ScenarioError> start_warnings(const Scenario& scenario, const geometry::Specimen& specimen) {
+std::vector<ScenarioError> start_warnings(const Scenario& scenario,
+                                          const geometry::Specimen& specimen) {
   std::vector<ScenarioError> warnings;
   const geometry::SpecimenDef& d = scenario.specimen;
   const StageDef* bond = bond_stage_first(scenario);
-  if (!scenario.dynamics.enabled || bond == nullptr || d.kind != geometry::SpecimenKind::lattice) return warnings;
+  if (!scenario.dynamics.enabled || bond == nullptr || d.kind != geometry::SpecimenKind::lattice)
+    return warnings;
   const InUnit in_unit{scenario};
   const double dilation = scenario.contact.dilation_radius;
   // Neighbouring prisms' side faces are sqrt(3) (r - r_bar) apart; stacked layers' end faces
   // t - t_bar (App. C).
   const double side = std::sqrt(3.0) * (d.r - d.r_bar);
   bool layers = false;
-  for (const auto& g : specimen.grains) layers = layers || g.site.centre.z() != specimen.grains.front().site.centre.z();
+  for (const auto& g : specimen.grains)
+    layers = layers || g.site.centre.z() != specimen.grains.front().site.centre.z();
   std::string what;
   if (side < 2.0 * dilation) {
-    what = fmt::format("neighbouring grains' side faces are sqrt(3) (r - r_bar) = {} apart", in_unit(side));
+    what = fmt::format("neighbouring grains' side faces are sqrt(3) (r - r_bar) = {} apart",
+                       in_unit(side));
   } else if (layers && d.t - d.t_bar < 2.0 * dilation) {
-    what = fmt::format("stacked grains' end faces are t - t_bar = {} apart", in_unit(d.t - d.t_bar));
+    what =
+        fmt::format("stacked grains' end faces are t - t_bar = {} apart", in_unit(d.t - d.t_bar));
   } else {
     return warnings;
   }
   const SourcePosition& at = scenario.contact.dilation_position;
   warnings.emplace_back(
       scenario.source, at.line, at.column, "contact.dilation_radius",
-      fmt::format("{}, less than two dilation radii ({}): their dilated surfaces overlap at the start. Bond stage "
-                  "'{}' stores the overlap, but every bonded pair then also touches from step 1, stiffer in "
-                  "compression than in tension. For the same model with other grains, scale [contact] "
-                  "dilation_radius and the stage's distance ({}) with r - r_bar",
-                  what, in_unit(2.0 * dilation), bond->name, in_unit(bond->bond_distance)));
+      fmt::format(
+          "{}, less than two dilation radii ({}): their dilated surfaces overlap at the start. "
+          "Bond stage "
+          "'{}' stores the overlap, but every bonded pair then also touches from step 1, stiffer "
+          "in "
+          "compression than in tension. For the same model with other grains, scale [contact] "
+          "dilation_radius and the stage's distance ({}) with r - r_bar",
+          what, in_unit(2.0 * dilation), bond->name, in_unit(bond->bond_distance)));
   return warnings;
 }
 
@@ -591,7 +634,8 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
       // A point the file already puts at the gap, to rounding, is kept as written: giving gap
       // to a wall placed by hand does not move it by the bits of this sum.
       const double move = nearest - scenario.contact.dilation_radius - scenario.wall_gaps[i];
-      if (std::isfinite(nearest) && std::abs(move) > 1e-9 * scenario.contact.dilation_radius) w.origin += move * n;
+      if (std::isfinite(nearest) && std::abs(move) > 1e-9 * scenario.contact.dilation_radius)
+        w.origin += move * n;
     }
     world.add_wall(w);
   }

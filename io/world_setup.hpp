@@ -28,13 +28,15 @@ std::string advised_time_step(double limit);
 
 /// The start of a run, before step 1 (make_world calls it on the world it made): throws
 /// ScenarioError naming the file, line and keys when
-/// - neighbouring grains' dilated surfaces overlap and no bond stage comes first to store
-///   the overlap, or their shapes themselves intersect ([grain] r, r_bar, [contact]
-///   dilation_radius);
+/// - neighbouring grains' dilated surfaces overlap by more than the dilation radius and no
+///   bond stage comes first to store the overlap, or their shapes themselves intersect
+///   (contact.dilation_radius, naming [grain] r and r_bar or the specimen's own keys);
 /// - a first bond stage's distance leaves some grain without a bond (stage[N].distance);
-/// - a wall cuts into a grain (wall[N].point);
-/// - an until = "walls_touch" stage moves a load wall away from the specimen, or not as far
-///   as the gap in front of it in its length (stage[N].wall_velocity.NAME, .time, .steps).
+/// - a wall reaches past a grain's dilated surface into the grain itself, or a load wall of
+///   an until = "walls_touch" stage starts inside the specimen (wall[N].point);
+/// - such a stage moves a load wall away from the specimen, or not as far as the gap in
+///   front of it in its length (stage[N].wall_velocity.NAME, stage[N].time or .steps).
+/// Pairs across a periodic cell's faces are not searched.
 /// One broad phase on bounding spheres, the narrow phase on its pairs and one pass over the
 /// vertices per wall: the cost of about one step.
 void check_start(const Scenario& scenario, const physics::World& world);
@@ -44,7 +46,8 @@ void check_start(const Scenario& scenario, const physics::World& world);
 /// sqrt(3) (r - r_bar) or stacked end faces t - t_bar apart, under two dilation radii), so
 /// that every bonded pair also touches from the start (a grain size changed without
 /// scaling [contact] dilation_radius and the bond distance with it).
-std::vector<ScenarioError> start_warnings(const Scenario& scenario, const geometry::Specimen& specimen);
+std::vector<ScenarioError> start_warnings(const Scenario& scenario,
+                                          const geometry::Specimen& specimen);
 
 /// The same stable step for one body of the given mass, smallest principal moment of
 /// inertia and bounding radius (e.g. a piece a transgranular split has just made), with

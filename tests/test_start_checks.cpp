@@ -58,7 +58,8 @@ std::string without_lines(const std::string& text, const std::string& prefix) {
 int line_of(const std::string& text, const std::string& part) {
   const std::size_t at = text.find(part);
   EXPECT_NE(at, std::string::npos) << part;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  return 1 + static_cast<int>(
+                 std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
 }
 
 /// The number that follows `before` in `text` (NaN when absent).
@@ -83,7 +84,8 @@ std::string disc(double r, double r_bar, double dilation = 0.05, double distance
 /// The same disc with its platens at fixed points (no gap), the bottom one's plane at y.
 std::string disc_at_points(double bottom_y) {
   std::string t = without_lines(shipped("brazilian_fracture.toml"), "gap = ");
-  return replaced(t, "point = [7.5, 0.04, 2.5]", "point = [7.5, " + std::to_string(bottom_y) + ", 2.5]");
+  return replaced(t, "point = [7.5, 0.04, 2.5]",
+                  "point = [7.5, " + std::to_string(bottom_y) + ", 2.5]");
 }
 
 /// The ScenarioError that making the world of `text` throws (or none: empty key).
@@ -98,14 +100,17 @@ Refusal refusal(const std::string& text, const std::string& source = "mem.toml")
     (void)make_world(s, specimen);
   } catch (const ScenarioError& e) {
     EXPECT_EQ(e.file(), source);
-    EXPECT_NE(std::string(e.what()).find(source + ":" + std::to_string(e.line()) + ":"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find(source + ":" + std::to_string(e.line()) + ":"),
+              std::string::npos)
         << e.what();
     return {e.key(), e.what(), e.line()};
   }
   return {};
 }
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 // ---- the time step ----------------------------------------------------------------------
 
@@ -137,7 +142,8 @@ TEST(TimeStepAdvice, TheStepTheRefusalAdvisesIsAcceptedWhenSet) {
     const std::size_t at = what.find("use dt <= ");
     ASSERT_NE(at, std::string::npos) << what;
     const std::string advice = what.substr(at + 10, what.find(' ', at + 10) - at - 10);
-    const Scenario fixed = parse_scenario(replaced(text, dt_line, "dt = " + advice + " "), "mem.toml");
+    const Scenario fixed =
+        parse_scenario(replaced(text, dt_line, "dt = " + advice + " "), "mem.toml");
     EXPECT_NO_THROW(check_time_step(fixed, specimen)) << "advised " << advice << ": " << what;
     // Three significant digits: the advice is within 1 % of the limit, not a needless cut.
     EXPECT_GT(fixed.dynamics.dt, 0.99 * stable_time_step(fixed, specimen)) << advice;
@@ -175,7 +181,8 @@ TEST(StartChecks, GrainsPlacedIntoEachOtherWithoutBondsAreRefusedNamingTheGrainK
     EXPECT_EQ(e.key, "contact.dilation_radius") << r_bar;
     EXPECT_EQ(e.line, line_of(text, "dilation_radius = 0.05"));
     EXPECT_TRUE(has(e.what, "r - r_bar") && has(e.what, "dilation_radius")) << e.what;
-    EXPECT_NEAR(number_after(e.what, "overlap by "), 0.1 - std::sqrt(3.0) * (1.0 - r_bar), 1e-4) << e.what;
+    EXPECT_NEAR(number_after(e.what, "overlap by "), 0.1 - std::sqrt(3.0) * (1.0 - r_bar), 1e-4)
+        << e.what;
   }
   // A packing pressed a little (0.0134 mm, under the 0.05 mm dilation) may start so; grains
   // apart certainly.
@@ -191,7 +198,8 @@ TEST(StartChecks, MeshGrainsWhoseShapesIntersectAreRefused) {
   text = replaced(text, "\"meshes/brick.obj\"", "\"" + meshes + "/brick.obj\"");
   text = replaced(text, "\"meshes/octahedron.obj\"", "\"" + meshes + "/octahedron.obj\"");
   EXPECT_EQ(refusal(text).key, "");
-  const Refusal e = refusal(replaced(text, "position = [1.2, 0.1, 1.3]", "position = [0.3, 0.0, 1.0]"));
+  const Refusal e =
+      refusal(replaced(text, "position = [1.2, 0.1, 1.3]", "position = [0.3, 0.0, 1.0]"));
   EXPECT_EQ(e.key, "contact.dilation_radius");
   EXPECT_TRUE(has(e.what, "intersect") && has(e.what, "[[mesh_grain]]")) << e.what;
 }
@@ -204,7 +212,8 @@ TEST(StartChecks, ABondDistanceShorterThanTheGapBetweenNeighboursIsRefusedWithTh
   EXPECT_EQ(e.key, "stage[1].distance");
   EXPECT_EQ(e.line, line_of(text, "distance = 0.080000"));
   EXPECT_TRUE(has(e.what, "dilation_radius") && has(e.what, "r - r_bar")) << e.what;
-  EXPECT_NEAR(number_after(e.what, "dilated surface is "), std::sqrt(3.0) * 0.2 - 0.1, 1e-4) << e.what;
+  EXPECT_NEAR(number_after(e.what, "dilated surface is "), std::sqrt(3.0) * 0.2 - 0.1, 1e-4)
+      << e.what;
   EXPECT_EQ(refusal(disc(1.2, 1.0, 0.05, 0.25)).key, "");
 }
 
@@ -213,7 +222,8 @@ TEST(StartChecks, BondedGrainsThatStartOverlappingAreWarnedToScaleTheDilationAnd
   // 0.1 - 0.0866 mm. The bond stage stores it (no refusal), but the warning names the keys;
   // scaled with the grains (dilation 0.025, distance 0.04) the disc is the r = 0.6 one halved.
   for (const bool scaled : {false, true}) {
-    const Scenario s = parse_scenario(scaled ? disc(0.3, 0.25, 0.025, 0.04) : disc(0.3, 0.25), "mem.toml");
+    const Scenario s =
+        parse_scenario(scaled ? disc(0.3, 0.25, 0.025, 0.04) : disc(0.3, 0.25), "mem.toml");
     const geometry::Specimen specimen = geometry::build_specimen(s.specimen);
     EXPECT_NO_THROW((void)make_world(s, specimen));
     const std::vector<ScenarioError> warnings = start_warnings(s, specimen);
@@ -260,7 +270,8 @@ TEST(StartChecks, AnApproachTooShortToCloseTheGapIsRefusedWithTheTimeItNeeds) {
     double needed;
   };
   for (const Case& c : {Case{"until = \"walls_touch\"\ntime = 0.005\n", 0.01},
-                        Case{"until = \"walls_touch\"\ntime = 0.02\nramp_time = 0.03\n", std::sqrt(2 * 0.03 * 0.01)}}) {
+                        Case{"until = \"walls_touch\"\ntime = 0.02\nramp_time = 0.03\n",
+                             std::sqrt(2 * 0.03 * 0.01)}}) {
     const std::string text = replaced(base, approach, c.stage);
     const Refusal e = refusal(text);
     EXPECT_EQ(e.key, "stage[2].time");
@@ -268,7 +279,10 @@ TEST(StartChecks, AnApproachTooShortToCloseTheGapIsRefusedWithTheTimeItNeeds) {
     EXPECT_NEAR(number_after(e.what, "give it at least "), c.needed, 1e-3 * c.needed) << e.what;
   }
   EXPECT_EQ(refusal(replaced(base, approach, "until = \"walls_touch\"\ntime = 0.011\n")).key, "");
-  EXPECT_EQ(refusal(replaced(base, approach, "until = \"walls_touch\"\ntime = 0.025\nramp_time = 0.03\n")).key, "");
+  EXPECT_EQ(
+      refusal(replaced(base, approach, "until = \"walls_touch\"\ntime = 0.025\nramp_time = 0.03\n"))
+          .key,
+      "");
 }
 
 // ---- gap --------------------------------------------------------------------------------
@@ -299,20 +313,23 @@ TEST(WallGap, PlacesThePlatensTheGapFromTheDiscsOutermostDilatedCorners) {
 // ---- the command line -------------------------------------------------------------------
 
 TEST(StartChecksCli, EachRefusalIsExitCode2WithTheFileLineAndKeyBeforeAnythingIsWritten) {
-  const fs::path dir = fs::temp_directory_path() / ("cleave_start_checks_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleave_start_checks_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string base = shipped("brazilian_fracture.toml");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {disc_at_points(0.6), "wall[1].point"},
       {disc(1.2, 1.0), "stage[1].distance"},
-      {replaced(base, "bottom = [0.0, 1.0, 0.0]", "bottom = [0.0, -1.0, 0.0]"), "stage[2].wall_velocity.bottom"},
+      {replaced(base, "bottom = [0.0, 1.0, 0.0]", "bottom = [0.0, -1.0, 0.0]"),
+       "stage[2].wall_velocity.bottom"},
       {replaced(base, "time = 0.1\n", "time = 0.005\n"), "stage[2].time"},
       {loose_box(1.0), "contact.dilation_radius"}};
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const fs::path file = dir / ("case" + std::to_string(i) + ".toml");
     std::ofstream(file) << cases[i].first;
     const fs::path out = dir / ("out" + std::to_string(i));
-    const cleave::testing::CliOutcome o = cleave::testing::run_cleave("run " + file.string() + " --out " + out.string());
+    const cleave::testing::CliOutcome o =
+        cleave::testing::run_cleave("run " + file.string() + " --out " + out.string());
     EXPECT_EQ(o.code, 2) << o.output;
     EXPECT_TRUE(has(o.output, file.string() + ":")) << o.output;
     EXPECT_TRUE(has(o.output, "key '" + cases[i].second + "'")) << o.output;
