@@ -560,7 +560,9 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
     if (required) t.fail_absent("dilation_radius", "a [dynamics] run needs a [contact] table");
     return;
   }
-  c.dilation_radius = t.number("dilation_radius", Range::positive()).value * unit;
+  const Number dilation = t.number("dilation_radius", Range::positive());
+  c.dilation_radius = dilation.value * unit;
+  c.dilation_position = {line_of(dilation.node->source()), column_of(dilation.node->source())};
   for (std::string_view set : {"particle_particle", "particle_wall"}) {
     const toml::node* node = t.find(set);
     if (node == nullptr) t.fail_absent(set, "missing required table");
@@ -915,7 +917,12 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     if (!s.bond.enabled) {
       t.fail(*t.find("kind"), "kind", "a bond stage needs a [bond] table with the bond parameters");
     }
-    st.bond_distance = t.number("distance", Range::non_negative(), 0.0).value * unit;
+    const Number distance = t.number("distance", Range::non_negative(), 0.0);
+    st.bond_distance = distance.value * unit;
+    if (distance.node != nullptr)
+      st.distance_position = {line_of(distance.node->source()), column_of(distance.node->source())};
+    else
+      st.distance_position = st.position;
     return st;
   }
   if (const toml::node* node = t.find("wall_velocity")) {
@@ -932,6 +939,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       }
       const auto v = vt.numbers(name, 3, Range{});
       st.wall_velocity.emplace_back(name, Eigen::Vector3d(v[0], v[1], v[2]) * unit);
+      st.wall_velocity_positions.push_back({line_of(value.source()), column_of(value.source())});
     }
   }
   const toml::node* steps = t.find("steps");
@@ -941,6 +949,8 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     t.fail_absent("steps", "a motion stage needs its length: steps (integer > 0) or time (s > 0)");
   }
   if (steps != nullptr) st.steps = static_cast<std::uint64_t>(t.integer("steps", 1, 1));
+  const toml::node* length = steps != nullptr ? steps : time;
+  st.length_position = {line_of(length->source()), column_of(length->source())};
   if (time != nullptr) st.time = t.number("time", Range::positive()).value;
   st.until = t.choose<StageDef::Until>("until",
                                        {{"limit", StageDef::Until::limit},
@@ -1128,6 +1138,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
         t.fail(*gap.node, "gap", "places a plane or a platen against the specimen; a cylinder is placed by its point");
       }
       s.wall_gaps.push_back(gap.value * unit);
+      const toml::node* point = t.find("point");
+      s.wall_points.push_back({line_of(point->source()), column_of(point->source())});
       for (std::size_t j = 0; j < i; ++j) {
         if (s.walls[j].name == s.walls[i].name) {
           t.fail(*t.find("name"), "name", fmt::format("another [[wall]] is named '{}'", s.walls[i].name));

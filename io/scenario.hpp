@@ -65,17 +65,18 @@ struct MaterialDef {
   std::string preset_file;
 };
 
-/// [contact] with its two parameter sets (table 2.3).
-struct ContactDef {
-  double dilation_radius = 0.0;  ///< metres
-  physics::ContactParams particle_particle;
-  physics::ContactParams particle_wall;
-};
-
 /// Where a value sits in the scenario file (for errors found after parsing).
 struct SourcePosition {
   int line = 0;
   int column = 0;
+};
+
+/// [contact] with its two parameter sets (table 2.3).
+struct ContactDef {
+  double dilation_radius = 0.0;  ///< metres
+  SourcePosition dilation_position;  ///< of dilation_radius, for the start checks
+  physics::ContactParams particle_particle;
+  physics::ContactParams particle_wall;
 };
 
 /// [dynamics]: a dynamic run of the specimen (present when the table is).
@@ -178,6 +179,10 @@ struct StageDef {
   /// stage's start (a smooth start sends no impact wave through the specimen); 0: at once.
   double ramp_time = 0.0;
   double bond_distance = 0.0;  ///< bond: the bonding distance, m
+  /// Where `distance` (bond), `steps` or `time` (motion) and each wall_velocity entry (in
+  /// its order) are in the file, for the start checks (io/world_setup.hpp).
+  SourcePosition distance_position, length_position;
+  std::vector<SourcePosition> wall_velocity_positions;
   /// motion, with [thermal]: K/s every grain's temperature changes by over the stage (a
   /// uniform field added to conduction's), stopping at `temperature_target` K.
   double temperature_rate = 0.0;
@@ -233,9 +238,12 @@ struct Scenario {
   std::vector<StageDef> stages;      ///< [[stage]] entries, in file order (empty: one run)
   std::vector<physics::Wall> walls;  ///< [[wall]] entries, in file order
   /// Per wall: `gap` (m), a plane or platen placed this far from the specimen's nearest grain
-  /// surface (dilated by the contact radius) along its normal when the world is made (the point's other coordinates kept); NaN: at
-  /// its point. A specimen whose size is swept keeps its platens against it.
+  /// surface (dilated by the contact radius) along its normal when the world is made, its
+  /// point fixing only its position in its plane; NaN: at its point. A specimen whose size
+  /// or grains change keeps its platens against it.
   std::vector<double> wall_gaps;
+  /// Per wall: where its `point` key is in the file, for the start checks.
+  std::vector<SourcePosition> wall_points;
   /// [[mesh_grain]] entries as read (absolute paths, SI); their grains are in
   /// specimen.custom_grains.
   std::vector<MeshGrainSpec> mesh_grains;

@@ -1,12 +1,15 @@
 #include "io/world_setup.hpp"
 
-#include "geometry/rng.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <optional>
+#include <string>
+
+#include "geometry/rng.hpp"
 
 namespace cleave::io {
 
@@ -89,6 +92,17 @@ double stable_time_step(const Scenario& scenario, const geometry::Specimen& spec
   return stable_step(scenario, grain_shapes(scenario, specimen)).dt;
 }
 
+std::string advised_time_step(double limit) {
+  // The largest 3-digit decimal not above the limit, found by reading the text back as the
+  // scenario reader would: rounding to nearest could advise a step just above it.
+  const double scale = std::pow(10.0, 2.0 - std::floor(std::log10(limit)));
+  for (double m = std::floor(limit * scale) + 1.0; m > 0.0; m -= 1.0) {
+    std::string text = fmt::format("{:.3g}", m / scale);
+    if (std::strtod(text.c_str(), nullptr) <= limit) return text;
+  }
+  return fmt::format("{:.17g}", limit);
+}
+
 namespace {
 void check_time_step(const Scenario& scenario, const std::vector<physics::RigidShape>& shapes) {
   const DynamicsDef& dyn = scenario.dynamics;
@@ -96,10 +110,11 @@ void check_time_step(const Scenario& scenario, const std::vector<physics::RigidS
   if (dyn.dt > s.dt) {
     throw ScenarioError(
         scenario.source, dyn.dt_position.line, dyn.dt_position.column, "dynamics.dt",
-        fmt::format("time step {:.3g} s is above the stable limit; use dt <= {:.3g} s "
+        fmt::format("time step {:.3g} s is above the stable limit; use dt <= {} s "
                     "(= dt_safety {:g} x 2 sqrt(m/k): lightest body {:.3g} kg, I {:.3g} kg m^2, "
                     "stiffest spring C_res K_n (+ K_bn) = {:.3g} N/m)",
-                    dyn.dt, s.dt, dyn.dt_safety, s.mass, s.inertia, s.stiffness));
+                    dyn.dt, advised_time_step(s.dt), dyn.dt_safety, s.mass, s.inertia,
+                    s.stiffness));
   }
 }
 }  // namespace
@@ -172,6 +187,379 @@ void check_in_plane(const Scenario& scenario, const physics::World& world) {
 }
 }  // namespace
 
+namespace {
+/// The bodies of a world as the narrow phase sees them, for the start checks.
+std::vector<physics::PosedShape> posed_bodies(const physics::World& world,
+                                              const std::vector<physics::BodyId>& ids) {
+  std::vector<physics::PosedShape> posed(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    posed[i].update(world.shape(world.info(ids[i]).shape), world.state(ids[i]));
+  }
+  return posed;
+}
+
+/// A length in the file's unit, for messages.
+struct InUnit {
+  const Scenario& s;
+  std::string operator()(double metres) const {
+    return fmt::format("{:.4g} {}", metres / length_unit_metres(s.length_unit), s.length_unit);
+  }
+};
+
+/// What to change when neighbouring grains overlap or stand apart: the specimen's own keys.
+std::string spacing_keys(const Scenario& s, const InUnit& in_unit) {
+  const geometry::SpecimenDef& d = s.specimen;
+  switch (d.kind) {
+    case geometry::SpecimenKind::lattice:
+      return fmt::format(
+          "[grain] r - r_bar (neighbouring side faces are sqrt(3) (r - r_bar) = {} apart) and "
+          "[contact] dilation_radius ({})",
+          in_unit(std::sqrt(3.0) * (d.r - d.r_bar)), in_unit(s.contact.dilation_radius));
+    case geometry::SpecimenKind::voronoi:
+      return fmt::format("[specimen] gap ({}) and [contact] dilation_radius ({})",
+                         in_unit(d.voronoi.gap), in_unit(s.contact.dilation_radius));
+    default:
+      return fmt::format(
+          "the [[mesh_grain]] positions and scales and [contact] dilation_radius ({})",
+          in_unit(s.contact.dilation_radius));
+  }
+}
+
+/// The first stage bonds (before anything moves): the overlaps at the start are stored.
+const StageDef* bond_stage_first(const Scenario& s) {
+  return !s.stages.empty() && s.stages.front().kind == StageDef::Kind::bond ? &s.stages.front()
+                                                                            : nullptr;
+}
+
+/// Neighbouring grains: overlaps where no bond stage stores them, shapes that intersect, and
+/// a first bond stage that leaves a grain without a bond. One broad phase on the bounding
+/// spheres (within the reach the checks need) and the narrow phase on its pairs.
+void check_grain_spacing(const Scenario& s, const physics::World& world,
+                         const std::vector<physics::BodyId>& ids,
+                         const std::vector<physics::PosedShape>& posed) {
+  if (ids.size() < 2) return;
+  const InUnit in_unit{s};
+  const double dilation = s.contact.dilation_radius;
+  const double tolerance = 1e-6 * dilation;
+  const StageDef* bond = bond_stage_first(s);
+  std::vector<physics::BoundingSphere> spheres;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const double r = world.shape(world.info(ids[i]).shape).bounding_radius();
+    spheres.push_back({world.state(ids[i]).x, r});
+    smallest = std::min(smallest, r);
+  }
+  std::vector<physics::BodyPair> pairs;
+  physics::NeighbourSearch search(s.dynamics.search);
+  // The pairs the first step meets, or that the first bond stage bonds (its distance as the
+  // margin, as World::initialise_bonds searches).
+  search.find_pairs(spheres, bond ? bond->bond_distance : 0.0, pairs);
+  std::vector<char> bonded(ids.size(), 0);
+  std::vector<physics::FeatureContact> features;
+  double deepest = 0.0;
+  physics::BodyPair deepest_pair{0, 0};
+  for (const auto& [i, j] : pairs) {
+    features.clear();
+    physics::polyhedron_contacts(posed[i], posed[j], 0.0, features);
+    for (const auto& f : features) {
+      if (f.contact.penetration > deepest) {
+        deepest = f.contact.penetration;
+        deepest_pair = {i, j};
+      }
+    }
+    if (bond && !(bonded[i] && bonded[j])) {
+      if (bond->bond_distance > 0.0)
+        physics::polyhedron_contacts(posed[i], posed[j], bond->bond_distance, features);
+      if (!features.empty()) bonded[i] = bonded[j] = 1;
+    }
+  }
+  const SourcePosition& at = s.contact.dilation_position;
+  const int grain_a = world.info(ids[deepest_pair.first]).grain_id;
+  const int grain_b = world.info(ids[deepest_pair.second]).grain_id;
+  if (deepest > 2.0 * dilation + tolerance) {
+    throw ScenarioError(
+        s.source, at.line, at.column, "contact.dilation_radius",
+        fmt::format(
+            "grains {} and {} overlap by {} at the start, more than their two dilation radii ({}): "
+            "their shapes themselves intersect, which no contact can resolve; change {}",
+            grain_a, grain_b, in_unit(deepest), in_unit(2.0 * dilation), spacing_keys(s, in_unit)));
+  }
+  // Deeper than a dilation radius is no packing at rest (its overlaps are a small fraction of
+  // the dilation) but grains placed into each other.
+  if (deepest > dilation + tolerance && bond == nullptr) {
+    throw ScenarioError(s.source, at.line, at.column, "contact.dilation_radius",
+                        fmt::format("grains {} and {} overlap by {} at the start, more than the "
+                                    "dilation radius ({}), and no "
+                                    "bond stage comes first to store the overlap: their contact "
+                                    "pushes them apart from step 1. "
+                                    "Leave neighbours' dilated surfaces apart: change {}",
+                                    grain_a, grain_b, in_unit(deepest), in_unit(dilation),
+                                    spacing_keys(s, in_unit)));
+  }
+  // A periodic cell's pairs across its faces are not searched here: its bonding is left to the run.
+  if (bond == nullptr || world.cell() != nullptr) return;
+  // Every grain bonds to a neighbour within the distance (World::initialise_bonds).
+  const std::size_t loose = static_cast<std::size_t>(std::count(bonded.begin(), bonded.end(), 0));
+  if (loose == 0) return;
+  // What distance would do: each loose grain's nearest neighbour, looked for up to half the
+  // smallest grain's reach; only features whose normal points from one grain to the other
+  // count (at margins near a grain's size the search also pairs a vertex with a face behind it).
+  const double reach = std::max(2.0 * bond->bond_distance, 0.5 * smallest);
+  search.find_pairs(spheres, reach, pairs);
+  std::vector<double> nearest(ids.size(), std::numeric_limits<double>::infinity());
+  for (const auto& [i, j] : pairs) {
+    if (bonded[i] && bonded[j]) continue;
+    features.clear();
+    physics::polyhedron_contacts(posed[i], posed[j], reach, features);
+    const Eigen::Vector3d across = posed[j].centre - posed[i].centre;
+    for (const auto& f : features) {
+      if (f.contact.normal.dot(across) <= 0.0) continue;
+      nearest[i] = std::min(nearest[i], -f.contact.penetration);
+      nearest[j] = std::min(nearest[j], -f.contact.penetration);
+    }
+  }
+  double widest = 0.0;
+  int loose_grain = -1;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (bonded[i] || (loose_grain >= 0 && !(nearest[i] > widest))) continue;
+    widest = nearest[i];
+    loose_grain = world.info(ids[i]).grain_id;
+  }
+  const std::size_t index = static_cast<std::size_t>(bond - s.stages.data());
+  const std::string nearest_text =
+      std::isfinite(widest)
+          ? fmt::format("its nearest neighbour's dilated surface is {} away", in_unit(widest))
+          : fmt::format("no other grain is within {} of it", in_unit(reach));
+  throw ScenarioError(
+      s.source, bond->distance_position.line, bond->distance_position.column,
+      fmt::format("stage[{}].distance", index + 1),
+      fmt::format("bond stage '{}' bonds grains within {} of each other, but {} of the {} grains "
+                  "would get no "
+                  "bond (grain {}: {}). Give a distance above the gap between neighbours' dilated "
+                  "surfaces{}; when the grains change size, scale distance together with {}",
+                  bond->name, in_unit(bond->bond_distance), loose, ids.size(), loose_grain,
+                  nearest_text, std::isfinite(widest) ? " (" + in_unit(widest) + ")" : "",
+                  spacing_keys(s, in_unit)));
+}
+
+/// How far wall `w` (a plane or platen) is in front of the specimen: the least distance from
+/// its surface to a dilated vertex of a body in its footprint along its normal (negative: the
+/// wall cuts into a body); infinity when no body is in the footprint.
+struct WallReach {
+  double gap = std::numeric_limits<double>::infinity();
+  std::size_t body = 0;
+};
+WallReach wall_reach(const physics::Wall& w, const std::vector<physics::PosedShape>& posed) {
+  WallReach r;
+  for (std::size_t i = 0; i < posed.size(); ++i) {
+    for (const Eigen::Vector3d& v : posed[i].vertices) {
+      const auto c = w.sphere_contact(v, posed[i].radius, std::numeric_limits<double>::infinity());
+      if (c && -c->penetration < r.gap) {
+        r.gap = -c->penetration;
+        r.body = i;
+      }
+    }
+  }
+  return r;
+}
+
+/// The deepest a cylinder wall reaches into a body's dilated vertices and edges (0: none).
+WallReach cylinder_reach(const physics::Wall& w, const std::vector<physics::PosedShape>& posed) {
+  WallReach r;
+  r.gap = 0.0;
+  for (std::size_t i = 0; i < posed.size(); ++i) {
+    const physics::PosedShape& p = posed[i];
+    auto take = [&](const std::optional<physics::PrimitiveContact>& c) {
+      if (c && -c->penetration < r.gap) {
+        r.gap = -c->penetration;
+        r.body = i;
+      }
+    };
+    for (const Eigen::Vector3d& v : p.vertices) take(w.sphere_contact(v, p.radius));
+    for (const auto& e : p.primitives->edges) {
+      take(w.edge_contact(p.vertices[static_cast<std::size_t>(e.a)],
+                          p.vertices[static_cast<std::size_t>(e.b)], p.radius));
+    }
+  }
+  return r;
+}
+
+/// Walls that cut into the specimen at the start, and walls_touch stages that cannot close
+/// their walls' gaps.
+void check_walls(const Scenario& s, const physics::World& world,
+                 const std::vector<physics::BodyId>& ids,
+                 const std::vector<physics::PosedShape>& posed) {
+  const InUnit in_unit{s};
+  const double dilation = s.contact.dilation_radius;
+  const double tolerance = 1e-6 * dilation;
+  const std::vector<physics::Wall>& walls = world.walls();
+  auto wall_index = [&](const std::string& name) {
+    return static_cast<std::size_t>(
+        std::find_if(walls.begin(), walls.end(), [&](const auto& w) { return w.name == name; }) -
+        walls.begin());
+  };
+  // A wall `depth` into grain body `b`'s dilated surface.
+  auto cut = [&](std::size_t k, double depth, std::size_t body, const std::string& why) {
+    const physics::Wall& w = walls[k];
+    const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
+    const std::string fix = w.kind == physics::Wall::Kind::cylinder
+                                ? "move its point clear of the specimen"
+                                : fmt::format(
+                                      "move its point at least that far out along its normal, or "
+                                      "give gap (its distance from "
+                                      "the specimen's dilated surface, in {}), which places it "
+                                      "whatever the grains' size",
+                                      s.length_unit);
+    return ScenarioError(
+        s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
+        fmt::format(
+            "wall '{}' reaches {} into grain {} at the start (its surface dilated by {}): {}; "
+            "{}",
+            w.name, in_unit(depth), world.info(ids[body]).grain_id, in_unit(dilation), why, fix));
+  };
+  std::vector<WallReach> reach(walls.size());
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const physics::Wall& w = walls[k];
+    reach[k] =
+        w.kind == physics::Wall::Kind::cylinder ? cylinder_reach(w, posed) : wall_reach(w, posed);
+    // Past the dilated skin into the grain itself: no contact at rest is that deep (a packing
+    // pressed onto a floor overlaps it by a small fraction of the dilation).
+    if (reach[k].gap < -dilation - tolerance) {
+      throw cut(k, -reach[k].gap, reach[k].body,
+                "it cuts the grain itself and pushes the specimen from step 1");
+    }
+  }
+  // The walls' travel through the stages, while it is known (a stage that ends on an event
+  // leaves it unknown): a walls_touch stage must start with its load walls clear of the
+  // specimen, and bring each one it moves to it.
+  std::vector<double> closed(walls.size(), 0.0);
+  for (std::size_t si = 0; si < s.stages.size(); ++si) {
+    const StageDef& st = s.stages[si];
+    if (st.kind != StageDef::Kind::motion) continue;
+    const std::string stage = fmt::format("stage[{}]", si + 1);
+    auto gap_of = [&](std::size_t k) { return reach[k].gap - closed[k]; };
+    if (st.until == StageDef::Until::walls_touch) {
+      for (const std::string& name : st.load_walls) {
+        const std::size_t k = wall_index(name);
+        if (k == walls.size() || walls[k].kind == physics::Wall::Kind::cylinder ||
+            !(gap_of(k) < -tolerance))
+          continue;
+        throw cut(
+            k, -gap_of(k), reach[k].body,
+            fmt::format(
+                "stage '{}' waits for it to touch the specimen, but it starts inside it and the "
+                "stage ends at once on a specimen pressed by it",
+                st.name));
+      }
+    }
+    const double length = st.steps > 0 ? static_cast<double>(st.steps) * s.dynamics.dt : st.time;
+    // A velocity ramped up over ramp_time: the time at full speed that covers the same distance.
+    const double full_speed_time = st.ramp_time >= length ? length * length / (2.0 * st.ramp_time)
+                                                          : length - 0.5 * st.ramp_time;
+    for (std::size_t j = 0; j < st.wall_velocity.size(); ++j) {
+      const auto& [name, v] = st.wall_velocity[j];
+      const std::size_t k = wall_index(name);
+      if (k == walls.size() || walls[k].kind == physics::Wall::Kind::cylinder) continue;
+      const double gap = gap_of(k);
+      const double speed = v.dot(walls[k].normal);  // towards the bodies' side
+      if (st.until == StageDef::Until::walls_touch &&
+          std::find(st.load_walls.begin(), st.load_walls.end(), name) != st.load_walls.end() &&
+          gap > tolerance) {
+        if (!std::isfinite(gap)) {
+          const SourcePosition at = k < s.wall_points.size() ? s.wall_points[k] : SourcePosition{};
+          throw ScenarioError(
+              s.source, at.line, at.column, fmt::format("wall[{}].point", k + 1),
+              fmt::format(
+                  "stage '{}' waits for wall '{}' to touch the specimen, but no grain lies in "
+                  "front of it (its platen's footprint misses the specimen)",
+                  st.name, name));
+        }
+        const SourcePosition vat =
+            j < st.wall_velocity_positions.size() ? st.wall_velocity_positions[j] : st.position;
+        if (!(speed > 0.0)) {
+          throw ScenarioError(
+              s.source, vat.line, vat.column, fmt::format("{}.wall_velocity.{}", stage, name),
+              fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} the specimen "
+                          "(its velocity along "
+                          "the wall's normal, towards the grains, is {} per s), but the specimen's "
+                          "surface is {} in "
+                          "front of it: the wall never touches; reverse the velocity",
+                          st.name, name, speed < 0.0 ? "away from" : "parallel to", in_unit(speed),
+                          in_unit(gap)));
+        }
+        const double travel = speed * full_speed_time;
+        if (travel < gap) {
+          const double at_speed = gap / speed;  // the time needed without a ramp
+          const double needed = at_speed >= 0.5 * st.ramp_time
+                                    ? at_speed + 0.5 * st.ramp_time
+                                    : std::sqrt(2.0 * st.ramp_time * at_speed);
+          throw ScenarioError(
+              s.source, st.length_position.line, st.length_position.column,
+              fmt::format("{}.{}", stage, st.steps > 0 ? "steps" : "time"),
+              fmt::format("stage '{}' (until = \"walls_touch\") moves wall '{}' {} towards the "
+                          "specimen in its {:.4g} "
+                          "s, but the specimen's surface is {} in front of it: the stage would end "
+                          "before the wall "
+                          "touches; give it at least {:.4g} s ({} steps), a faster wall_velocity, "
+                          "or place the wall "
+                          "with gap",
+                          st.name, name, in_unit(travel), length, in_unit(gap), needed,
+                          static_cast<std::uint64_t>(std::ceil(needed / s.dynamics.dt))));
+        }
+      }
+      closed[k] += speed * full_speed_time;
+    }
+    if (st.until != StageDef::Until::limit) break;  // where the walls stop is not known
+  }
+}
+}  // namespace
+
+std::vector<ScenarioError> start_warnings(const Scenario& scenario,
+                                          const geometry::Specimen& specimen) {
+  std::vector<ScenarioError> warnings;
+  const geometry::SpecimenDef& d = scenario.specimen;
+  const StageDef* bond = bond_stage_first(scenario);
+  if (!scenario.dynamics.enabled || bond == nullptr || d.kind != geometry::SpecimenKind::lattice)
+    return warnings;
+  const InUnit in_unit{scenario};
+  const double dilation = scenario.contact.dilation_radius;
+  // Neighbouring prisms' side faces are sqrt(3) (r - r_bar) apart; stacked layers' end faces
+  // t - t_bar (App. C).
+  const double side = std::sqrt(3.0) * (d.r - d.r_bar);
+  bool layers = false;
+  for (const auto& g : specimen.grains)
+    layers = layers || g.site.centre.z() != specimen.grains.front().site.centre.z();
+  std::string what;
+  if (side < 2.0 * dilation) {
+    what = fmt::format("neighbouring grains' side faces are sqrt(3) (r - r_bar) = {} apart",
+                       in_unit(side));
+  } else if (layers && d.t - d.t_bar < 2.0 * dilation) {
+    what =
+        fmt::format("stacked grains' end faces are t - t_bar = {} apart", in_unit(d.t - d.t_bar));
+  } else {
+    return warnings;
+  }
+  const SourcePosition& at = scenario.contact.dilation_position;
+  warnings.emplace_back(
+      scenario.source, at.line, at.column, "contact.dilation_radius",
+      fmt::format(
+          "{}, less than two dilation radii ({}): their dilated surfaces overlap at the start. "
+          "Bond stage "
+          "'{}' stores the overlap, but every bonded pair then also touches from step 1, stiffer "
+          "in "
+          "compression than in tension. For the same model with other grains, scale [contact] "
+          "dilation_radius and the stage's distance ({}) with r - r_bar",
+          what, in_unit(2.0 * dilation), bond->name, in_unit(bond->bond_distance)));
+  return warnings;
+}
+
+void check_start(const Scenario& scenario, const physics::World& world) {
+  const std::vector<physics::BodyId> ids = world.body_ids();
+  const std::vector<physics::PosedShape> posed = posed_bodies(world, ids);
+  check_grain_spacing(scenario, world, ids, posed);
+  check_walls(scenario, world, ids, posed);
+}
+
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
   const std::vector<physics::RigidShape> shapes = grain_shapes(scenario, specimen);
   check_time_step(scenario, shapes);
@@ -243,11 +631,15 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
         for (const auto& v : specimen.shapes.at(static_cast<std::size_t>(g.shape)).vertices_approx())
           nearest = std::min(nearest, (g.site.centre + v + lift - w.origin).dot(n));
       }
-      if (std::isfinite(nearest))
-        w.origin += (nearest - scenario.contact.dilation_radius - scenario.wall_gaps[i]) * n;
+      // A point the file already puts at the gap, to rounding, is kept as written: giving gap
+      // to a wall placed by hand does not move it by the bits of this sum.
+      const double move = nearest - scenario.contact.dilation_radius - scenario.wall_gaps[i];
+      if (std::isfinite(nearest) && std::abs(move) > 1e-9 * scenario.contact.dilation_radius)
+        w.origin += move * n;
     }
     world.add_wall(w);
   }
+  check_start(scenario, world);
   return world;
 }
 

@@ -232,7 +232,16 @@ void Simulation::State::start() {
     say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
                     three_slab, specimen->grains.size() - three_slab, def.seed));
     if (specimen->grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
-    if (scenario.dynamics.enabled) io::check_time_step(scenario, *specimen);
+    // The time step and, for a fresh run, its start (io::check_start) before the slabs and
+    // meshes: a world made and dropped costs about one step.
+    if (scenario.dynamics.enabled && checkpoint) io::check_time_step(scenario, *specimen);
+    if (scenario.dynamics.enabled && !checkpoint) {
+      (void)io::make_world(scenario, *specimen);
+      if (writes_results()) {
+        for (const io::ScenarioError& w : io::start_warnings(scenario, *specimen))
+          fmt::print(stderr, "cleave: warning: {}\n", w.what());
+      }
+    }
 
     if (stop()) return interrupted();
 
