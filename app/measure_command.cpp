@@ -201,14 +201,14 @@ int measure_command(const MeasureOptions& options) {
     if (!s.material.preset_file.empty()) {
       const io::MaterialPreset preset = io::load_material(s.material.preset_file);
       const double want = preset.si(r.key);
-      compare = fmt::format("  {} of {}: {:.4g} {} ({:+.1f} %{})", r.key, preset.name, want / r.scale,
-                            r.unit, 100.0 * (judged / want - 1.0),
-                            at_first_crack ? ", at the first crack" : "");
+      compare = fmt::format("  handbook {} of {}: {:.4g} {}; measured {:+.1f} % off{}", r.key, preset.name,
+                            want / r.scale, r.unit, 100.0 * (judged / want - 1.0),
+                            at_first_crack ? " (at the first crack)" : "");
       text += fmt::format("preset = \"{}\"\npreset_value = {:.9g}\njudged = \"{}\"\n", preset.name, want,
                           sim::judged_key(*test));
       if (*test == sim::Test::elastic) {
         const double nu = preset.si("poisson");
-        compare += fmt::format("; nu {:.3f} ({:+.3f})", nu, m.poisson - nu);
+        compare += fmt::format("; handbook nu {:.3f}, measured {:+.3f} off", nu, m.poisson - nu);
         text += fmt::format("preset_poisson = {:.9g}\n", nu);
       }
     }

@@ -223,6 +223,7 @@ struct StageRun {
   std::uint64_t i = 1;  ///< the stage's next step, counted from 1
   std::chrono::steady_clock::time_point t0, last_print;
   bool halt = false;  ///< interrupted or blew up: the run ends after this step
+  bool capped = false;  ///< --max-steps cut its limit: the run ends if it reaches it
   std::optional<io::FieldExpression> temperature_field;  ///< the stage's, when it has one
 };
 
@@ -538,7 +539,7 @@ class Dynamics::Runner {
       const std::uint64_t left = max_steps_ > started_at ? max_steps_ - started_at : 0;
       if (left < limit) {
         limit = left;
-        stopped_ = true;  // --max-steps: the run ends with this stage
+        r.capped = true;  // the run ends with this stage unless its event comes first
       }
     }
     r.limit = limit;
@@ -741,7 +742,11 @@ class Dynamics::Runner {
     st.ended_by = event ? (plain ? "settled" : io::to_string(stage.until)) : "limit";
     if (sum_.ending == RunEnding::interrupted) st.ended_by = "interrupted";
     if (sum_.ending == RunEnding::blew_up) st.ended_by = "blew_up";
-    st.event_missed = !event && !r.halt && stage.until != StageDef::Until::limit;
+    if (r.capped && !event && !r.halt) {
+      stopped_ = true;  // --max-steps reached inside this stage
+      st.ended_by = "max_steps";
+    }
+    st.event_missed = !event && !r.halt && !stopped_ && stage.until != StageDef::Until::limit;
     if (plain) sum_.settled = event;
     if (!load_walls.empty() && r.progress.plot_x.size() >= 2) {
       st.plot = fmt::format("load_displacement_{}.svg", stage.name);

@@ -293,3 +293,17 @@ TEST_F(CleaveCli, TheProgressLineGivesAnEtaOnlyWhereTheStepLimitEndsTheStage) {
   ASSERT_EQ(drop.code, 0) << drop.output;
   EXPECT_NE(drop.output.find("ETA <= "), std::string::npos) << drop.output;
 }
+
+TEST_F(CleaveCli, MaxStepsCountsEveryStepAndEndsTheStageItFallsIn) {
+  // --max-steps N: N steps in all, whatever stages end by their events on the way (the
+  // Brazilian disc's approach ends when the platens touch, after a few hundred steps); the
+  // stage it falls in says it was cut by it.
+  const fs::path out = dir_ / "cut";
+  const Outcome run = run_cleave("run " + (fs::path(CLEAVE_SOURCE_DIR) / "scenarios/brazilian_fracture.toml").string() +
+                                 " --quiet --max-steps 3000 --out " + out.string());
+  ASSERT_EQ(run.code, 0) << run.output;
+  const auto m = cleave::io::read_manifest(out);
+  EXPECT_EQ(m.facts.at("dynamics_steps"), "3000");
+  EXPECT_EQ(m.facts.at("stage_approach_ended_by"), "walls_touch");
+  EXPECT_EQ(m.facts.at("stage_loading_ended_by"), "max_steps");
+}

@@ -1,0 +1,187 @@
+"""What a result folder and the Python API show, read by third-party readers (VTK's XML
+reader) and checked against closed forms: the grain stresses at the centre of a loaded
+Brazilian disc against the elastic disc's solution, each grain's invariants against its own
+principal stresses, and the Python arrays against the frames."""
+
+import math
+import os
+import pathlib
+import re
+import subprocess
+import tomllib
+
+import numpy as np
+import pytest
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+import cleave
+
+SCENARIO = "scenarios/brazilian_fracture.toml"
+STEPS = 30000  # inside the loading stage, before the first bond breaks (step ~36,000)
+
+
+def read_vtp(path):
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def bodies_of(frame):
+    """Per body (by body_index): its centroid from its faces' points and its cell fields."""
+    cells = frame.GetCellData()
+    index = vtk_to_numpy(cells.GetArray("body_index"))
+    points = vtk_to_numpy(frame.GetPoints().GetData())
+    polys = frame.GetPolys()
+    polys.InitTraversal()
+    ids = vtk.vtkIdList()
+    corners, first = {}, {}
+    k = 0
+    while polys.GetNextCell(ids):
+        b = int(index[k])
+        corners.setdefault(b, set()).update(ids.GetId(j) for j in range(ids.GetNumberOfIds()))
+        first.setdefault(b, k)
+        k += 1
+    fields = {cells.GetArrayName(i): vtk_to_numpy(cells.GetArray(i)) for i in range(cells.GetNumberOfArrays())}
+    order = sorted(corners)
+    return {
+        "centroid": np.array([points[sorted(corners[b])].mean(axis=0) for b in order]),
+        **{name: np.array([values[first[b]] for b in order]) for name, values in fields.items()},
+    }
+
+
+def brazilian_closed_form(root, load):
+    """The elastic disc under two opposite line loads P (Hondros; Timoshenko & Goodier): at
+    its centre sigma_xx = 2P/(pi D t) across the load, sigma_yy = -6P/(pi D t) along it."""
+    with open(root / SCENARIO, "rb") as f:
+        spec = tomllib.load(f)["specimen"]
+    mm = 1e-3
+    diameter, thickness = spec["diameter"] * mm, spec["thickness"] * mm
+    return load / (math.pi * diameter * thickness), diameter
+
+
+def von_mises(p):
+    return np.sqrt(0.5 * ((p[..., 0] - p[..., 1]) ** 2 + (p[..., 1] - p[..., 2]) ** 2 + (p[..., 2] - p[..., 0]) ** 2))
+
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def loaded_disc(tmp_path_factory):
+    out = tmp_path_factory.mktemp("outputs") / "disc"
+    binary = os.environ.get("CLEAVE_BINARY", str(ROOT / "build" / "app" / "cleave"))
+    subprocess.run([binary, "run", SCENARIO, "--out", str(out), "--quiet", "--max-steps", str(STEPS)],
+                   cwd=ROOT, check=True)
+    pvd = (out / "bodies.pvd").read_text()
+    last = re.findall(r'file="([^"]+)"', pvd)[-1]
+    rows = (out / "load_displacement.csv").read_text().splitlines()
+    head = rows[0].split(",")
+    load = float(rows[-1].split(",")[head.index("load_N")])
+    assert (out / "bond_breaks.csv").read_text().count("\n") == 1, "a bond broke: pick fewer steps"
+    return out, bodies_of(read_vtp(out / last)), load
+
+
+def test_the_frame_is_the_state_at_the_step_limit_inside_the_loading_stage(loaded_disc):
+    out, _, load = loaded_disc
+    with open(out / "run.toml", "rb") as f:
+        facts = tomllib.load(f)["facts"]
+    assert int(facts["dynamics_steps"]) == STEPS
+    assert load > 0
+
+
+def contacts_of(frame):
+    """Each contact's point and force (on the grain) and whether it is with a wall."""
+    cells = frame.GetCellData()
+    points = vtk_to_numpy(frame.GetPoints().GetData())
+    ids = vtk.vtkIdList()
+    at = []
+    for k in range(frame.GetNumberOfCells()):
+        frame.GetCellPoints(k, ids)
+        at.append(points[ids.GetId(0)])
+    force = next(cells.GetArray(i) for i in range(cells.GetNumberOfArrays()) if cells.GetArrayName(i).startswith("force"))
+    return np.array(at), vtk_to_numpy(force), vtk_to_numpy(cells.GetArray("with_wall")) == 1
+
+
+def volumes_of(frame):
+    """Each body's volume from its faces (divergence theorem), by body_index."""
+    index = vtk_to_numpy(frame.GetCellData().GetArray("body_index"))
+    points = vtk_to_numpy(frame.GetPoints().GetData())
+    polys = frame.GetPolys()
+    polys.InitTraversal()
+    ids = vtk.vtkIdList()
+    volume = {}
+    k = 0
+    while polys.GetNextCell(ids):
+        q = points[[ids.GetId(j) for j in range(ids.GetNumberOfIds())]]
+        area = sum(np.cross(q[j] - q[0], q[j + 1] - q[0]) for j in range(1, len(q) - 1))
+        volume[int(index[k])] = volume.get(int(index[k]), 0.0) + np.dot(q[0], area) / 6.0
+        k += 1
+    return np.array([volume[b] for b in sorted(volume)])
+
+
+def test_grain_stresses_sum_to_the_statics_of_the_wall_forces(loaded_disc):
+    # Eq. 2.17 summed over the grains: every contact and bond force between two grains acts at
+    # one point on both, so in equilibrium sum_i V_i sigma_i = sym(sum over the wall contacts
+    # of x (x) f). Its trace and in-plane mean read from bodies.vtp (grain volumes from their
+    # faces) against contacts.vtp's wall forces and points; quasi-static loading leaves the
+    # inertia's share small.
+    out, bodies, _ = loaded_disc
+    last = re.findall(r'file="([^"]+)"', (out / "bodies.pvd").read_text())[-1]
+    volume = volumes_of(read_vtp(out / last))
+    x, f, wall = contacts_of(read_vtp(out / last.replace("bodies_", "contacts_")))
+    assert wall.sum() >= 2
+    trace_walls = (x[wall] * f[wall]).sum()
+    in_plane_walls = 0.5 * (x[wall, 0] * f[wall, 0] + x[wall, 1] * f[wall, 1]).sum()
+    assert (volume * 3.0 * bodies["mean_stress_Pa"]).sum() == pytest.approx(trace_walls, rel=2e-3)
+    assert (volume * bodies["p_xy_Pa"]).sum() == pytest.approx(in_plane_walls, rel=2e-3)
+
+
+def test_the_disc_centre_is_compressed_along_the_load_and_pulled_across_it(loaded_disc):
+    # The elastic disc (Hondros): sigma_yy = -6P/(pi D t) and sigma_xx = +2P/(pi D t) at its
+    # centre, no stress through a thin disc. Grain stresses are over the grains' own volume,
+    # a fraction phi of the disc's, so they read 1/phi times the continuum's (the sum of the
+    # test above). A disc 14 grains across follows the continuum loosely: the compression
+    # within 25 %, and the tension across the load that splits it.
+    out, bodies, load = loaded_disc
+    s0, diameter = brazilian_closed_form(ROOT, load)
+    last = re.findall(r'file="([^"]+)"', (out / "bodies.pvd").read_text())[-1]
+    with open(ROOT / SCENARIO, "rb") as f:
+        thickness = tomllib.load(f)["specimen"]["thickness"] * 1e-3
+    phi = volumes_of(read_vtp(out / last)).sum() / (math.pi * diameter**2 / 4 * thickness)
+    c = bodies["centroid"]
+    near = np.linalg.norm((c - c.mean(axis=0))[:, :2], axis=1) < 0.2 * diameter / 2
+    assert near.sum() >= 5
+    p = bodies["principal_stress_Pa"][near].mean(axis=0) / s0  # ascending
+    assert p[0] == pytest.approx(-6.0 / phi, rel=0.25)
+    assert p[2] > 0.25 * 2.0 / phi
+    assert abs(p[1]) < 1e-9 * abs(p[0])
+
+
+def test_each_grains_invariants_are_those_of_its_principal_stresses(loaded_disc):
+    # Von Mises and the mean stress from the principal stresses, computed here, for every grain.
+    _, bodies, _ = loaded_disc
+    p = bodies["principal_stress_Pa"]
+    scale = np.abs(p).max()
+    assert np.all(p[:, 0] <= p[:, 1]) and np.all(p[:, 1] <= p[:, 2])
+    np.testing.assert_allclose(bodies["von_mises_Pa"], von_mises(p), atol=1e-9 * scale, rtol=1e-9)
+    np.testing.assert_allclose(bodies["mean_stress_Pa"], p.mean(axis=1), atol=1e-9 * scale, rtol=1e-9)
+
+
+def test_python_grain_stresses_are_symmetric_and_those_the_frames_show(root, tmp_path, loaded_disc, monkeypatch):
+    monkeypatch.chdir(root)
+    _, bodies, _ = loaded_disc
+    sim = cleave.Simulation(SCENARIO, out=str(tmp_path / "py"), quiet=True, max_steps=STEPS)
+    sim.advance(STEPS)
+    stress = sim.grain_stresses
+    x = sim.positions
+    alive = np.flatnonzero(sim.alive)
+    s = stress[alive]
+    np.testing.assert_array_equal(s, np.transpose(s, (0, 2, 1)))
+    # The same grains as the frame (slots in order), the same principal stresses.
+    order = np.argsort(bodies["body_id"])
+    np.testing.assert_allclose(np.linalg.eigvalsh(s), bodies["principal_stress_Pa"][order],
+                               rtol=1e-9, atol=1e-9 * np.abs(s).max())
+    np.testing.assert_allclose(x[alive], bodies["centroid"][order], rtol=0, atol=1e-8)
+    sim.finish()
