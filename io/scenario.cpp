@@ -1068,7 +1068,23 @@ ScenarioError::ScenarioError(std::string file, int line, int column, std::string
       file_(std::move(file)),
       line_(line),
       column_(column),
-      key_(std::move(key)) {}
+      key_(std::move(key)),
+      message_(std::move(message)) {}
+
+ScenarioError::ScenarioError(std::string what, std::string file, std::string key,
+                             std::string message)
+    : std::runtime_error(std::move(what)),
+      file_(std::move(file)),
+      line_(0),
+      column_(0),
+      key_(std::move(key)),
+      message_(std::move(message)) {}
+
+ScenarioError ScenarioError::in_override(const std::string& override_text, std::string file,
+                                         std::string key, std::string message) {
+  std::string what = format_error(override_text, 0, 0, key, message);
+  return ScenarioError(std::move(what), std::move(file), std::move(key), std::move(message));
+}
 
 Scenario parse_scenario(std::string_view text, const std::string& source) {
   const toml::table root = parse_root(text, source, kTables, "a scenario");

@@ -276,3 +276,85 @@ TEST_F(CleaveCli, StlExportsPerFragmentAndRefusesVoxelCheckOfAnUnnamedScene) {
   EXPECT_EQ(refused.code, 2);
   EXPECT_NE(refused.output.find("STL keeps no mesh names"), std::string::npos) << refused.output;
 }
+
+namespace {
+
+/// kSmallBox falling under gravity onto nothing: a dynamics run whose every step is dt long.
+std::string small_drop() {
+  return std::string(kSmallBox) + R"(
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5.0
+[contact.particle_wall]
+kn = 5.0
+[dynamics]
+dt = 1e-6
+duration = 1.0
+gravity = [0.0, 0.0, -9.81]
+frames = 0
+)";
+}
+
+}  // namespace
+
+TEST_F(CleaveCli, RunSetOverridesAKeyAndRecordsIt) {
+  // Ten steps of dt: the simulated time is 10 dt, so --set dynamics.dt=1e-5 gives 1e-4 s
+  // where the file's 1e-6 gives 1e-5 s.
+  const fs::path scenario = write("drop.toml", small_drop());
+  const fs::path plain = dir_ / "plain", set = dir_ / "set";
+  ASSERT_EQ(
+      run_cleave("run -q --max-steps 10 " + scenario.string() + " --out " + plain.string()).code,
+      0);
+  const Outcome o = run_cleave("run -q --max-steps 10 " + scenario.string() +
+                               " --set dynamics.dt=1e-5 "
+                               "--set orientation.seed=4 --out " +
+                               set.string());
+  ASSERT_EQ(o.code, 0) << o.output;
+  const auto before = cleave::io::read_manifest(plain), after = cleave::io::read_manifest(set);
+  EXPECT_DOUBLE_EQ(std::stod(before.facts.at("dynamics_time_s")), 10 * 1e-6);
+  EXPECT_DOUBLE_EQ(std::stod(after.facts.at("dynamics_time_s")), 10 * 1e-5);
+  EXPECT_EQ(after.provenance.at("seed"), "4");
+  EXPECT_EQ(after.provenance.at("overrides"), "dynamics.dt=1e-5; orientation.seed=4");
+  EXPECT_EQ(before.provenance.count("overrides"), 0u);
+}
+
+TEST_F(CleaveCli, ABadRunOverrideIsAUsageErrorNamingTheOverride) {
+  const fs::path scenario = write("drop.toml", small_drop());
+  const std::string run = "run -q " + scenario.string() + " --out " + (dir_ / "o").string() + " ";
+  Outcome o = run_cleave(run + "--set dynamics.dt=abc");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=abc: key 'dynamics.dt': expected a number"),
+            std::string::npos)
+      << o.output;
+  EXPECT_EQ(o.output.find("drop.toml:"), std::string::npos) << o.output;  // no line of the file
+  o = run_cleave(run + "--set dynamics.dt=-1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=-1: key 'dynamics.dt': must be > 0"),
+            std::string::npos)
+      << o.output;
+  o = run_cleave(run + "--set bond.nonsense=1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set bond.nonsense=1: key 'bond.nonsense': unknown key"),
+            std::string::npos)
+      << o.output;
+  // One value for a run; a key path; a time step above the stable limit, found after reading.
+  o = run_cleave(run + "--set dynamics.dt=1e-6,2e-6");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=1e-6,2e-6: give one value"), std::string::npos)
+      << o.output;
+  o = run_cleave(run + "--set dt=1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dt"), std::string::npos) << o.output;
+  o = run_cleave(run + "--set dynamics.dt=1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=1: key 'dynamics.dt'"), std::string::npos) << o.output;
+  o = run_cleave("run --restart " + (dir_ / "o").string() + " --set dynamics.dt=1e-6");
+  EXPECT_EQ(o.code, 2) << o.output;
+  // An error of the file itself keeps its line.
+  std::string bad = small_drop();
+  bad.replace(bad.find("r_bar = 0.9"), 11, "r_bar = 1.5");
+  o = run_cleave("run -q " + write("rbar.toml", bad).string() + " --set dynamics.dt=1e-6");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("rbar.toml:9:"), std::string::npos) << o.output;
+}

@@ -111,6 +111,9 @@ def test_a_bad_key_raises_with_its_file_and_line_as_the_cli_says(root, cleave_bi
         cleave.Simulation.from_toml((root / MESH_GRAINS).read_text(), source="inline.toml",
                                     overrides={"dynamics.dt": -2.0}, base_dir=str(root / "scenarios"))
     assert err.value.file == "inline.toml" and err.value.key == "dynamics.dt"
+    # The value is not in the text: the error names the override, not a line.
+    assert err.value.line == 0
+    assert str(err.value).startswith("override dynamics.dt=-2.0: key 'dynamics.dt': must be > 0")
 
 
 def test_the_gil_is_released_while_stepping(root, tmp_path, monkeypatch):
