@@ -230,13 +230,13 @@ struct ShapeSpec {
 
 Outline read_box(const TableReader& t, double unit) {
   const std::vector<double> size = t.numbers("size", 3, Range::positive());
-  return Outline::box(size[0] * unit, size[1] * unit, size[2] * unit);
+  return Outline::box(size[0], size[1], size[2]);
 }
 
 Outline read_disc(const TableReader& t, double unit) {
   const Number diameter = t.number("diameter", Range::positive());
   const Number thickness = t.number("thickness", Range::positive());
-  return Outline::disc(diameter.value * unit, thickness.value * unit);
+  return Outline::disc(diameter.value, thickness.value);
 }
 
 Outline read_beam(const TableReader& t, double unit) {
@@ -247,11 +247,13 @@ Outline read_beam(const TableReader& t, double unit) {
   const Number depth = t.number("notch_depth", Range::non_negative(), 0.0);
   if (width.node != nullptr && width.value >= length.value) {
     t.fail(*width.node, "notch_width",
-           fmt::format("must be < specimen.length = {}, found {}", length.value, width.value));
+           fmt::format("must be < specimen.length = {}, found {}", t.written(*length.node),
+                       t.written(*width.node)));
   }
   if (depth.node != nullptr && depth.value >= height.value) {
     t.fail(*depth.node, "notch_depth",
-           fmt::format("must be < specimen.height = {}, found {}", height.value, depth.value));
+           fmt::format("must be < specimen.height = {}, found {}", t.written(*height.node),
+                       t.written(*depth.node)));
   }
   // A notch needs both a width and a depth: blame the one that is zero (or absent).
   const std::pair<const Number*, std::string_view> sides[] = {{&width, "notch_width"},
@@ -265,8 +267,7 @@ Outline read_beam(const TableReader& t, double unit) {
     if (self->node != nullptr) t.fail(*self->node, key, message);
     t.fail_absent(key, message);
   }
-  return Outline::beam(length.value * unit, height.value * unit, thickness.value * unit,
-                       width.value * unit, depth.value * unit);
+  return Outline::beam(length.value, height.value, thickness.value, width.value, depth.value);
 }
 
 // Specimens that make their own grains (no honeycomb lattice, no [grain] table).
@@ -295,7 +296,7 @@ void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def)
   }
   def.voronoi.cells = static_cast<int>(cells);
   const Number gap = t.number("gap", Range::non_negative(), 0.0);
-  def.voronoi.gap = gap.value * unit;
+  def.voronoi.gap = gap.value;
   def.voronoi.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
   const auto points = geometry::voronoi_points(def.voronoi);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -303,9 +304,9 @@ void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def)
       const double d = (points[i] - points[j]).norm();
       if (d > def.voronoi.gap) continue;
       const std::string message = fmt::format(
-          "points {} and {} of seed {} are {:.4g} apart, not more than the gap {:.4g}: their "
+          "points {} and {} of seed {} are {:.4g} apart, not more than the gap {}: their "
           "cells would vanish; use a smaller gap, fewer grains or another seed",
-          j, i, def.voronoi.seed, d / unit, gap.value);
+          j, i, def.voronoi.seed, d / unit, gap.node != nullptr ? t.written(*gap.node) : "0");
       if (gap.node != nullptr) t.fail(*gap.node, "gap", message);
       t.fail(*t.find("seed"), "seed", message);
     }
@@ -361,9 +362,10 @@ std::pair<double, double> read_pitch(const TableReader& t, std::string_view key,
   const Number bar = t.number(bar_key, Range::positive(), full.value);
   if (bar.value > full.value) {
     t.fail(*bar.node, bar_key,
-           fmt::format("must not exceed grain.{} = {}, found {}", key, full.value, bar.value));
+           fmt::format("must not exceed grain.{} = {}, found {}", key, t.written(*full.node),
+                       t.written(*bar.node)));
   }
-  return {full.value * unit, bar.value * unit};
+  return {full.value, bar.value};
 }
 
 void read_grain_table(const TableReader& t, double unit, geometry::SpecimenDef& def) {
@@ -384,7 +386,7 @@ std::string specimen_shape(const toml::table& root) {
 
 /// For shape "voronoi" or "mesh": no [grain] table; for "mesh" every [[mesh_grain]] read,
 /// its file loaded and checked, and the outline set to the grains' bounding box.
-void read_own_grains(const toml::table& root, const std::string& source, double unit,
+void read_own_grains(const toml::table& root, const std::string& source, const UnitContext* units,
                      geometry::SpecimenDef& def, std::vector<MeshGrainSpec>& specs) {
   const std::string shape = def.kind == geometry::SpecimenKind::voronoi ? "voronoi" : "mesh";
   if (const auto* grain = root.get_as<toml::table>("grain")) {
@@ -401,16 +403,17 @@ void read_own_grains(const toml::table& root, const std::string& source, double 
   }
   const std::filesystem::path folder = std::filesystem::path(source).parent_path();
   for (std::size_t i = 0; i < tables->size(); ++i) {
-    const TableReader t(source, fmt::format("mesh_grain[{}]", i + 1), tables->get(i)->as_table());
+    const TableReader t(source, fmt::format("mesh_grain[{}]", i + 1), tables->get(i)->as_table(),
+                        units);
     t.reject_unknown(kMeshGrainKeys);
     MeshGrainSpec spec;
     const std::string file = t.string("file");
     if (file.empty()) t.fail(*t.find("file"), "file", "must not be empty");
     spec.file = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : folder / file;
-    spec.scale = t.number("scale", Range::positive(), 1.0).value * unit;
+    spec.scale = t.number("scale", Range::positive(), units->length_unit).value;  // 1 length unit
     if (t.find("position") != nullptr) {
       const auto at = t.numbers("position", 3, Range{});
-      spec.offset = Eigen::Vector3d(at[0], at[1], at[2]) * unit;
+      spec.offset = Eigen::Vector3d(at[0], at[1], at[2]);
     }
     spec.convex_hull = t.boolean("convex_hull", false);
     try {
@@ -560,14 +563,14 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
     if (required) t.fail_absent("dilation_radius", "a [dynamics] run needs a [contact] table");
     return;
   }
-  c.dilation_radius = t.number("dilation_radius", Range::positive()).value * unit;
+  c.dilation_radius = t.number("dilation_radius", Range::positive()).value;
   for (std::string_view set : {"particle_particle", "particle_wall"}) {
     const toml::node* node = t.find(set);
     if (node == nullptr) t.fail_absent(set, "missing required table");
     if (!node->is_table()) {
       t.fail(*node, set, fmt::format("expected a table, found {}", type_name(*node)));
     }
-    const TableReader sub(source, "contact." + std::string(set), node->as_table());
+    const TableReader sub(source, "contact." + std::string(set), node->as_table(), t.units());
     (set == "particle_particle" ? c.particle_particle : c.particle_wall) = read_contact_params(sub);
   }
 }
@@ -606,7 +609,7 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
     const auto g = t.numbers("gravity", 3, Range{});
     d.gravity = {g[0], g[1], g[2]};
   }
-  d.lift = t.number("lift", Range::non_negative(), 0.0).value * unit;
+  d.lift = t.number("lift", Range::non_negative(), 0.0).value;
   d.frames = t.int_integer("frames", 0, 20);
   d.settle_ratio = t.number("settle_ratio", {.lo = 0.0, .hi = 1.0}, 0.0).value;
   d.dt_safety = t.number("dt_safety", {.lo = 0.0, .hi = 1.0, .lo_open = true}, 0.2).value;
@@ -627,16 +630,16 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
   const Kind kind = t.choose<Kind>(
       "kind", {{"plane", Kind::plane}, {"platen", Kind::platen}, {"cylinder", Kind::cylinder}});
   const std::string name = t.string("name", fmt::format("wall_{}", index + 1));
-  auto vec = [&](std::string_view key, double scale) -> Eigen::Vector3d {
+  auto vec = [&](std::string_view key) -> Eigen::Vector3d {
     const auto v = t.numbers(key, 3, Range{});
-    return Eigen::Vector3d(v[0], v[1], v[2]) * scale;
+    return Eigen::Vector3d(v[0], v[1], v[2]);
   };
   auto direction = [&](std::string_view key) -> Eigen::Vector3d {
-    const Eigen::Vector3d v = vec(key, 1.0);
+    const Eigen::Vector3d v = vec(key);
     if (v.norm() == 0.0) t.fail(*t.find(key), key, "must not be the zero vector");
     return v;
   };
-  const Eigen::Vector3d point = vec("point", unit);
+  const Eigen::Vector3d point = vec("point");
   const Eigen::Vector3d normal = direction("normal");
   // Keys that belong to another kind of wall are errors, as for specimen shapes.
   const std::vector<std::string_view> own = kind == Kind::platen     ? std::vector<std::string_view>{"u", "size"}
@@ -658,16 +661,15 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
         t.fail(*t.find("u"), "u", "must not be parallel to the normal");
       }
       const auto size = t.numbers("size", 2, Range::positive());
-      w = physics::Wall::platen(name, point, normal, u, 0.5 * size[0] * unit, 0.5 * size[1] * unit);
+      w = physics::Wall::platen(name, point, normal, u, 0.5 * size[0], 0.5 * size[1]);
       break;
     }
     case Kind::cylinder:
-      w = physics::Wall::cylinder(name, point, normal,
-                                  t.number("length", Range::positive()).value * unit,
-                                  t.number("radius", Range::positive()).value * unit);
+      w = physics::Wall::cylinder(name, point, normal, t.number("length", Range::positive()).value,
+                                  t.number("radius", Range::positive()).value);
       break;
   }
-  if (t.find("velocity") != nullptr) w.velocity = vec("velocity", unit);
+  if (t.find("velocity") != nullptr) w.velocity = vec("velocity");
   if (t.find("load_axis") != nullptr) w.load_axis = direction("load_axis").normalized();
   return w;
 }
@@ -686,7 +688,7 @@ void read_beam_bond(const TableReader& t, BondDef& b, double unit) {
   }
   b.params.beam_young = t.number("young", Range::positive()).value;
   b.params.beam_poisson = t.number("poisson", Range{-1.0, 0.5, true, false}).value;
-  b.params.beam_radius = t.number("radius", Range::positive()).value * unit;
+  b.params.beam_radius = t.number("radius", Range::positive()).value;
   b.params.criterion = t.choose<physics::BondCriterion>(
       "criterion", {{"limits", physics::BondCriterion::limits},
                     {"rankine", physics::BondCriterion::rankine},
@@ -786,7 +788,7 @@ void read_fracture_table(const TableReader& t, double unit, bool dynamics, Fract
   f.params.sigma_f_hyd = t.number("sigma_f_hyd", Range{}).value;
   f.params.k_ic = t.number("k_ic", Range::positive()).value;
   f.params.c = t.number("c", Range::positive(), 0.816).value;
-  f.params.crack_length = t.number("crack_length", Range::positive()).value * unit;
+  f.params.crack_length = t.number("crack_length", Range::positive()).value;
 }
 
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
@@ -849,7 +851,7 @@ void read_thermal_table(const TableReader& t, double unit, bool dynamics, Therma
   if (const toml::node* node = t.find("gradient")) {
     th.gradient_at = {line_of(node->source()), column_of(node->source())};
     const auto g = t.numbers("gradient", 3, Range{});
-    th.gradient = Eigen::Vector3d(g[0], g[1], g[2]) / unit;  // K per length unit -> K/m
+    th.gradient = Eigen::Vector3d(g[0], g[1], g[2]);
   }
   const Number alpha = t.number("alpha", Range{}, 0.0);
   const Number aa = t.number("alpha_a", Range{}, alpha.value);
@@ -915,7 +917,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
     if (!s.bond.enabled) {
       t.fail(*t.find("kind"), "kind", "a bond stage needs a [bond] table with the bond parameters");
     }
-    st.bond_distance = t.number("distance", Range::non_negative(), 0.0).value * unit;
+    st.bond_distance = t.number("distance", Range::non_negative(), 0.0).value;
     return st;
   }
   if (const toml::node* node = t.find("wall_velocity")) {
@@ -924,14 +926,14 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       t.fail(*node, "wall_velocity",
              fmt::format("expected a table of wall name = [vx, vy, vz], found {}", type_name(*node)));
     }
-    const TableReader vt(s.source, t.name() + ".wall_velocity", table);
+    const TableReader vt(s.source, t.name() + ".wall_velocity", table, t.units());
     for (const auto& [key, value] : *table) {
       const std::string name(key.str());
       if (std::none_of(s.walls.begin(), s.walls.end(), [&](const auto& w) { return w.name == name; })) {
         vt.fail(key_source(key, value), name, fmt::format("no [[wall]] is named '{}'", name));
       }
       const auto v = vt.numbers(name, 3, Range{});
-      st.wall_velocity.emplace_back(name, Eigen::Vector3d(v[0], v[1], v[2]) * unit);
+      st.wall_velocity.emplace_back(name, Eigen::Vector3d(v[0], v[1], v[2]));
     }
   }
   const toml::node* steps = t.find("steps");
@@ -982,7 +984,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
   if (const toml::node* g = t.find("temperature_gradient_rate")) {
     if (!s.thermal.enabled) t.fail(*g, "temperature_gradient_rate", "a temperature stage needs a [thermal] table");
     const auto r = t.numbers("temperature_gradient_rate", 3, Range{});
-    st.temperature_gradient_rate = Eigen::Vector3d(r[0], r[1], r[2]) / unit;  // K per length unit per s -> K/(m s)
+    st.temperature_gradient_rate = Eigen::Vector3d(r[0], r[1], r[2]);
   }
   if (const toml::node* field = t.find("temperature_field")) {
     if (!s.thermal.enabled) t.fail(*field, "temperature_field", "a temperature stage needs a [thermal] table");
@@ -1005,7 +1007,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       t.fail(*quench, "quench_wall", fmt::format("no [[wall]] is named '{}'", st.quench_wall));
     }
     st.quench_temperature = t.number("quench_temperature", Range::positive()).value;
-    st.quench_depth = t.number("quench_depth", Range::positive()).value * unit;
+    st.quench_depth = t.number("quench_depth", Range::positive()).value;
   } else {
     for (std::string_view key : {"quench_temperature", "quench_depth"}) {
       if (t.find(key) != nullptr) t.fail(*t.find(key), key, "applies only with a quench_wall");
@@ -1109,14 +1111,18 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
                           fmt::format("missing required table [{}]", name));
     }
   }
+  // Every number of a key with a dimension is read in SI (scenario_key_dimensions); bare
+  // lengths are in the file's length unit, known once [scenario] is read.
+  UnitContext units{scenario_key_dimensions(), kDefaultUnit->metres};
   const auto reader = [&](std::string_view name) {
-    return TableReader(source, std::string(name), root.get_as<toml::table>(name));
+    return TableReader(source, std::string(name), root.get_as<toml::table>(name), &units);
   };
 
   Scenario s;
   s.source = source;
   double unit = kDefaultUnit->metres;
   read_scenario_table(reader("scenario"), s, unit);
+  units.length_unit = unit;
   read_specimen_table(reader("specimen"), unit, s.specimen);
   if (s.specimen.kind == geometry::SpecimenKind::lattice) {
     read_grain_table(reader("grain"), unit, s.specimen);
@@ -1126,7 +1132,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
                           "[[mesh_grain]] tables need [specimen] shape = \"mesh\"");
     }
   } else {
-    read_own_grains(root, source, unit, s.specimen, s.mesh_grains);
+    read_own_grains(root, source, &units, s.specimen, s.mesh_grains);
   }
   read_orientation_table(reader("orientation"), s.specimen);
   read_split_table(reader("split"), s.split);
@@ -1137,13 +1143,14 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   read_contact_table(reader("contact"), source, unit, s.contact, s.dynamics.enabled);
   if (const auto* walls = root.get_as<toml::array>("wall")) {
     for (std::size_t i = 0; i < walls->size(); ++i) {
-      const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table());
+      const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table(),
+                          &units);
       s.walls.push_back(read_wall(t, unit, i));
       const Number gap = t.number("gap", Range::non_negative(), std::numeric_limits<double>::quiet_NaN());
       if (gap.node != nullptr && s.walls.back().kind == physics::Wall::Kind::cylinder) {
         t.fail(*gap.node, "gap", "places a plane or a platen against the specimen; a cylinder is placed by its point");
       }
-      s.wall_gaps.push_back(gap.value * unit);
+      s.wall_gaps.push_back(gap.value);
       for (std::size_t j = 0; j < i; ++j) {
         if (s.walls[j].name == s.walls[i].name) {
           t.fail(*t.find("name"), "name", fmt::format("another [[wall]] is named '{}'", s.walls[i].name));
@@ -1163,7 +1170,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
     }
     std::size_t bond_stages = 0;
     for (std::size_t i = 0; i < stages->size(); ++i) {
-      const TableReader t(source, fmt::format("stage[{}]", i + 1), stages->get(i)->as_table());
+      const TableReader t(source, fmt::format("stage[{}]", i + 1), stages->get(i)->as_table(),
+                          &units);
       s.stages.push_back(read_stage(t, unit, s));
       for (std::size_t j = 0; j < i; ++j) {
         if (s.stages[j].name == s.stages[i].name) {

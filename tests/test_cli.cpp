@@ -317,6 +317,14 @@ TEST_F(CleaveCli, RunSetOverridesAKeyAndRecordsIt) {
   EXPECT_EQ(after.provenance.at("seed"), "4");
   EXPECT_EQ(after.provenance.at("overrides"), "dynamics.dt=1e-5; orientation.seed=4");
   EXPECT_EQ(before.provenance.count("overrides"), 0u);
+  // A value with its unit: 10 us.
+  const fs::path with_unit = dir_ / "unit";
+  ASSERT_EQ(run_cleave("run -q --max-steps 10 " + scenario.string() +
+                       " --set 'dynamics.dt=10 us' --out " + with_unit.string())
+                .code,
+            0);
+  EXPECT_DOUBLE_EQ(std::stod(cleave::io::read_manifest(with_unit).facts.at("dynamics_time_s")),
+                   10 * 1e-5);
 }
 
 TEST_F(CleaveCli, ABadRunOverrideIsAUsageErrorNamingTheOverride) {
