@@ -1,15 +1,16 @@
 // Whole-scenario tests of the `cleave` executable: what a user runs and looks at.
 #include <gtest/gtest.h>
-
-#include "cli_helpers.hpp"
-
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <set>
 #include <sstream>
 
+#include "cli_helpers.hpp"
 #include "io/exact_store.hpp"
 #include "io/mesh_io.hpp"
 #include "io/result_dir.hpp"
@@ -223,7 +224,7 @@ TEST_F(CleaveCli, TimingClocksEveryPartOfTheStepsAndTheirSumIsTheTotal) {
   ASSERT_TRUE(in) << "no timing.csv";
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "part,seconds,ms_per_step,share,steps");
+  EXPECT_EQ(line, "part,wall_s,wall_ms_per_step,share,steps");
   std::vector<std::string> parts;
   double sum = 0.0, total = -1.0;
   while (std::getline(in, line)) {
@@ -365,4 +366,101 @@ TEST_F(CleaveCli, ABadRunOverrideIsAUsageErrorNamingTheOverride) {
   o = run_cleave("run -q " + write("rbar.toml", bad).string() + " --set dynamics.dt=1e-6");
   EXPECT_EQ(o.code, 2) << o.output;
   EXPECT_NE(o.output.find("rbar.toml:9:"), std::string::npos) << o.output;
+}
+
+namespace {
+
+/// Whether a column or field name says its unit (a suffix) or is a plain number by the list
+/// of dimensionless names (counts, ids, labels, ratios, unit vectors).
+bool names_its_unit(const std::string& name) {
+  static const std::vector<std::string> suffixes = {
+      "_s",   "_J",  "_m",         "_m3",      "_N",         "_Pa",         "_K",
+      "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step"};
+  static const std::set<std::string> dimensionless = {
+      "stage", "step", "steps", "contacts", "intact", "broken_tension", "broken_shear",
+      "broken_bending", "broken_torsion", "bonds_intact", "bonds_broken", "grain_splits", "grain",
+      "parent", "pieces", "plane", "nx", "ny", "nz", "criterion", "bond", "body_a", "body_b",
+      "grain_a", "grain_b", "mode", "grain_id", "row", "i", "j", "k", "family", "slabs", "name",
+      "path", "strain_x", "strain_y", "strain_z", "axis", "strain", "poisson", "part", "share",
+      // VTK fields
+      "body_index", "link_index", "body_id", "family_11_20", "c_axis", "normal", "with_wall",
+      "failure_mode", "periodic"};
+  if (dimensionless.count(name) > 0) return true;
+  return std::any_of(suffixes.begin(), suffixes.end(), [&](const std::string& s) {
+    return name.size() > s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
+  });
+}
+
+/// Every CSV header column and VTK field name of a result folder that does not name its unit.
+std::vector<std::string> names_without_unit(const fs::path& dir, std::size_t& checked) {
+  std::vector<std::string> bad;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const fs::path& p = e.path();
+    if (p.extension() == ".csv") {
+      const auto rows = cleave::testing::read_csv_cells(p);
+      if (rows.empty()) continue;
+      for (const auto& column : rows[0]) {
+        ++checked;
+        if (!names_its_unit(column)) bad.push_back(p.filename().string() + ": " + column);
+      }
+    } else if (p.extension() == ".vtp") {
+      std::ifstream in(p);
+      const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      for (std::size_t at = xml.find("<DataArray"); at != std::string::npos;
+           at = xml.find("<DataArray", at + 1)) {
+        const std::size_t end = xml.find('>', at);
+        const std::size_t name = xml.find("Name=\"", at);
+        if (name == std::string::npos || name > end) continue;
+        const std::string field = xml.substr(name + 6, xml.find('"', name + 6) - name - 6);
+        if (field == "connectivity" || field == "offsets" || field == "Points") continue;
+        ++checked;
+        if (!names_its_unit(field)) bad.push_back(p.filename().string() + ": " + field);
+      }
+    }
+  }
+  return bad;
+}
+
+}  // namespace
+
+TEST_F(CleaveCli, EveryOutputColumnAndFieldNamesItsUnit) {
+  // Real runs: a bonded disc with fracture and --timing (energy, walls, load_displacement,
+  // bonds, bond_breaks, splits, timing, specimen, fragments, bodies, contacts, bonds frames)
+  // and a thermal one (thermal.csv); each header column and VTK field ends in its unit or is
+  // on the list of plain numbers.
+  const fs::path src(CLEAVE_SOURCE_DIR);
+  const fs::path fracture = dir_ / "fracture", thermal = dir_ / "thermal";
+  ASSERT_EQ(run_cleave("run -q --timing --max-steps 300 " +
+                       (src / "scenarios/brazilian_fracture.toml").string() +
+                       " --set dynamics.frames=2 --out " + fracture.string())
+                .code,
+            0);
+  ASSERT_EQ(run_cleave("run -q --max-steps 100 " +
+                       (src / "scenarios/thermal_microcracking.toml").string() + " --out " +
+                       thermal.string())
+                .code,
+            0);
+  // Grains resting on a floor: contact frames with their fields.
+  const fs::path contacts = dir_ / "contacts";
+  const fs::path floor = write("floor.toml", small_drop() +
+                                                 "[[wall]]\nkind = \"plane\"\npoint = [0, 0, 0]\n"
+                                                 "normal = [0, 0, 1]\n");
+  ASSERT_EQ(run_cleave("run -q --max-steps 20 " + floor.string() +
+                       " --set dynamics.frames=2 --out " + contacts.string())
+                .code,
+            0);
+  std::ifstream frame(contacts / "frames" / "contacts_000001.vtp");
+  const std::string xml((std::istreambuf_iterator<char>(frame)), std::istreambuf_iterator<char>());
+  EXPECT_NE(xml.find("Name=\"overlap_m\""), std::string::npos) << "no contact in the last frame";
+  for (const char* f :
+       {"energy.csv", "walls.csv", "load_displacement.csv", "bonds.csv", "bond_breaks.csv",
+        "splits.csv", "timing.csv", "specimen.csv", "fragments.csv"})
+    EXPECT_TRUE(fs::exists(fracture / f)) << f;
+  EXPECT_TRUE(fs::exists(thermal / "thermal.csv"));
+  for (const fs::path& dir : {fracture, thermal, contacts}) {
+    std::size_t checked = 0;
+    const auto bad = names_without_unit(dir, checked);
+    EXPECT_GT(checked, 50u) << dir;
+    for (const auto& b : bad) ADD_FAILURE() << dir.filename().string() << "/" << b << ": no unit";
+  }
 }
