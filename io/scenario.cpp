@@ -6,8 +6,11 @@
 ///   [scenario]                 # optional table
 ///   name = "demo"              # optional, default: the file stem (or the source name's stem)
 ///   description = "..."        # optional
-///   length_unit = "mm"         # optional, "m" | "mm" | "um" (default "mm"); every length
-///                              # below is in this unit and is converted to metres
+///   length_unit = "mm"         # optional, "m" | "mm" | "um" (default "mm"); every bare
+///                              # length below is in this unit and is converted to metres
+///   # Every dimensional key may instead give its unit: r = "0.6 mm", tbn = "250 MPa",
+///   # size = { value = [12, 12, 4], unit = "mm" } (io/units.hpp; scenario_key_dimensions
+///   # lists each key's dimension). The reader returns SI.
 ///
 ///   [specimen]                 # required table
 ///   shape = "box"              # required: "box" | "disc" | "beam"
@@ -225,21 +228,21 @@ constexpr std::string_view kBeamKeys[] = {"length", "height", "thickness", "notc
 struct ShapeSpec {
   std::string_view name;
   std::span<const std::string_view> keys;
-  Outline (*read)(const TableReader& t, double unit);
+  Outline (*read)(const TableReader& t);  // in SI: the reader converts
 };
 
-Outline read_box(const TableReader& t, double unit) {
+Outline read_box(const TableReader& t) {
   const std::vector<double> size = t.numbers("size", 3, Range::positive());
   return Outline::box(size[0], size[1], size[2]);
 }
 
-Outline read_disc(const TableReader& t, double unit) {
+Outline read_disc(const TableReader& t) {
   const Number diameter = t.number("diameter", Range::positive());
   const Number thickness = t.number("thickness", Range::positive());
   return Outline::disc(diameter.value, thickness.value);
 }
 
-Outline read_beam(const TableReader& t, double unit) {
+Outline read_beam(const TableReader& t) {
   const Number length = t.number("length", Range::positive());
   const Number height = t.number("height", Range::positive());
   const Number thickness = t.number("thickness", Range::positive());
@@ -274,7 +277,9 @@ Outline read_beam(const TableReader& t, double unit) {
 constexpr std::string_view kVoronoiKeys[] = {"size", "grains", "gap", "seed"};
 constexpr int kMaxVoronoiCells = 10000;
 
-Outline read_no_outline(const TableReader&, double) { return Outline::box(1.0, 1.0, 1.0); }
+Outline read_no_outline(const TableReader&) {
+  return Outline::box(1.0, 1.0, 1.0);
+}
 
 constexpr ShapeSpec kShapes[] = {
     {"box", kBoxKeys, &read_box},
@@ -336,7 +341,7 @@ void read_specimen_table(const TableReader& t, double unit, geometry::SpecimenDe
                        quoted_list(owners), shape.name, quoted_list(takes)));
   }
 
-  def.outline = shape.read(t, unit);
+  def.outline = shape.read(t);
   if (shape.name == "voronoi" || shape.name == "mesh") {
     if (const toml::node* keep = t.find("keep")) {
       t.fail(*keep, "keep", fmt::format("applies to the lattice shapes 'box', 'disc', 'beam'; "
@@ -357,7 +362,7 @@ constexpr std::string_view kGrainKeys[] = {"r", "r_bar", "t", "t_bar"};
 
 /// A lattice length and the grain length within it (`bar`, default: the lattice length).
 std::pair<double, double> read_pitch(const TableReader& t, std::string_view key,
-                                     std::string_view bar_key, double unit) {
+                                     std::string_view bar_key) {
   const Number full = t.number(key, Range::positive());
   const Number bar = t.number(bar_key, Range::positive(), full.value);
   if (bar.value > full.value) {
@@ -368,10 +373,10 @@ std::pair<double, double> read_pitch(const TableReader& t, std::string_view key,
   return {full.value, bar.value};
 }
 
-void read_grain_table(const TableReader& t, double unit, geometry::SpecimenDef& def) {
+void read_grain_table(const TableReader& t, geometry::SpecimenDef& def) {
   t.reject_unknown(kGrainKeys);
-  std::tie(def.r, def.r_bar) = read_pitch(t, "r", "r_bar", unit);
-  std::tie(def.t, def.t_bar) = read_pitch(t, "t", "t_bar", unit);
+  std::tie(def.r, def.r_bar) = read_pitch(t, "r", "r_bar");
+  std::tie(def.t, def.t_bar) = read_pitch(t, "t", "t_bar");
 }
 
 // ---- [[mesh_grain]] and the grains of specimens off the lattice ----------------------------
@@ -556,8 +561,8 @@ physics::ContactParams read_contact_params(const TableReader& t) {
   return p;
 }
 
-void read_contact_table(const TableReader& t, const std::string& source, double unit,
-                        ContactDef& c, bool required) {
+void read_contact_table(const TableReader& t, const std::string& source, ContactDef& c,
+                        bool required) {
   t.reject_unknown(kContactKeys);
   if (t.table() == nullptr) {
     if (required) t.fail_absent("dilation_radius", "a [dynamics] run needs a [contact] table");
@@ -580,7 +585,7 @@ constexpr std::string_view kDynamicsKeys[] = {
     "dt_safety", "search",   "threads", "local_damping", "density_scale", "manifold_tolerance",
     "in_plane"};
 
-void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool staged) {
+void read_dynamics_table(const TableReader& t, DynamicsDef& d, bool staged) {
   t.reject_unknown(kDynamicsKeys);
   if (t.table() == nullptr) return;
   d.enabled = true;
@@ -624,7 +629,7 @@ constexpr std::string_view kWallKeys[] = {"name",   "kind",   "point",    "norma
                                           "u",      "size",   "length",   "radius",
                                           "velocity", "load_axis", "gap"};
 
-physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
+physics::Wall read_wall(const TableReader& t, std::size_t index) {
   t.reject_unknown(kWallKeys);
   enum class Kind { plane, platen, cylinder };
   const Kind kind = t.choose<Kind>(
@@ -681,7 +686,7 @@ constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "si
 /// law = "beam" (seed 003, Andre et al. 2012): the beam's E_m, nu_m and R_m, and what breaks
 /// it: its own outer-fibre stress against sigma_f (criterion "limits", the default; no
 /// sigma_f: it never breaks) or a grain-stress criterion with sigma_f.
-void read_beam_bond(const TableReader& t, BondDef& b, double unit) {
+void read_beam_bond(const TableReader& t, BondDef& b) {
   for (std::string_view key : {"kbn", "kbs", "tbn", "tbs", "sigma_c", "g_c"}) {
     if (t.find(key) != nullptr)
       t.fail(*t.find(key), key, "the beam law takes young, poisson and radius (and sigma_f), not springs or bond strengths");
@@ -702,7 +707,7 @@ void read_beam_bond(const TableReader& t, BondDef& b, double unit) {
   b.strength_modulus = t.number("strength_modulus", Range::positive(), 0.0).value;
 }
 
-void read_bond_table(const TableReader& t, BondDef& b, double unit) {
+void read_bond_table(const TableReader& t, BondDef& b) {
   t.reject_unknown(kBondKeys);
   if (t.table() == nullptr) return;
   b.enabled = true;
@@ -712,7 +717,7 @@ void read_bond_table(const TableReader& t, BondDef& b, double unit) {
               {"beam", physics::BondLaw::beam}},
       physics::BondLaw::bonded_particle);
   if (b.params.law == physics::BondLaw::beam) {
-    read_beam_bond(t, b, unit);
+    read_beam_bond(t, b);
     return;
   }
   for (std::string_view key : {"young", "poisson", "radius"}) {
@@ -763,7 +768,7 @@ void read_bond_table(const TableReader& t, BondDef& b, double unit) {
 constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",
                                               "check_every", "criterion", "sigma_f"};
 
-void read_fracture_table(const TableReader& t, double unit, bool dynamics, FractureDef& f) {
+void read_fracture_table(const TableReader& t, bool dynamics, FractureDef& f) {
   t.reject_unknown(kFractureKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[fracture] needs a [dynamics] table");
@@ -842,7 +847,7 @@ constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alp
                                              "c_axis",      "seed",         "conductivity", "heat_capacity",
                                              "gradient"};
 
-void read_thermal_table(const TableReader& t, double unit, bool dynamics, ThermalDef& th) {
+void read_thermal_table(const TableReader& t, bool dynamics, ThermalDef& th) {
   t.reject_unknown(kThermalKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[thermal] needs a [dynamics] table");
@@ -1125,7 +1130,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   units.length_unit = unit;
   read_specimen_table(reader("specimen"), unit, s.specimen);
   if (s.specimen.kind == geometry::SpecimenKind::lattice) {
-    read_grain_table(reader("grain"), unit, s.specimen);
+    read_grain_table(reader("grain"), s.specimen);
     if (const auto* meshes = root.get_as<toml::array>("mesh_grain")) {
       const toml::node& first = *meshes->get(0);
       throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "mesh_grain",
@@ -1139,13 +1144,13 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   read_output_table(reader("output"), s.output);
   read_material_table(reader("material"), s.material);
   const auto* stages = root.get_as<toml::array>("stage");
-  read_dynamics_table(reader("dynamics"), unit, s.dynamics, stages != nullptr);
-  read_contact_table(reader("contact"), source, unit, s.contact, s.dynamics.enabled);
+  read_dynamics_table(reader("dynamics"), s.dynamics, stages != nullptr);
+  read_contact_table(reader("contact"), source, s.contact, s.dynamics.enabled);
   if (const auto* walls = root.get_as<toml::array>("wall")) {
     for (std::size_t i = 0; i < walls->size(); ++i) {
       const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table(),
                           &units);
-      s.walls.push_back(read_wall(t, unit, i));
+      s.walls.push_back(read_wall(t, i));
       const Number gap = t.number("gap", Range::non_negative(), std::numeric_limits<double>::quiet_NaN());
       if (gap.node != nullptr && s.walls.back().kind == physics::Wall::Kind::cylinder) {
         t.fail(*gap.node, "gap", "places a plane or a platen against the specimen; a cylinder is placed by its point");
@@ -1158,9 +1163,9 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
       }
     }
   }
-  read_bond_table(reader("bond"), s.bond, unit);
-  read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
-  read_thermal_table(reader("thermal"), unit, s.dynamics.enabled, s.thermal);
+  read_bond_table(reader("bond"), s.bond);
+  read_fracture_table(reader("fracture"), s.dynamics.enabled, s.fracture);
+  read_thermal_table(reader("thermal"), s.dynamics.enabled, s.thermal);
   read_periodic_table(reader("periodic"), s);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
