@@ -284,13 +284,15 @@ std::string apply_sweep_point(const std::string& scenario_text, const std::strin
       if (toml::table* g = node.as_table())
         if (auto file = (*g)["file"].value<std::string>())
           if (std::filesystem::path(*file).is_relative())
-            g->insert_or_assign("file", (base_dir / *file).lexically_normal().string());
+            g->insert_or_assign(
+                "file", (std::filesystem::absolute(base_dir) / *file).lexically_normal().string());
   // So are material presets given as a path (a plain name is looked up in the library).
   if (toml::table* material = root["material"].as_table())
     if (auto preset = (*material)["preset"].value<std::string>())
       if ((preset->find('/') != std::string::npos || preset->ends_with(".toml")) &&
           std::filesystem::path(*preset).is_relative())
-        material->insert_or_assign("preset", (base_dir / *preset).lexically_normal().string());
+        material->insert_or_assign(
+            "preset", (std::filesystem::absolute(base_dir) / *preset).lexically_normal().string());
   std::ostringstream out;
   out << root;
   return out.str() + "\n";
