@@ -264,6 +264,9 @@ class TableReader {
       const std::string unit = unit_of_table(*table, key);
       const toml::node* value = table->get("value");
       if (value->as_array() != nullptr) fail(*value, key, "expected one number, found an array");
+      if (value->as_string() != nullptr)
+        fail(*value, key,
+             fmt::format("the unit is given once, as unit = \"{}\"; expected a number", unit));
       return {checked_number(*value, key, range, "", &unit), node};
     }
     return {checked_number(*node, key, range, ""), node};

@@ -1125,6 +1125,8 @@ TEST(ScenarioUnits, AUnitOfAnotherDimensionIsAnErrorNamingFileLineAndKey) {
   EXPECT_SCENARIO_ERROR(
       "[specimen]\nshape = \"box\"\nsize = { value = [1, 1, 1], unit = \"Pa\" }\n" + kGrain, 3,
       "specimen.size", "element 1: 'Pa' is the unit of a stress (Pa), but this key is a length");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"disc\"\ndiameter = { value = \"5 mm\", unit = \"mm\" }\n"
+                        "thickness = 5\n" + kGrain, 3, "specimen.diameter", "the unit is given once, as unit = \"mm\"");
   // The range is checked on the converted value and reported as written.
   EXPECT_SCENARIO_ERROR(
       "[specimen]\nshape = \"disc\"\ndiameter = \"-15 mm\"\nthickness = 5\n" + kGrain, 3,
