@@ -15,6 +15,7 @@ struct RunOptions {
   std::filesystem::path out;               ///< empty: results/<scenario name>
   std::optional<std::string> mesh_format;  ///< overrides [output] mesh_format
   std::optional<std::string> mesh_layout;  ///< overrides [output] mesh_layout
+  std::vector<std::string> sets;           ///< KEY=VALUE overrides, one per --set
   bool quiet = false;
   std::uint64_t max_steps = 0;  ///< stop a [dynamics] run after this many steps (0: no limit)
   /// Continue from this checkpoint (a file, or a result folder holding `checkpoint`)
@@ -64,14 +65,16 @@ int validate_command(const ValidateOptions& options);
 
 struct SweepOptions {
   std::filesystem::path scenario;
-  std::vector<std::string> sets;  ///< KEY=VALUES, one per --set
+  std::vector<std::string> sets;  ///< KEY=VALUES, one per --set: a product
+  std::vector<std::string> zips;  ///< KEY=VALUES, one per --zip: varied together
   int jobs = 1;                   ///< runs at a time
   std::filesystem::path out;      ///< empty: results/<scenario name>_sweep
   std::uint64_t max_steps = 0;    ///< passed to each run (0: none)
   bool quiet = false;
 };
 
-/// Runs the scenario once per combination of the --set values (io/sweep.hpp), `jobs` at a
+/// Runs the scenario once per combination of the --set values (io/sweep.hpp; the --zip
+/// values together, one factor of the product), `jobs` at a
 /// time as child `cleave run`s, and writes summary.csv (one row per run: the values, status,
 /// peak load, strength, bonds broken, splits, time), a plot, and for a seed ensemble the
 /// Weibull fit (weibull.csv, weibull.svg). Exit 0 when every run finished, 1 when one did

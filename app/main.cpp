@@ -36,6 +36,11 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out,-o", run.out, "Result folder (default: results/<scenario name>)");
   run_cmd->add_option("--mesh-format", run.mesh_format, "stl | stl_ascii | obj (overrides the scenario)");
   run_cmd->add_option("--mesh-layout", run.mesh_layout, "scene | per_fragment (overrides the scenario)");
+  run_cmd->add_option(
+      "--set", run.sets,
+      "KEY=VALUE: set a key of the scenario (table.key, table.sub.key, stage[N].key; "
+      "a number, true/false, or a string such as \"250 MPa\"), repeatable; as "
+      "cleave sweep --set with one value");
   run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors");
   run_cmd->add_flag("--timing", run.timing,
                     "Clock each part of the steps (search, narrow phase, contact and bond laws, ...): "
@@ -82,12 +87,17 @@ int main(int argc, char** argv) {
   ValidateOptions validate;
   SweepOptions sweep;
   CLI::App* sweep_cmd = app.add_subcommand(
-      "sweep", "Run a scenario for every combination of --set values, in parallel, and summarise");
+      "sweep",
+      "Run a scenario for every combination of --set values (--zip values together), "
+      "in parallel, and summarise");
   sweep_cmd->add_option("scenario", sweep.scenario, "Scenario file (TOML)")->required();
   sweep_cmd->add_option("--set", sweep.sets,
                         "KEY=VALUES: a key (table.key, stage[N].key) and a comma list or LO..HI; "
-                        "repeat for a product")
-      ->required();
+                        "repeat for a product");
+  sweep_cmd->add_option(
+      "--zip", sweep.zips,
+      "KEY=VALUES as --set, but every --zip key takes its i-th value in the same "
+      "run (equal numbers of values): N runs, not N^2; a product with the --set keys");
   sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)");
   sweep_cmd->add_option("--out,-o", sweep.out, "Folder (default: results/<scenario name>_sweep)");
   sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run");
@@ -163,6 +173,12 @@ int main(int argc, char** argv) {
   if (run_cmd->parsed()) {
     if (run.scenario.empty() == run.restart.empty()) {
       fmt::print(stderr, "cleave run: give a scenario file or --restart CHECKPOINT (one of them)\n");
+      return 2;
+    }
+    if (!run.restart.empty() && !run.sets.empty()) {
+      fmt::print(stderr,
+                 "cleave run: --set changes a scenario; a restart continues the checkpoint's "
+                 "scenario as it was run\n");
       return 2;
     }
     return run_command(run);

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "io/checkpoint.hpp"
 #include "io/scenario.hpp"
+#include "io/sweep.hpp"
 #include "run_control.hpp"
 #include "sim/simulation.hpp"
 
@@ -60,13 +61,16 @@ int run_command(const RunOptions& options) {
 
   std::unique_ptr<sim::Simulation> run;
   try {
-    run = options.restart.empty() ? sim::Simulation::open(options.scenario, so)
+    run = options.restart.empty() ? sim::Simulation::open(options.scenario, so, options.sets)
                                   : sim::Simulation::restart(options.restart, so);
   } catch (const io::ScenarioError& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
     return 2;
   } catch (const io::CheckpointError& e) {
     fmt::print(stderr, "cleave: error: cannot restart: {}\n", e.what());
+    return 2;
+  } catch (const io::SweepError& e) {  // a malformed --set
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
     return 2;
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "cleave: error: command line: {}\n", e.what());

@@ -1,7 +1,7 @@
 // `cleave sweep`: one scenario run many times with keys set to each combination of values
-// (--set KEY=VALUES ...), in parallel over local cores, each run a child `cleave run` in its
-// own result folder; then one table of what each run gave, a plot, and for a seed ensemble a
-// Weibull fit of the strengths.
+// (--set KEY=VALUES ...; --zip KEY=VALUES keys vary together), in parallel over local cores, each
+// run a child `cleave run` in its own result folder; then one table of what each run gave, a plot,
+// and for a seed ensemble a Weibull fit of the strengths.
 
 #include <fmt/format.h>
 #include <spawn.h>
@@ -163,6 +163,10 @@ int sweep_command(const SweepOptions& o) {
   io::Scenario base;
   try {
     for (const auto& spec : o.sets) axes.push_back(io::parse_sweep_axis(spec));
+    for (const auto& spec : o.zips) {
+      axes.push_back(io::parse_sweep_axis(spec));
+      axes.back().zipped = true;
+    }
     points = io::sweep_points(axes);
     base = io::load_scenario(o.scenario);
     text = io::read_file(o.scenario);
@@ -194,16 +198,16 @@ int sweep_command(const SweepOptions& o) {
       j.scenario = out / "scenarios" / (name + ".toml");
       j.dir = out / name;
       j.log = out / (name + ".log");
-      const std::string s =
-          io::apply_sweep_point(text, o.scenario.string(), axes, points[i], base_dir);
-      // A key the scenario cannot take fails here, before anything runs.
+      // A key the scenario cannot take fails here, before anything runs, naming the value.
+      std::vector<std::string> shown;
+      for (std::size_t k = 0; k < axes.size(); ++k)
+        shown.push_back(
+            fmt::format("--{} {}={}", axes[k].zipped ? "zip" : "set", axes[k].key, points[i][k]));
+      std::string s;
       try {
-        io::parse_scenario(s, j.scenario.string());
+        (void)io::read_sweep_point(text, o.scenario.string(), axes, points[i], shown, base_dir, &s);
       } catch (const io::ScenarioError& e) {
-        std::string set;
-        for (std::size_t k = 0; k < axes.size(); ++k)
-          set += fmt::format("{}{}={}", k ? ", " : "", axes[k].key, points[i][k]);
-        fmt::print(stderr, "cleave: error: sweep: with {}: {}\n", set, e.what());
+        fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
         return 2;
       }
       io::write_file_atomically(j.scenario, s);
@@ -218,7 +222,7 @@ int sweep_command(const SweepOptions& o) {
   for (const auto& a : axes) {
     std::string v;
     for (std::size_t k = 0; k < a.values.size(); ++k) v += (k ? "," : "") + a.values[k];
-    record.manifest.facts["set." + a.key] = v;
+    record.manifest.facts[(a.zipped ? "zip." : "set.") + a.key] = v;
   }
   record.manifest.facts["runs"] = std::to_string(points.size());
   record.start();

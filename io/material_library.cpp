@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "io/toml_reader.hpp"
+#include "io/units.hpp"
 
 #ifndef CLEAVE_MATERIALS_DIR_DEFAULT
 #define CLEAVE_MATERIALS_DIR_DEFAULT "materials"
@@ -94,14 +95,28 @@ const char* si_unit(Quantity q) {
 }
 
 std::vector<UnitChoice> units_of(Quantity q) {
+  // The scenario files' units (io/units.hpp): one table of units for both formats.
+  Dimension d = Dimension::none;
   switch (q) {
-    case Quantity::density: return {{"kg/m^3", 1.0}, {"g/cm^3", 1e3}};
-    case Quantity::stress: return {{"Pa", 1.0}, {"kPa", 1e3}, {"MPa", 1e6}, {"GPa", 1e9}};
-    case Quantity::toughness: return {{"Pa m^0.5", 1.0}, {"MPa m^0.5", 1e6}};
-    case Quantity::length: return {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}};
-    case Quantity::ratio: return {{"1", 1.0}};
+    case Quantity::density:
+      d = Dimension::density;
+      break;
+    case Quantity::stress:
+      d = Dimension::stress;
+      break;
+    case Quantity::toughness:
+      d = Dimension::toughness;
+      break;
+    case Quantity::length:
+      d = Dimension::length;
+      break;
+    case Quantity::ratio:
+      d = Dimension::none;
+      break;
   }
-  return {};
+  std::vector<UnitChoice> out;
+  for (const UnitSpec& u : io::units_of(d)) out.push_back({u.name, u.si});
+  return out;
 }
 
 const std::vector<PropertySpec>& property_specs() {

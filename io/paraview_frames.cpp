@@ -117,9 +117,9 @@ BodyFrame wall_frame(const physics::World& world, int segments) {
     frame.meshes.push_back(std::move(m));
     f.strings["name"].push_back(w.name);
     f.ids["kind"].push_back(static_cast<long long>(w.kind));
-    f.vectors["origin"].push_back(w.origin);
+    f.vectors["origin_m"].push_back(w.origin);
     f.vectors["normal"].push_back(w.normal);
-    f.vectors["velocity"].push_back(w.velocity);
+    f.vectors["velocity_m_per_s"].push_back(w.velocity);
     f.vectors["reaction_force_N"].push_back(w.reaction);
   }
   return frame;

@@ -6,8 +6,11 @@
 ///   [scenario]                 # optional table
 ///   name = "demo"              # optional, default: the file stem (or the source name's stem)
 ///   description = "..."        # optional
-///   length_unit = "mm"         # optional, "m" | "mm" | "um" (default "mm"); every length
-///                              # below is in this unit and is converted to metres
+///   length_unit = "mm"         # optional, "m" | "mm" | "um" (default "mm"); every bare
+///                              # length below is in this unit and is converted to metres
+///   # Every dimensional key may instead give its unit: r = "0.6 mm", tbn = "250 MPa",
+///   # size = { value = [12, 12, 4], unit = "mm" } (io/units.hpp; scenario_key_dimensions
+///   # lists each key's dimension). The reader returns SI.
 ///
 ///   [specimen]                 # required table
 ///   shape = "box"              # required: "box" | "disc" | "beam"
@@ -225,21 +228,21 @@ constexpr std::string_view kBeamKeys[] = {"length", "height", "thickness", "notc
 struct ShapeSpec {
   std::string_view name;
   std::span<const std::string_view> keys;
-  Outline (*read)(const TableReader& t, double unit);
+  Outline (*read)(const TableReader& t);  // in SI: the reader converts
 };
 
-Outline read_box(const TableReader& t, double unit) {
+Outline read_box(const TableReader& t) {
   const std::vector<double> size = t.numbers("size", 3, Range::positive());
-  return Outline::box(size[0] * unit, size[1] * unit, size[2] * unit);
+  return Outline::box(size[0], size[1], size[2]);
 }
 
-Outline read_disc(const TableReader& t, double unit) {
+Outline read_disc(const TableReader& t) {
   const Number diameter = t.number("diameter", Range::positive());
   const Number thickness = t.number("thickness", Range::positive());
-  return Outline::disc(diameter.value * unit, thickness.value * unit);
+  return Outline::disc(diameter.value, thickness.value);
 }
 
-Outline read_beam(const TableReader& t, double unit) {
+Outline read_beam(const TableReader& t) {
   const Number length = t.number("length", Range::positive());
   const Number height = t.number("height", Range::positive());
   const Number thickness = t.number("thickness", Range::positive());
@@ -247,11 +250,13 @@ Outline read_beam(const TableReader& t, double unit) {
   const Number depth = t.number("notch_depth", Range::non_negative(), 0.0);
   if (width.node != nullptr && width.value >= length.value) {
     t.fail(*width.node, "notch_width",
-           fmt::format("must be < specimen.length = {}, found {}", length.value, width.value));
+           fmt::format("must be < specimen.length = {}, found {}", t.written(*length.node),
+                       t.written(*width.node)));
   }
   if (depth.node != nullptr && depth.value >= height.value) {
     t.fail(*depth.node, "notch_depth",
-           fmt::format("must be < specimen.height = {}, found {}", height.value, depth.value));
+           fmt::format("must be < specimen.height = {}, found {}", t.written(*height.node),
+                       t.written(*depth.node)));
   }
   // A notch needs both a width and a depth: blame the one that is zero (or absent).
   const std::pair<const Number*, std::string_view> sides[] = {{&width, "notch_width"},
@@ -265,15 +270,16 @@ Outline read_beam(const TableReader& t, double unit) {
     if (self->node != nullptr) t.fail(*self->node, key, message);
     t.fail_absent(key, message);
   }
-  return Outline::beam(length.value * unit, height.value * unit, thickness.value * unit,
-                       width.value * unit, depth.value * unit);
+  return Outline::beam(length.value, height.value, thickness.value, width.value, depth.value);
 }
 
 // Specimens that make their own grains (no honeycomb lattice, no [grain] table).
 constexpr std::string_view kVoronoiKeys[] = {"size", "grains", "gap", "seed"};
 constexpr int kMaxVoronoiCells = 10000;
 
-Outline read_no_outline(const TableReader&, double) { return Outline::box(1.0, 1.0, 1.0); }
+Outline read_no_outline(const TableReader&) {
+  return Outline::box(1.0, 1.0, 1.0);
+}
 
 constexpr ShapeSpec kShapes[] = {
     {"box", kBoxKeys, &read_box},
@@ -295,7 +301,7 @@ void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def)
   }
   def.voronoi.cells = static_cast<int>(cells);
   const Number gap = t.number("gap", Range::non_negative(), 0.0);
-  def.voronoi.gap = gap.value * unit;
+  def.voronoi.gap = gap.value;
   def.voronoi.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
   const auto points = geometry::voronoi_points(def.voronoi);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -303,9 +309,9 @@ void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def)
       const double d = (points[i] - points[j]).norm();
       if (d > def.voronoi.gap) continue;
       const std::string message = fmt::format(
-          "points {} and {} of seed {} are {:.4g} apart, not more than the gap {:.4g}: their "
+          "points {} and {} of seed {} are {:.4g} apart, not more than the gap {}: their "
           "cells would vanish; use a smaller gap, fewer grains or another seed",
-          j, i, def.voronoi.seed, d / unit, gap.value);
+          j, i, def.voronoi.seed, d / unit, gap.node != nullptr ? t.written(*gap.node) : "0");
       if (gap.node != nullptr) t.fail(*gap.node, "gap", message);
       t.fail(*t.find("seed"), "seed", message);
     }
@@ -335,7 +341,7 @@ void read_specimen_table(const TableReader& t, double unit, geometry::SpecimenDe
                        quoted_list(owners), shape.name, quoted_list(takes)));
   }
 
-  def.outline = shape.read(t, unit);
+  def.outline = shape.read(t);
   if (shape.name == "voronoi" || shape.name == "mesh") {
     if (const toml::node* keep = t.find("keep")) {
       t.fail(*keep, "keep", fmt::format("applies to the lattice shapes 'box', 'disc', 'beam'; "
@@ -356,20 +362,21 @@ constexpr std::string_view kGrainKeys[] = {"r", "r_bar", "t", "t_bar"};
 
 /// A lattice length and the grain length within it (`bar`, default: the lattice length).
 std::pair<double, double> read_pitch(const TableReader& t, std::string_view key,
-                                     std::string_view bar_key, double unit) {
+                                     std::string_view bar_key) {
   const Number full = t.number(key, Range::positive());
   const Number bar = t.number(bar_key, Range::positive(), full.value);
   if (bar.value > full.value) {
     t.fail(*bar.node, bar_key,
-           fmt::format("must not exceed grain.{} = {}, found {}", key, full.value, bar.value));
+           fmt::format("must not exceed grain.{} = {}, found {}", key, t.written(*full.node),
+                       t.written(*bar.node)));
   }
-  return {full.value * unit, bar.value * unit};
+  return {full.value, bar.value};
 }
 
-void read_grain_table(const TableReader& t, double unit, geometry::SpecimenDef& def) {
+void read_grain_table(const TableReader& t, geometry::SpecimenDef& def) {
   t.reject_unknown(kGrainKeys);
-  std::tie(def.r, def.r_bar) = read_pitch(t, "r", "r_bar", unit);
-  std::tie(def.t, def.t_bar) = read_pitch(t, "t", "t_bar", unit);
+  std::tie(def.r, def.r_bar) = read_pitch(t, "r", "r_bar");
+  std::tie(def.t, def.t_bar) = read_pitch(t, "t", "t_bar");
 }
 
 // ---- [[mesh_grain]] and the grains of specimens off the lattice ----------------------------
@@ -384,7 +391,7 @@ std::string specimen_shape(const toml::table& root) {
 
 /// For shape "voronoi" or "mesh": no [grain] table; for "mesh" every [[mesh_grain]] read,
 /// its file loaded and checked, and the outline set to the grains' bounding box.
-void read_own_grains(const toml::table& root, const std::string& source, double unit,
+void read_own_grains(const toml::table& root, const std::string& source, const UnitContext* units,
                      geometry::SpecimenDef& def, std::vector<MeshGrainSpec>& specs) {
   const std::string shape = def.kind == geometry::SpecimenKind::voronoi ? "voronoi" : "mesh";
   if (const auto* grain = root.get_as<toml::table>("grain")) {
@@ -401,16 +408,17 @@ void read_own_grains(const toml::table& root, const std::string& source, double 
   }
   const std::filesystem::path folder = std::filesystem::path(source).parent_path();
   for (std::size_t i = 0; i < tables->size(); ++i) {
-    const TableReader t(source, fmt::format("mesh_grain[{}]", i + 1), tables->get(i)->as_table());
+    const TableReader t(source, fmt::format("mesh_grain[{}]", i + 1), tables->get(i)->as_table(),
+                        units);
     t.reject_unknown(kMeshGrainKeys);
     MeshGrainSpec spec;
     const std::string file = t.string("file");
     if (file.empty()) t.fail(*t.find("file"), "file", "must not be empty");
     spec.file = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : folder / file;
-    spec.scale = t.number("scale", Range::positive(), 1.0).value * unit;
+    spec.scale = t.number("scale", Range::positive(), units->length_unit).value;  // 1 length unit
     if (t.find("position") != nullptr) {
       const auto at = t.numbers("position", 3, Range{});
-      spec.offset = Eigen::Vector3d(at[0], at[1], at[2]) * unit;
+      spec.offset = Eigen::Vector3d(at[0], at[1], at[2]);
     }
     spec.convex_hull = t.boolean("convex_hull", false);
     try {
@@ -553,15 +561,15 @@ physics::ContactParams read_contact_params(const TableReader& t) {
   return p;
 }
 
-void read_contact_table(const TableReader& t, const std::string& source, double unit,
-                        ContactDef& c, bool required) {
+void read_contact_table(const TableReader& t, const std::string& source, ContactDef& c,
+                        bool required) {
   t.reject_unknown(kContactKeys);
   if (t.table() == nullptr) {
     if (required) t.fail_absent("dilation_radius", "a [dynamics] run needs a [contact] table");
     return;
   }
   const Number dilation = t.number("dilation_radius", Range::positive());
-  c.dilation_radius = dilation.value * unit;
+  c.dilation_radius = dilation.value;
   c.dilation_position = {line_of(dilation.node->source()), column_of(dilation.node->source())};
   for (std::string_view set : {"particle_particle", "particle_wall"}) {
     const toml::node* node = t.find(set);
@@ -569,7 +577,7 @@ void read_contact_table(const TableReader& t, const std::string& source, double 
     if (!node->is_table()) {
       t.fail(*node, set, fmt::format("expected a table, found {}", type_name(*node)));
     }
-    const TableReader sub(source, "contact." + std::string(set), node->as_table());
+    const TableReader sub(source, "contact." + std::string(set), node->as_table(), t.units());
     (set == "particle_particle" ? c.particle_particle : c.particle_wall) = read_contact_params(sub);
   }
 }
@@ -579,7 +587,7 @@ constexpr std::string_view kDynamicsKeys[] = {
     "dt_safety", "search",   "threads", "local_damping", "density_scale", "manifold_tolerance",
     "in_plane"};
 
-void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool staged) {
+void read_dynamics_table(const TableReader& t, DynamicsDef& d, bool staged) {
   t.reject_unknown(kDynamicsKeys);
   if (t.table() == nullptr) return;
   d.enabled = true;
@@ -608,7 +616,7 @@ void read_dynamics_table(const TableReader& t, double unit, DynamicsDef& d, bool
     const auto g = t.numbers("gravity", 3, Range{});
     d.gravity = {g[0], g[1], g[2]};
   }
-  d.lift = t.number("lift", Range::non_negative(), 0.0).value * unit;
+  d.lift = t.number("lift", Range::non_negative(), 0.0).value;
   d.frames = t.int_integer("frames", 0, 20);
   d.settle_ratio = t.number("settle_ratio", {.lo = 0.0, .hi = 1.0}, 0.0).value;
   d.dt_safety = t.number("dt_safety", {.lo = 0.0, .hi = 1.0, .lo_open = true}, 0.2).value;
@@ -623,22 +631,22 @@ constexpr std::string_view kWallKeys[] = {"name",   "kind",   "point",    "norma
                                           "u",      "size",   "length",   "radius",
                                           "velocity", "load_axis", "gap"};
 
-physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
+physics::Wall read_wall(const TableReader& t, std::size_t index) {
   t.reject_unknown(kWallKeys);
   enum class Kind { plane, platen, cylinder };
   const Kind kind = t.choose<Kind>(
       "kind", {{"plane", Kind::plane}, {"platen", Kind::platen}, {"cylinder", Kind::cylinder}});
   const std::string name = t.string("name", fmt::format("wall_{}", index + 1));
-  auto vec = [&](std::string_view key, double scale) -> Eigen::Vector3d {
+  auto vec = [&](std::string_view key) -> Eigen::Vector3d {
     const auto v = t.numbers(key, 3, Range{});
-    return Eigen::Vector3d(v[0], v[1], v[2]) * scale;
+    return Eigen::Vector3d(v[0], v[1], v[2]);
   };
   auto direction = [&](std::string_view key) -> Eigen::Vector3d {
-    const Eigen::Vector3d v = vec(key, 1.0);
+    const Eigen::Vector3d v = vec(key);
     if (v.norm() == 0.0) t.fail(*t.find(key), key, "must not be the zero vector");
     return v;
   };
-  const Eigen::Vector3d point = vec("point", unit);
+  const Eigen::Vector3d point = vec("point");
   const Eigen::Vector3d normal = direction("normal");
   // Keys that belong to another kind of wall are errors, as for specimen shapes.
   const std::vector<std::string_view> own = kind == Kind::platen     ? std::vector<std::string_view>{"u", "size"}
@@ -660,16 +668,15 @@ physics::Wall read_wall(const TableReader& t, double unit, std::size_t index) {
         t.fail(*t.find("u"), "u", "must not be parallel to the normal");
       }
       const auto size = t.numbers("size", 2, Range::positive());
-      w = physics::Wall::platen(name, point, normal, u, 0.5 * size[0] * unit, 0.5 * size[1] * unit);
+      w = physics::Wall::platen(name, point, normal, u, 0.5 * size[0], 0.5 * size[1]);
       break;
     }
     case Kind::cylinder:
-      w = physics::Wall::cylinder(name, point, normal,
-                                  t.number("length", Range::positive()).value * unit,
-                                  t.number("radius", Range::positive()).value * unit);
+      w = physics::Wall::cylinder(name, point, normal, t.number("length", Range::positive()).value,
+                                  t.number("radius", Range::positive()).value);
       break;
   }
-  if (t.find("velocity") != nullptr) w.velocity = vec("velocity", unit);
+  if (t.find("velocity") != nullptr) w.velocity = vec("velocity");
   if (t.find("load_axis") != nullptr) w.load_axis = direction("load_axis").normalized();
   return w;
 }
@@ -681,14 +688,14 @@ constexpr std::string_view kBondKeys[] = {"kbn", "kbs", "tbn", "tbs", "law", "si
 /// law = "beam" (seed 003, Andre et al. 2012): the beam's E_m, nu_m and R_m, and what breaks
 /// it: its own outer-fibre stress against sigma_f (criterion "limits", the default; no
 /// sigma_f: it never breaks) or a grain-stress criterion with sigma_f.
-void read_beam_bond(const TableReader& t, BondDef& b, double unit) {
+void read_beam_bond(const TableReader& t, BondDef& b) {
   for (std::string_view key : {"kbn", "kbs", "tbn", "tbs", "sigma_c", "g_c"}) {
     if (t.find(key) != nullptr)
       t.fail(*t.find(key), key, "the beam law takes young, poisson and radius (and sigma_f), not springs or bond strengths");
   }
   b.params.beam_young = t.number("young", Range::positive()).value;
   b.params.beam_poisson = t.number("poisson", Range{-1.0, 0.5, true, false}).value;
-  b.params.beam_radius = t.number("radius", Range::positive()).value * unit;
+  b.params.beam_radius = t.number("radius", Range::positive()).value;
   b.params.criterion = t.choose<physics::BondCriterion>(
       "criterion", {{"limits", physics::BondCriterion::limits},
                     {"rankine", physics::BondCriterion::rankine},
@@ -702,7 +709,7 @@ void read_beam_bond(const TableReader& t, BondDef& b, double unit) {
   b.strength_modulus = t.number("strength_modulus", Range::positive(), 0.0).value;
 }
 
-void read_bond_table(const TableReader& t, BondDef& b, double unit) {
+void read_bond_table(const TableReader& t, BondDef& b) {
   t.reject_unknown(kBondKeys);
   if (t.table() == nullptr) return;
   b.enabled = true;
@@ -712,7 +719,7 @@ void read_bond_table(const TableReader& t, BondDef& b, double unit) {
               {"beam", physics::BondLaw::beam}},
       physics::BondLaw::bonded_particle);
   if (b.params.law == physics::BondLaw::beam) {
-    read_beam_bond(t, b, unit);
+    read_beam_bond(t, b);
     return;
   }
   for (std::string_view key : {"young", "poisson", "radius"}) {
@@ -763,7 +770,7 @@ void read_bond_table(const TableReader& t, BondDef& b, double unit) {
 constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",
                                               "check_every", "criterion", "sigma_f"};
 
-void read_fracture_table(const TableReader& t, double unit, bool dynamics, FractureDef& f) {
+void read_fracture_table(const TableReader& t, bool dynamics, FractureDef& f) {
   t.reject_unknown(kFractureKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[fracture] needs a [dynamics] table");
@@ -788,7 +795,7 @@ void read_fracture_table(const TableReader& t, double unit, bool dynamics, Fract
   f.params.sigma_f_hyd = t.number("sigma_f_hyd", Range{}).value;
   f.params.k_ic = t.number("k_ic", Range::positive()).value;
   f.params.c = t.number("c", Range::positive(), 0.816).value;
-  f.params.crack_length = t.number("crack_length", Range::positive()).value * unit;
+  f.params.crack_length = t.number("crack_length", Range::positive()).value;
 }
 
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",
@@ -842,7 +849,7 @@ constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alp
                                              "c_axis",      "seed",         "conductivity", "heat_capacity",
                                              "gradient"};
 
-void read_thermal_table(const TableReader& t, double unit, bool dynamics, ThermalDef& th) {
+void read_thermal_table(const TableReader& t, bool dynamics, ThermalDef& th) {
   t.reject_unknown(kThermalKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[thermal] needs a [dynamics] table");
@@ -851,7 +858,7 @@ void read_thermal_table(const TableReader& t, double unit, bool dynamics, Therma
   if (const toml::node* node = t.find("gradient")) {
     th.gradient_at = {line_of(node->source()), column_of(node->source())};
     const auto g = t.numbers("gradient", 3, Range{});
-    th.gradient = Eigen::Vector3d(g[0], g[1], g[2]) / unit;  // K per length unit -> K/m
+    th.gradient = Eigen::Vector3d(g[0], g[1], g[2]);
   }
   const Number alpha = t.number("alpha", Range{}, 0.0);
   const Number aa = t.number("alpha_a", Range{}, alpha.value);
@@ -918,7 +925,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       t.fail(*t.find("kind"), "kind", "a bond stage needs a [bond] table with the bond parameters");
     }
     const Number distance = t.number("distance", Range::non_negative(), 0.0);
-    st.bond_distance = distance.value * unit;
+    st.bond_distance = distance.value;
     if (distance.node != nullptr)
       st.distance_position = {line_of(distance.node->source()), column_of(distance.node->source())};
     else
@@ -931,14 +938,14 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       t.fail(*node, "wall_velocity",
              fmt::format("expected a table of wall name = [vx, vy, vz], found {}", type_name(*node)));
     }
-    const TableReader vt(s.source, t.name() + ".wall_velocity", table);
+    const TableReader vt(s.source, t.name() + ".wall_velocity", table, t.units());
     for (const auto& [key, value] : *table) {
       const std::string name(key.str());
       if (std::none_of(s.walls.begin(), s.walls.end(), [&](const auto& w) { return w.name == name; })) {
         vt.fail(key_source(key, value), name, fmt::format("no [[wall]] is named '{}'", name));
       }
       const auto v = vt.numbers(name, 3, Range{});
-      st.wall_velocity.emplace_back(name, Eigen::Vector3d(v[0], v[1], v[2]) * unit);
+      st.wall_velocity.emplace_back(name, Eigen::Vector3d(v[0], v[1], v[2]));
       st.wall_velocity_positions.push_back({line_of(value.source()), column_of(value.source())});
     }
   }
@@ -992,7 +999,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
   if (const toml::node* g = t.find("temperature_gradient_rate")) {
     if (!s.thermal.enabled) t.fail(*g, "temperature_gradient_rate", "a temperature stage needs a [thermal] table");
     const auto r = t.numbers("temperature_gradient_rate", 3, Range{});
-    st.temperature_gradient_rate = Eigen::Vector3d(r[0], r[1], r[2]) / unit;  // K per length unit per s -> K/(m s)
+    st.temperature_gradient_rate = Eigen::Vector3d(r[0], r[1], r[2]);
   }
   if (const toml::node* field = t.find("temperature_field")) {
     if (!s.thermal.enabled) t.fail(*field, "temperature_field", "a temperature stage needs a [thermal] table");
@@ -1015,7 +1022,7 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
       t.fail(*quench, "quench_wall", fmt::format("no [[wall]] is named '{}'", st.quench_wall));
     }
     st.quench_temperature = t.number("quench_temperature", Range::positive()).value;
-    st.quench_depth = t.number("quench_depth", Range::positive()).value * unit;
+    st.quench_depth = t.number("quench_depth", Range::positive()).value;
   } else {
     for (std::string_view key : {"quench_temperature", "quench_depth"}) {
       if (t.find(key) != nullptr) t.fail(*t.find(key), key, "applies only with a quench_wall");
@@ -1078,7 +1085,23 @@ ScenarioError::ScenarioError(std::string file, int line, int column, std::string
       file_(std::move(file)),
       line_(line),
       column_(column),
-      key_(std::move(key)) {}
+      key_(std::move(key)),
+      message_(std::move(message)) {}
+
+ScenarioError::ScenarioError(std::string what, std::string file, std::string key,
+                             std::string message)
+    : std::runtime_error(std::move(what)),
+      file_(std::move(file)),
+      line_(0),
+      column_(0),
+      key_(std::move(key)),
+      message_(std::move(message)) {}
+
+ScenarioError ScenarioError::in_override(const std::string& override_text, std::string file,
+                                         std::string key, std::string message) {
+  std::string what = format_error(override_text, 0, 0, key, message);
+  return ScenarioError(std::move(what), std::move(file), std::move(key), std::move(message));
+}
 
 Scenario parse_scenario(std::string_view text, const std::string& source) {
   const toml::table root = parse_root(text, source, kTables, "a scenario");
@@ -1103,41 +1126,46 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
                           fmt::format("missing required table [{}]", name));
     }
   }
+  // Every number of a key with a dimension is read in SI (scenario_key_dimensions); bare
+  // lengths are in the file's length unit, known once [scenario] is read.
+  UnitContext units{scenario_key_dimensions(), kDefaultUnit->metres};
   const auto reader = [&](std::string_view name) {
-    return TableReader(source, std::string(name), root.get_as<toml::table>(name));
+    return TableReader(source, std::string(name), root.get_as<toml::table>(name), &units);
   };
 
   Scenario s;
   s.source = source;
   double unit = kDefaultUnit->metres;
   read_scenario_table(reader("scenario"), s, unit);
+  units.length_unit = unit;
   read_specimen_table(reader("specimen"), unit, s.specimen);
   if (s.specimen.kind == geometry::SpecimenKind::lattice) {
-    read_grain_table(reader("grain"), unit, s.specimen);
+    read_grain_table(reader("grain"), s.specimen);
     if (const auto* meshes = root.get_as<toml::array>("mesh_grain")) {
       const toml::node& first = *meshes->get(0);
       throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "mesh_grain",
                           "[[mesh_grain]] tables need [specimen] shape = \"mesh\"");
     }
   } else {
-    read_own_grains(root, source, unit, s.specimen, s.mesh_grains);
+    read_own_grains(root, source, &units, s.specimen, s.mesh_grains);
   }
   read_orientation_table(reader("orientation"), s.specimen);
   read_split_table(reader("split"), s.split);
   read_output_table(reader("output"), s.output);
   read_material_table(reader("material"), s.material);
   const auto* stages = root.get_as<toml::array>("stage");
-  read_dynamics_table(reader("dynamics"), unit, s.dynamics, stages != nullptr);
-  read_contact_table(reader("contact"), source, unit, s.contact, s.dynamics.enabled);
+  read_dynamics_table(reader("dynamics"), s.dynamics, stages != nullptr);
+  read_contact_table(reader("contact"), source, s.contact, s.dynamics.enabled);
   if (const auto* walls = root.get_as<toml::array>("wall")) {
     for (std::size_t i = 0; i < walls->size(); ++i) {
-      const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table());
-      s.walls.push_back(read_wall(t, unit, i));
+      const TableReader t(source, fmt::format("wall[{}]", i + 1), walls->get(i)->as_table(),
+                          &units);
+      s.walls.push_back(read_wall(t, i));
       const Number gap = t.number("gap", Range::non_negative(), std::numeric_limits<double>::quiet_NaN());
       if (gap.node != nullptr && s.walls.back().kind == physics::Wall::Kind::cylinder) {
         t.fail(*gap.node, "gap", "places a plane or a platen against the specimen; a cylinder is placed by its point");
       }
-      s.wall_gaps.push_back(gap.value * unit);
+      s.wall_gaps.push_back(gap.value);
       const toml::node* point = t.find("point");
       s.wall_points.push_back({line_of(point->source()), column_of(point->source())});
       for (std::size_t j = 0; j < i; ++j) {
@@ -1147,9 +1175,9 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
       }
     }
   }
-  read_bond_table(reader("bond"), s.bond, unit);
-  read_fracture_table(reader("fracture"), unit, s.dynamics.enabled, s.fracture);
-  read_thermal_table(reader("thermal"), unit, s.dynamics.enabled, s.thermal);
+  read_bond_table(reader("bond"), s.bond);
+  read_fracture_table(reader("fracture"), s.dynamics.enabled, s.fracture);
+  read_thermal_table(reader("thermal"), s.dynamics.enabled, s.thermal);
   read_periodic_table(reader("periodic"), s);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
@@ -1159,7 +1187,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
     }
     std::size_t bond_stages = 0;
     for (std::size_t i = 0; i < stages->size(); ++i) {
-      const TableReader t(source, fmt::format("stage[{}]", i + 1), stages->get(i)->as_table());
+      const TableReader t(source, fmt::format("stage[{}]", i + 1), stages->get(i)->as_table(),
+                          &units);
       s.stages.push_back(read_stage(t, unit, s));
       for (std::size_t j = 0; j < i; ++j) {
         if (s.stages[j].name == s.stages[i].name) {

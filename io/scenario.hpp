@@ -28,16 +28,24 @@ namespace cleave::io {
 class ScenarioError : public std::runtime_error {
  public:
   ScenarioError(std::string file, int line, int column, std::string key, std::string message);
+  /// An error in a key set by an override (`cleave run --set KEY=VALUE`, Python's
+  /// `overrides=`): `what()` reads "OVERRIDE: key 'table.key': message" (no line: the
+  /// value is not in the file); file() is still the scenario.
+  static ScenarioError in_override(const std::string& override_text, std::string file,
+                                   std::string key, std::string message);
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   int column() const { return column_; }
   const std::string& key() const { return key_; }  ///< dotted path, e.g. "grain.r_bar"
+  const std::string& message() const { return message_; }  ///< what() without file and key
 
  private:
+  ScenarioError(std::string what, std::string file, std::string key, std::string message);
   std::string file_;
   int line_;
   int column_;
   std::string key_;
+  std::string message_;
 };
 
 struct SplitDef {

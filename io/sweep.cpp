@@ -114,31 +114,130 @@ SweepAxis parse_sweep_axis(const std::string& spec) {
 }
 
 std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes, std::size_t limit) {
-  if (axes.empty()) throw SweepError("a sweep needs at least one --set KEY=VALUES");
-  std::size_t total = 1;
-  for (const auto& a : axes) {
-    if (a.values.empty()) throw SweepError(fmt::format("--set {}: no values", a.key));
-    if (total > limit / a.values.size())
-      throw SweepError(fmt::format("the sweep has more than {} runs", limit));
-    total *= a.values.size();
-  }
+  if (axes.empty())
+    throw SweepError("a sweep needs at least one --set KEY=VALUES or --zip KEY=VALUES");
+  for (const auto& a : axes)
+    if (a.values.empty())
+      throw SweepError(fmt::format("--{} {}: no values", a.zipped ? "zip" : "set", a.key));
   for (std::size_t i = 0; i < axes.size(); ++i)
     for (std::size_t j = i + 1; j < axes.size(); ++j)
       if (axes[i].key == axes[j].key)
-        throw SweepError(fmt::format("--set {} is given twice", axes[i].key));
+        throw SweepError(fmt::format("{} is given twice", axes[i].key));
+  // The factors of the product: each --set axis, and the zipped axes as one.
+  std::vector<std::vector<std::size_t>> factors;
+  int zip_factor = -1;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    if (!axes[k].zipped) {
+      factors.push_back({k});
+      continue;
+    }
+    if (zip_factor < 0) {
+      zip_factor = static_cast<int>(factors.size());
+      factors.emplace_back();
+    }
+    const auto& first = axes[factors[static_cast<std::size_t>(zip_factor)].empty()
+                                 ? k
+                                 : factors[static_cast<std::size_t>(zip_factor)].front()];
+    if (axes[k].values.size() != first.values.size())
+      throw SweepError(
+          fmt::format("--zip {} has {} values but --zip {} has {}: zipped keys vary together, "
+                      "so each needs as many values",
+                      axes[k].key, axes[k].values.size(), first.key, first.values.size()));
+    factors[static_cast<std::size_t>(zip_factor)].push_back(k);
+  }
+  std::size_t total = 1;
+  for (const auto& f : factors) {
+    const std::size_t n = axes[f.front()].values.size();
+    if (total > limit / n) throw SweepError(fmt::format("the sweep has more than {} runs", limit));
+    total *= n;
+  }
   std::vector<SweepPoint> points;
   points.reserve(total);
-  std::vector<std::size_t> at(axes.size(), 0);
+  std::vector<std::size_t> at(factors.size(), 0);
   for (std::size_t n = 0; n < total; ++n) {
-    SweepPoint p;
-    for (std::size_t k = 0; k < axes.size(); ++k) p.push_back(axes[k].values[at[k]]);
+    SweepPoint p(axes.size());
+    for (std::size_t f = 0; f < factors.size(); ++f)
+      for (std::size_t k : factors[f]) p[k] = axes[k].values[at[f]];
     points.push_back(std::move(p));
-    for (std::size_t k = axes.size(); k-- > 0;) {
-      if (++at[k] < axes[k].values.size()) break;
-      at[k] = 0;
+    for (std::size_t f = factors.size(); f-- > 0;) {
+      if (++at[f] < axes[factors[f].front()].values.size()) break;
+      at[f] = 0;
     }
   }
   return points;
+}
+
+std::pair<std::vector<SweepAxis>, SweepPoint> parse_overrides(
+    const std::vector<std::string>& overrides, std::string_view label) {
+  std::vector<SweepAxis> axes;
+  SweepPoint point;
+  for (const auto& o : overrides) {
+    SweepAxis axis;
+    try {
+      axis = parse_sweep_axis(o);
+    } catch (const SweepError& e) {
+      // parse_sweep_axis speaks of --set; an override given otherwise is named as given.
+      std::string message = e.what();
+      if (label != "--set" && message.rfind("--set ", 0) == 0)
+        message = std::string(label) + message.substr(5);
+      throw SweepError(message);
+    }
+    if (axis.values.size() != 1)
+      throw SweepError(fmt::format("{} {}: give one value (cleave sweep takes several)", label, o));
+    for (const auto& a : axes)
+      if (a.key == axis.key)
+        throw SweepError(fmt::format("{} {}: {} is set twice", label, o, axis.key));
+    point.push_back(axis.values.front());
+    axes.push_back(std::move(axis));
+  }
+  return {axes, point};
+}
+
+namespace {
+
+/// The axis that sets the key an error is at (or a key within it); -1: none.
+int blamed_axis(const ScenarioError& e, const std::vector<SweepAxis>& axes) {
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const std::string& key = axes[k].key;
+    if (e.key() == key || e.key().rfind(key + ".", 0) == 0) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+}  // namespace
+
+ScenarioError blame_sweep_point(const ScenarioError& e, const std::vector<SweepAxis>& axes,
+                                const std::vector<std::string>& shown) {
+  if (const int k = blamed_axis(e, axes); k >= 0)
+    return ScenarioError::in_override(shown[static_cast<std::size_t>(k)], e.file(), e.key(),
+                                      e.message());
+  std::string with;
+  for (std::size_t k = 0; k < shown.size(); ++k) with += (k ? ", " : "") + shown[k];
+  return ScenarioError(e.file(), 0, 0, e.key(), fmt::format("{} (with {})", e.message(), with));
+}
+
+Scenario read_sweep_point(const std::string& text, const std::string& source,
+                          const std::vector<SweepAxis>& axes, const SweepPoint& point,
+                          const std::vector<std::string>& shown,
+                          const std::filesystem::path& base_dir, std::string* text_as_run) {
+  std::string applied =
+      axes.empty() ? text : apply_sweep_point(text, source, axes, point, base_dir);
+  try {
+    Scenario s = parse_scenario(applied, source);
+    if (text_as_run != nullptr) *text_as_run = std::move(applied);
+    return s;
+  } catch (const ScenarioError& e) {
+    if (axes.empty()) throw;
+    if (blamed_axis(e, axes) < 0) {
+      // An error of the file itself is reported at its line in the file.
+      try {
+        (void)parse_scenario(text, source);
+      } catch (const ScenarioError& original) {
+        if (original.key() == e.key()) throw;
+      }
+    }
+    throw blame_sweep_point(e, axes, shown);
+  }
 }
 
 std::string apply_sweep_point(const std::string& scenario_text, const std::string& source,
@@ -185,7 +284,15 @@ std::string apply_sweep_point(const std::string& scenario_text, const std::strin
       if (toml::table* g = node.as_table())
         if (auto file = (*g)["file"].value<std::string>())
           if (std::filesystem::path(*file).is_relative())
-            g->insert_or_assign("file", (base_dir / *file).lexically_normal().string());
+            g->insert_or_assign(
+                "file", (std::filesystem::absolute(base_dir) / *file).lexically_normal().string());
+  // So are material presets given as a path (a plain name is looked up in the library).
+  if (toml::table* material = root["material"].as_table())
+    if (auto preset = (*material)["preset"].value<std::string>())
+      if ((preset->find('/') != std::string::npos || preset->ends_with(".toml")) &&
+          std::filesystem::path(*preset).is_relative())
+        material->insert_or_assign(
+            "preset", (std::filesystem::absolute(base_dir) / *preset).lexically_normal().string());
   std::ostringstream out;
   out << root;
   return out.str() + "\n";

@@ -8,14 +8,20 @@
 /// (`contact.particle_particle.kn`), or `stage[N].key` for the N-th `[[stage]]` (1-based).
 /// VALUES is a comma list (`1000,2000,4000`) or an inclusive integer range (`1..20`). A value
 /// that reads as an integer is written as one, then a floating-point number, then true/false;
-/// anything else is written as a string.
+/// anything else is written as a string (`"250 MPa"`: a value with its unit).
+///
+/// `--set` axes combine as a product; `--zip` axes vary together (the i-th value of each in
+/// the same run), the zipped group being one factor of the product.
+/// `cleave run --set KEY=VALUE` and Python's `overrides=` take one value per key.
 
 #include <cstdint>
 #include <filesystem>
-#include <stdexcept>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "io/scenario.hpp"
 
 namespace cleave::io {
 
@@ -29,6 +35,7 @@ class SweepError : public std::runtime_error {
 struct SweepAxis {
   std::string key;                  ///< as given, e.g. "orientation.seed"
   std::vector<std::string> values;  ///< as given, e.g. {"1", "2", "3"}
+  bool zipped = false;              ///< a --zip axis: varies together with the other zipped ones
 };
 
 /// Parses "KEY=VALUES"; throws SweepError naming the specification.
@@ -37,8 +44,9 @@ SweepAxis parse_sweep_axis(const std::string& spec);
 /// One combination: the i-th value of each axis, in axis order.
 using SweepPoint = std::vector<std::string>;
 
-/// The Cartesian product of the axes, the last axis varying fastest. Throws SweepError when
-/// it would exceed `limit` runs.
+/// The Cartesian product of the axes, the last axis varying fastest, the zipped axes taken as
+/// one (at the place of the first). Throws SweepError when it would exceed `limit` runs or
+/// when zipped axes differ in their number of values.
 std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes,
                                      std::size_t limit = 10000);
 
@@ -49,6 +57,27 @@ std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes,
 std::string apply_sweep_point(const std::string& scenario_text, const std::string& source,
                               const std::vector<SweepAxis>& axes, const SweepPoint& point,
                               const std::filesystem::path& base_dir);
+
+/// Overrides ("KEY=VALUE", one value each, as `cleave run --set` takes them) as axes and
+/// the one point they make. `label` names them in errors ("--set"). Throws SweepError.
+std::pair<std::vector<SweepAxis>, SweepPoint> parse_overrides(
+    const std::vector<std::string>& overrides, std::string_view label);
+
+/// Scenario `text` (named `source`) with the point's values set (apply_sweep_point), read.
+/// `shown[k]` names axis k's value in errors, e.g. "--set dynamics.dt=abc". An error at a
+/// key an axis sets names that value instead of a line (ScenarioError::in_override); an error
+/// of the file itself keeps its line; an error the values cause elsewhere (grain.r set below
+/// grain.r_bar) names the file, the key and the values. `text_as_run` gets the text read.
+Scenario read_sweep_point(const std::string& text, const std::string& source,
+                          const std::vector<SweepAxis>& axes, const SweepPoint& point,
+                          const std::vector<std::string>& shown,
+                          const std::filesystem::path& base_dir,
+                          std::string* text_as_run = nullptr);
+
+/// `e`, an error of a scenario read with the point's values set, told about them as
+/// read_sweep_point does (the rewritten text's lines mean nothing to a user).
+ScenarioError blame_sweep_point(const ScenarioError& e, const std::vector<SweepAxis>& axes,
+                                const std::vector<std::string>& shown);
 
 /// A two-parameter Weibull fit of strengths, P_f(s) = 1 - exp(-(s / s0)^m), by least squares
 /// of ln(-ln(1 - F_i)) on ln(s_i) with the strengths sorted and Bernard's median ranks

@@ -9,18 +9,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-#include <cstdint>
 #include <limits>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "io/scenario.hpp"
+#include "io/units.hpp"
 
 namespace cleave::io::toml_reader {
 
@@ -176,8 +177,16 @@ struct Range {
   }
 };
 
-/// A number read from the file (in the file's units), with the node it came from for
-/// follow-up checks. `node` is null when the key was absent and `value` is its default.
+/// How a file's numbers carry units: each key's dimension and the file's length unit, in
+/// which bare lengths are written.
+struct UnitContext {
+  std::span<const KeyDimension> keys;
+  double length_unit = 1.0;  ///< metres per bare length
+};
+
+/// A number read from the file (in SI where the reader knows units, else as written), with
+/// the node it came from for follow-up checks. `node` is null when the key was absent and
+/// `value` is its default.
 struct Number {
   double value = 0.0;
   const toml::node* node = nullptr;
@@ -194,8 +203,14 @@ struct Choice {
 /// A reader of an absent optional table finds no keys, so every value takes its default.
 class TableReader {
  public:
-  TableReader(const std::string& source, std::string name, const toml::table* table)
-      : source_(source), name_(std::move(name)), table_(table) {}
+  /// With `units`, every number of a key the context lists is returned in SI: a bare number
+  /// in the file's convention (lengths in its length unit), a string with its unit
+  /// ("250 MPa"), or { value = ..., unit = "..." } (a number or an array and one unit).
+  TableReader(const std::string& source, std::string name, const toml::table* table,
+              const UnitContext* units = nullptr)
+      : source_(source), name_(std::move(name)), table_(table), units_(units) {}
+
+  [[nodiscard]] const UnitContext* units() const { return units_; }
 
   [[nodiscard]] const toml::table* table() const { return table_; }
   [[nodiscard]] const std::string& name() const { return name_; }
@@ -235,8 +250,9 @@ class TableReader {
     return table_ != nullptr ? table_->get(key) : nullptr;
   }
 
-  /// The number at `key` (an integer or a float), finite and within `range`. Absent: the
-  /// fallback, or an error when there is none.
+  /// The number at `key` (an integer or a float, or with a unit: see the constructor),
+  /// finite and within `range`. Absent: the fallback (in SI where units are known), or an
+  /// error when there is none.
   [[nodiscard]] Number number(std::string_view key, const Range& range,
                               std::optional<double> fallback = std::nullopt) const {
     const toml::node* node = find(key);
@@ -244,50 +260,104 @@ class TableReader {
       if (!fallback) fail_absent(key, "missing required key");
       return {*fallback, nullptr};
     }
+    if (const auto* table = node->as_table()) {
+      const std::string unit = unit_of_table(*table, key);
+      const toml::node* value = table->get("value");
+      if (value->as_array() != nullptr) fail(*value, key, "expected one number, found an array");
+      if (value->as_string() != nullptr)
+        fail(*value, key,
+             fmt::format("the unit is given once, as unit = \"{}\"; expected a number", unit));
+      return {checked_number(*value, key, range, "", &unit), node};
+    }
     return {checked_number(*node, key, range, ""), node};
   }
 
-  /// A number element or value: type, finiteness and range, `what` prefixing the message.
+  /// The value at `node` as the file wrote it, for messages: "1.5", "\"0.6 mm\"".
+  [[nodiscard]] static std::string written(const toml::node& node) {
+    if (const auto* i = node.as_integer()) return fmt::format("{}", i->get());
+    if (const auto* f = node.as_floating_point()) return fmt::format("{}", f->get());
+    if (const auto* s = node.as_string()) return fmt::format("\"{}\"", s->get());
+    if (const auto* t = node.as_table()) {
+      const toml::node* v = t->get("value");
+      const toml::node* u = t->get("unit");
+      if (v != nullptr && u != nullptr && u->as_string() != nullptr)
+        return fmt::format("{} {}", written(*v), u->as_string()->get());
+    }
+    return std::string(type_name(node));
+  }
+
+  /// A number element or value: type, unit, finiteness and range, `what` prefixing the
+  /// message. `unit`: the unit of an enclosing { value, unit } table.
   [[nodiscard]] double checked_number(const toml::node& node, std::string_view key,
-                                      const Range& range, const std::string& what) const {
+                                      const Range& range, const std::string& what,
+                                      const std::string* unit = nullptr) const {
+    const KeyDimension* dim =
+        units_ != nullptr ? find_key_dimension(units_->keys, name_, key) : nullptr;
     double value = 0.0;
+    bool bare = true;
     if (const auto* i = node.as_integer()) {
       value = static_cast<double>(i->get());
     } else if (const auto* f = node.as_floating_point()) {
       value = f->get();
+    } else if (const auto* text = node.as_string(); text != nullptr && units_ != nullptr) {
+      value = quantity(node, key, text->get(), dim, what);
+      bare = false;
     } else {
       fail(node, key,
-           fmt::format("{}expected a number (integer or float), found {}", what, type_name(node)));
+           fmt::format("{}expected a number (integer or float){}, found {}", what,
+                       units_ != nullptr && dim != nullptr ? " or a string with its unit" : "",
+                       type_name(node)));
     }
     if (!std::isfinite(value)) {
       fail(node, key, fmt::format("{}expected a finite number, found {}", what, value));
     }
+    if (bare && unit != nullptr) {
+      value = quantity(node, key, fmt::format("{} {}", value, *unit), dim, what);
+    } else if (bare && dim != nullptr) {
+      // A bare number in the file's convention: SI, lengths in its length unit.
+      if (dim->length_power == 1) value = value * units_->length_unit;
+      if (dim->length_power == -1) value = value / units_->length_unit;
+    }
     if (!range.holds(value)) {
-      fail(node, key, fmt::format("{}must be {}, found {}", what, range.describe(), value));
+      const std::string shown =
+          unit != nullptr ? fmt::format("{} {}", written(node), *unit) : written(node);
+      fail(node, key, fmt::format("{}must be {}, found {}", what, range.describe(), shown));
     }
     return value;
   }
 
-  /// An array of exactly `count` numbers, each within `range`.
+  /// An array of exactly `count` numbers, each within `range` (with units: each element a
+  /// number or a string with its unit, or { value = [...], unit = "..." }).
   [[nodiscard]] std::vector<double> numbers(std::string_view key, std::size_t count,
                                             const Range& range) const {
     const toml::node* node = find(key);
     if (node == nullptr) fail_absent(key, "missing required key");
-    const auto* array = node->as_array();
+    std::optional<std::string> unit;
+    const toml::node* values = node;
+    if (const auto* table = node->as_table(); table != nullptr && units_ != nullptr) {
+      unit = unit_of_table(*table, key);
+      values = table->get("value");
+    }
+    const auto* array = values->as_array();
     if (array == nullptr) {
-      fail(*node, key,
-           fmt::format("expected an array of {} numbers, found {}", count, type_name(*node)));
+      fail(*values, key,
+           fmt::format("expected an array of {} numbers, found {}", count, type_name(*values)));
     }
     if (array->size() != count) {
-      fail(*node, key,
+      fail(*values, key,
            fmt::format("expected an array of {} numbers, found {} elements", count, array->size()));
     }
-    std::vector<double> values;
+    std::vector<double> out;
     for (std::size_t i = 0; i < count; ++i) {
-      values.push_back(
-          checked_number(*array->get(i), key, range, fmt::format("element {}: ", i + 1)));
+      const toml::node& e = *array->get(i);
+      if (unit && e.as_string() != nullptr)
+        fail(e, key,
+             fmt::format("element {}: the unit is given once, as unit = \"{}\"; expected a number",
+                         i + 1, *unit));
+      out.push_back(checked_number(e, key, range, fmt::format("element {}: ", i + 1),
+                                   unit ? &*unit : nullptr));
     }
-    return values;
+    return out;
   }
 
   /// The integer at `key`, at least `min` and at most `max`; absent: `fallback`.
@@ -352,9 +422,38 @@ class TableReader {
   }
 
  private:
+  /// "250 MPa" at `key` in SI; a key without a dimension, a malformed text or a unit of
+  /// another dimension is an error naming the key's dimension.
+  [[nodiscard]] double quantity(const toml::node& node, std::string_view key,
+                                const std::string& text, const KeyDimension* dim,
+                                const std::string& what) const {
+    if (dim == nullptr) {
+      fail(node, key, fmt::format("{}is a plain number, without a unit; found \"{}\"", what, text));
+    }
+    try {
+      return parse_quantity(text, dim->dimension);
+    } catch (const UnitError& e) {
+      fail(node, key, fmt::format("{}{}", what, e.what()));
+    }
+  }
+
+  /// The unit of { value = ..., unit = "..." } at `key` (units known, both keys there).
+  [[nodiscard]] std::string unit_of_table(const toml::table& table, std::string_view key) const {
+    static constexpr std::string_view kValueUnit[] = {"value", "unit"};
+    const TableReader t(source_, name_ + "." + std::string(key), &table);
+    if (units_ == nullptr || find_key_dimension(units_->keys, name_, key) == nullptr) {
+      fail(table, key, fmt::format("expected a number, found {}", type_name(table)));
+    }
+    t.reject_unknown(kValueUnit);
+    if (table.get("value") == nullptr)
+      t.fail_absent("value", "missing required key: the number(s)");
+    return t.string("unit");
+  }
+
   const std::string& source_;
   std::string name_;
   const toml::table* table_;
+  const UnitContext* units_ = nullptr;
 };
 
 }  // namespace cleave::io::toml_reader

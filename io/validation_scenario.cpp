@@ -37,18 +37,18 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
   rig.kind = t.choose<physics::BeamTestKind>("test", {{"dcb", physics::BeamTestKind::dcb},
                                                       {"enf", physics::BeamTestKind::enf},
                                                       {"mmb", physics::BeamTestKind::mmb}});
-  rig.length = unit * t.number("length", Range::positive()).value;
-  rig.breadth = unit * t.number("breadth", Range::positive()).value;
-  rig.height = unit * t.number("height", Range::positive()).value;
+  rig.length = t.number("length", Range::positive()).value;
+  rig.breadth = t.number("breadth", Range::positive()).value;
+  rig.height = t.number("height", Range::positive()).value;
   const Number a0 = t.number("initial_crack", Range::positive());
-  rig.initial_crack = unit * a0.value;
-  rig.radius = unit * t.number("particle_radius", Range::positive()).value;
+  rig.initial_crack = a0.value;
+  rig.radius = t.number("particle_radius", Range::positive()).value;
   // Each extent must hold a whole number of cubes of side 2r, and the lattice must fit in
   // memory (a body and its links take about 1 kB).
   constexpr double kMaxCells = 1e5, kMaxBodies = 5e7;
   double bodies = 1.0;
   for (std::string_view key : {"length", "breadth", "height"}) {
-    const double extent = unit * t.number(key, Range::positive()).value;
+    const double extent = t.number(key, Range::positive()).value;
     const double count = extent / (2.0 * rig.radius);
     if (!(count <= kMaxCells))
       t.fail(*t.find(key), key,
@@ -81,7 +81,7 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
   if (const toml::node* node = t.find("intact_length")) {
     if (rig.kind != physics::BeamTestKind::dcb)
       t.fail(*node, "intact_length", "only a DCB has an intact length beyond the weak plane");
-    rig.intact_length = unit * t.number("intact_length", Range::non_negative()).value;
+    rig.intact_length = t.number("intact_length", Range::non_negative()).value;
     const double count = rig.intact_length / (2.0 * rig.radius);
     if (!(count <= kMaxCells) || std::abs(count - std::round(count)) > 1e-6 * std::max(count, 1.0))
       t.fail(*node, "intact_length",
@@ -128,7 +128,7 @@ void read_loading(const TableReader& t, double unit, ValidationScenario& v) {
   t.reject_unknown(kLoadingKeys);
   v.rig.velocity = t.number("velocity", Range::positive()).value;
   v.rig.ramp_time = t.number("ramp_time", Range::non_negative()).value;
-  v.deflection = unit * t.number("deflection", Range::positive()).value;
+  v.deflection = t.number("deflection", Range::positive()).value;
 }
 
 void read_dynamics(const TableReader& t, ValidationScenario& v) {
@@ -221,8 +221,10 @@ ValidationScenario parse_validation_scenario(const std::string& text, const std:
       throw ScenarioError(source, 1, 1, std::string(name),
                           fmt::format("missing required table [{}]", name));
   }
+  // Numbers in SI (validation_key_dimensions): bare lengths in the length unit.
+  UnitContext units{validation_key_dimensions(), 1e-3};
   const auto reader = [&](std::string_view name) {
-    return TableReader(source, std::string(name), root.get_as<toml::table>(name));
+    return TableReader(source, std::string(name), root.get_as<toml::table>(name), &units);
   };
   ValidationScenario v;
   v.source = source;
@@ -234,6 +236,7 @@ ValidationScenario parse_validation_scenario(const std::string& text, const std:
     v.description = t.string("description", "");
     unit = t.choose<double>("length_unit", {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}}, 1e-3);
   }
+  units.length_unit = unit;
   read_specimen(reader("specimen"), unit, v);
   read_material(reader("material"), v);
   read_loading(reader("loading"), unit, v);

@@ -72,6 +72,7 @@ cleave::sim::SimulationOptions options(const py::object& out, bool quiet, std::u
   o.quiet = quiet;
   o.max_steps = max_steps;
   o.checkpoint_every = checkpoint_every;
+  o.override_label = "override";  // an error reads "override dynamics.dt=abc: key ..."
   return o;
 }
 

@@ -72,9 +72,9 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
     // The crystal's c axis (the prism axis, z of the shape frame) in the world.
     const auto& shape = world.shape(b.shape);
     vec["c_axis"].push_back(s.q * (shape.axes.transpose() * Eigen::Vector3d::UnitZ()));
-    vec["velocity"].push_back(s.v);
-    vec["angular_velocity"].push_back(s.w);
-    sca["speed"].push_back(s.v.norm());
+    vec["velocity_m_per_s"].push_back(s.v);
+    vec["angular_velocity_rad_per_s"].push_back(s.w);
+    sca["speed_m_per_s"].push_back(s.v.norm());
     // Grain stress (eq. 2.17) from the contacts: mean (hydrostatic), von Mises, principal.
     const Eigen::Matrix3d& sigma = stress[id.index];
     sca["mean_stress_Pa"].push_back(physics::mean_stress(sigma));
@@ -114,9 +114,9 @@ io::LinkFrame contact_frame(const physics::World& world) {
   for (const auto& c : world.contacts()) {
     frame.a.push_back(c.point);
     frame.b.push_back(c.point);
-    frame.fields.vectors["force"].push_back(c.force);
+    frame.fields.vectors["force_N"].push_back(c.force);
     frame.fields.vectors["normal"].push_back(c.normal);
-    frame.fields.scalars["overlap"].push_back(c.overlap);
+    frame.fields.scalars["overlap_m"].push_back(c.overlap);
     frame.fields.ids["with_wall"].push_back(c.wall ? 1 : 0);
   }
   return frame;
@@ -1251,7 +1251,7 @@ class Dynamics::Runner {
     const physics::StepTimings& t = world_.timings();
     const double steps = static_cast<double>(std::max<std::uint64_t>(t.steps, 1));
     const double total = t.total() + check_seconds_;
-    std::string csv = "part,seconds,ms_per_step,share,steps\n";
+    std::string csv = "part,wall_s,wall_ms_per_step,share,steps\n";
     std::string table = fmt::format("  timing     {} steps clocked, {:.3f} ms a step:", t.steps, 1e3 * total / steps);
     auto row = [&](const char* name, double seconds) {
       const double share = total > 0.0 ? seconds / total : 0.0;

@@ -1,13 +1,14 @@
 // One run: scenario -> specimen -> cleavage slabs -> (dynamics) -> result folder.
 
+#include "sim/simulation.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <map>
 #include <optional>
-
-#include "sim/simulation.hpp"
+#include <tuple>
 
 #include "cleave_version.hpp"
 #include "io/checkpoint.hpp"
@@ -107,6 +108,10 @@ struct Simulation::State {
   Stopwatch total;
   io::Scenario scenario;
   std::string input;  ///< the scenario's text, as run (a checkpoint keeps it)
+  /// The overrides applied to the file's text (cleave run --set), as axes of one point, and
+  /// how each is named in errors.
+  std::vector<io::SweepAxis> override_axes;
+  std::vector<std::string> overrides, overrides_shown;
   /// A restart: the checkpoint holds the scenario as run and the state to continue from.
   std::optional<io::Checkpoint> checkpoint;
   fs::path restart_file;
@@ -197,6 +202,11 @@ void Simulation::State::start() {
     manifest.provenance["voronoi_seed"] = std::to_string(scenario.specimen.voronoi.seed);
   manifest.provenance["started_utc"] = io::utc_now();
   if (max_steps > 0) manifest.provenance["max_steps"] = std::to_string(max_steps);
+  if (!overrides.empty()) {
+    std::string joined;
+    for (const auto& o : overrides) joined += (joined.empty() ? "" : "; ") + o;
+    manifest.provenance["overrides"] = joined;  // scenario.toml holds the text as run
+  }
   if (checkpoint) {
     manifest.provenance["restarted_from"] = restart_file.string();
     manifest.provenance["restarted_at_step"] = std::to_string(checkpoint->world.steps());
@@ -481,20 +491,18 @@ std::unique_ptr<Simulation> Simulation::from_text(std::string text, std::string 
                                                   const fs::path& base_dir) {
   auto s = std::make_unique<State>();
   s->options = std::move(options);
-  if (!overrides.empty()) {
-    std::vector<io::SweepAxis> axes;
+  if (overrides.empty()) {
+    s->scenario = io::parse_scenario(text, source);
+    s->input = std::move(text);
+  } else {
     io::SweepPoint point;
-    for (const auto& o : overrides) {
-      axes.push_back(io::parse_sweep_axis(o));
-      if (axes.back().values.size() != 1) {
-        throw std::invalid_argument(fmt::format("override '{}': give one value (a sweep takes several)", o));
-      }
-      point.push_back(axes.back().values.front());
-    }
-    text = io::apply_sweep_point(text, source, axes, point, base_dir);
+    std::tie(s->override_axes, point) = io::parse_overrides(overrides, s->options.override_label);
+    s->overrides = overrides;
+    for (const auto& o : overrides)
+      s->overrides_shown.push_back(s->options.override_label + " " + o);
+    s->scenario = io::read_sweep_point(text, source, s->override_axes, point, s->overrides_shown,
+                                       base_dir, &s->input);
   }
-  s->scenario = io::parse_scenario(text, source);
-  s->input = std::move(text);
   s->settle();
   return std::unique_ptr<Simulation>(new Simulation(std::move(s)));
 }
@@ -514,7 +522,12 @@ const io::Scenario& Simulation::scenario() const { return s_->scenario; }
 const fs::path& Simulation::out() const { return s_->out; }
 void Simulation::start() {
   if (s_->started) throw std::logic_error("the run has started already");
-  s_->start();
+  try {
+    s_->start();
+  } catch (const io::ScenarioError& e) {  // the time step, say: at an override, not a line
+    if (s_->override_axes.empty()) throw;
+    throw io::blame_sweep_point(e, s_->override_axes, s_->overrides_shown);
+  }
 }
 bool Simulation::started() const { return s_->started; }
 

@@ -47,6 +47,8 @@ struct SimulationOptions {
   /// Clock the parts of every step: timing.csv in the result folder, its table in the
   /// summary (RunHooks::timing).
   bool timing = false;
+  /// How overrides are named in errors: "--set" gives "--set dynamics.dt=abc: key ...".
+  std::string override_label = "--set";
 };
 
 /// How a run ended.
@@ -61,7 +63,9 @@ struct RunReport {
 class Simulation {
  public:
   /// A scenario file, with `overrides` ("table.key=value", as `cleave sweep --set` takes
-  /// them) applied. Throws io::ScenarioError (file:line:col: key '...': message).
+  /// them, one value each) applied and recorded in run.toml's provenance. Throws
+  /// io::ScenarioError (file:line:col: key '...': message; at a key an override sets,
+  /// "--set KEY=VALUE: key '...': message") or io::SweepError (a malformed override).
   static std::unique_ptr<Simulation> open(const std::filesystem::path& scenario,
                                           SimulationOptions options,
                                           const std::vector<std::string>& overrides = {});

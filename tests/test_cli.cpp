@@ -1,15 +1,16 @@
 // Whole-scenario tests of the `cleave` executable: what a user runs and looks at.
 #include <gtest/gtest.h>
-
-#include "cli_helpers.hpp"
-
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <set>
 #include <sstream>
 
+#include "cli_helpers.hpp"
 #include "io/exact_store.hpp"
 #include "io/mesh_io.hpp"
 #include "io/result_dir.hpp"
@@ -223,7 +224,7 @@ TEST_F(CleaveCli, TimingClocksEveryPartOfTheStepsAndTheirSumIsTheTotal) {
   ASSERT_TRUE(in) << "no timing.csv";
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "part,seconds,ms_per_step,share,steps");
+  EXPECT_EQ(line, "part,wall_s,wall_ms_per_step,share,steps");
   std::vector<std::string> parts;
   double sum = 0.0, total = -1.0;
   while (std::getline(in, line)) {
@@ -306,4 +307,191 @@ TEST_F(CleaveCli, MaxStepsCountsEveryStepAndEndsTheStageItFallsIn) {
   EXPECT_EQ(m.facts.at("dynamics_steps"), "3000");
   EXPECT_EQ(m.facts.at("stage_approach_ended_by"), "walls_touch");
   EXPECT_EQ(m.facts.at("stage_loading_ended_by"), "max_steps");
+}
+
+namespace {
+
+/// kSmallBox falling under gravity onto nothing: a dynamics run whose every step is dt long.
+std::string small_drop() {
+  return std::string(kSmallBox) + R"(
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5.0
+[contact.particle_wall]
+kn = 5.0
+[dynamics]
+dt = 1e-6
+duration = 1.0
+gravity = [0.0, 0.0, -9.81]
+frames = 0
+)";
+}
+
+}  // namespace
+
+TEST_F(CleaveCli, RunSetOverridesAKeyAndRecordsIt) {
+  // Ten steps of dt: the simulated time is 10 dt, so --set dynamics.dt=1e-5 gives 1e-4 s
+  // where the file's 1e-6 gives 1e-5 s.
+  const fs::path scenario = write("drop.toml", small_drop());
+  const fs::path plain = dir_ / "plain", set = dir_ / "set";
+  ASSERT_EQ(
+      run_cleave("run -q --max-steps 10 " + scenario.string() + " --out " + plain.string()).code,
+      0);
+  const Outcome o = run_cleave("run -q --max-steps 10 " + scenario.string() +
+                               " --set dynamics.dt=1e-5 "
+                               "--set orientation.seed=4 --out " +
+                               set.string());
+  ASSERT_EQ(o.code, 0) << o.output;
+  const auto before = cleave::io::read_manifest(plain), after = cleave::io::read_manifest(set);
+  EXPECT_DOUBLE_EQ(std::stod(before.facts.at("dynamics_time_s")), 10 * 1e-6);
+  EXPECT_DOUBLE_EQ(std::stod(after.facts.at("dynamics_time_s")), 10 * 1e-5);
+  EXPECT_EQ(after.provenance.at("seed"), "4");
+  EXPECT_EQ(after.provenance.at("overrides"), "dynamics.dt=1e-5; orientation.seed=4");
+  EXPECT_EQ(before.provenance.count("overrides"), 0u);
+  // A value with its unit: 10 us.
+  const fs::path with_unit = dir_ / "unit";
+  ASSERT_EQ(run_cleave("run -q --max-steps 10 " + scenario.string() +
+                       " --set 'dynamics.dt=10 us' --out " + with_unit.string())
+                .code,
+            0);
+  EXPECT_DOUBLE_EQ(std::stod(cleave::io::read_manifest(with_unit).facts.at("dynamics_time_s")),
+                   10 * 1e-5);
+}
+
+TEST_F(CleaveCli, ABadRunOverrideIsAUsageErrorNamingTheOverride) {
+  const fs::path scenario = write("drop.toml", small_drop());
+  const std::string run = "run -q " + scenario.string() + " --out " + (dir_ / "o").string() + " ";
+  Outcome o = run_cleave(run + "--set dynamics.dt=abc");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=abc: key 'dynamics.dt': expected a number"),
+            std::string::npos)
+      << o.output;
+  EXPECT_EQ(o.output.find("drop.toml:"), std::string::npos) << o.output;  // no line of the file
+  o = run_cleave(run + "--set dynamics.dt=-1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=-1: key 'dynamics.dt': must be > 0"),
+            std::string::npos)
+      << o.output;
+  o = run_cleave(run + "--set bond.nonsense=1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set bond.nonsense=1: key 'bond.nonsense': unknown key"),
+            std::string::npos)
+      << o.output;
+  // One value for a run; a key path; a time step above the stable limit, found after reading.
+  o = run_cleave(run + "--set dynamics.dt=1e-6,2e-6");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=1e-6,2e-6: give one value"), std::string::npos)
+      << o.output;
+  o = run_cleave(run + "--set dt=1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dt"), std::string::npos) << o.output;
+  o = run_cleave(run + "--set dynamics.dt=1");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("--set dynamics.dt=1: key 'dynamics.dt'"), std::string::npos) << o.output;
+  o = run_cleave("run --restart " + (dir_ / "o").string() + " --set dynamics.dt=1e-6");
+  EXPECT_EQ(o.code, 2) << o.output;
+  // An error of the file itself keeps its line.
+  std::string bad = small_drop();
+  bad.replace(bad.find("r_bar = 0.9"), 11, "r_bar = 1.5");
+  o = run_cleave("run -q " + write("rbar.toml", bad).string() + " --set dynamics.dt=1e-6");
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("rbar.toml:9:"), std::string::npos) << o.output;
+}
+
+namespace {
+
+/// Whether a column or field name says its unit (a suffix) or is a plain number by the list
+/// of dimensionless names (counts, ids, labels, ratios, unit vectors).
+bool names_its_unit(const std::string& name) {
+  static const std::vector<std::string> suffixes = {
+      "_s",   "_J",  "_m",         "_m3",      "_N",         "_Pa",         "_K",
+      "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step"};
+  static const std::set<std::string> dimensionless = {
+      "stage", "step", "steps", "contacts", "intact", "broken_tension", "broken_shear",
+      "broken_bending", "broken_torsion", "bonds_intact", "bonds_broken", "grain_splits", "grain",
+      "parent", "pieces", "plane", "nx", "ny", "nz", "criterion", "bond", "body_a", "body_b",
+      "grain_a", "grain_b", "mode", "grain_id", "row", "i", "j", "k", "family", "slabs", "name",
+      "path", "strain_x", "strain_y", "strain_z", "axis", "strain", "poisson", "part", "share",
+      // VTK fields
+      "body_index", "link_index", "body_id", "family_11_20", "c_axis", "normal", "with_wall",
+      "failure_mode", "periodic"};
+  if (dimensionless.count(name) > 0) return true;
+  return std::any_of(suffixes.begin(), suffixes.end(), [&](const std::string& s) {
+    return name.size() > s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
+  });
+}
+
+/// Every CSV header column and VTK field name of a result folder that does not name its unit.
+std::vector<std::string> names_without_unit(const fs::path& dir, std::size_t& checked) {
+  std::vector<std::string> bad;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const fs::path& p = e.path();
+    if (p.extension() == ".csv") {
+      const auto rows = cleave::testing::read_csv_cells(p);
+      if (rows.empty()) continue;
+      for (const auto& column : rows[0]) {
+        ++checked;
+        if (!names_its_unit(column)) bad.push_back(p.filename().string() + ": " + column);
+      }
+    } else if (p.extension() == ".vtp") {
+      std::ifstream in(p);
+      const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      for (std::size_t at = xml.find("<DataArray"); at != std::string::npos;
+           at = xml.find("<DataArray", at + 1)) {
+        const std::size_t end = xml.find('>', at);
+        const std::size_t name = xml.find("Name=\"", at);
+        if (name == std::string::npos || name > end) continue;
+        const std::string field = xml.substr(name + 6, xml.find('"', name + 6) - name - 6);
+        if (field == "connectivity" || field == "offsets" || field == "Points") continue;
+        ++checked;
+        if (!names_its_unit(field)) bad.push_back(p.filename().string() + ": " + field);
+      }
+    }
+  }
+  return bad;
+}
+
+}  // namespace
+
+TEST_F(CleaveCli, EveryOutputColumnAndFieldNamesItsUnit) {
+  // Real runs: a bonded disc with fracture and --timing (energy, walls, load_displacement,
+  // bonds, bond_breaks, splits, timing, specimen, fragments, bodies, contacts, bonds frames)
+  // and a thermal one (thermal.csv); each header column and VTK field ends in its unit or is
+  // on the list of plain numbers.
+  const fs::path src(CLEAVE_SOURCE_DIR);
+  const fs::path fracture = dir_ / "fracture", thermal = dir_ / "thermal";
+  ASSERT_EQ(run_cleave("run -q --timing --max-steps 300 " +
+                       (src / "scenarios/brazilian_fracture.toml").string() +
+                       " --set dynamics.frames=2 --out " + fracture.string())
+                .code,
+            0);
+  ASSERT_EQ(run_cleave("run -q --max-steps 100 " +
+                       (src / "scenarios/thermal_microcracking.toml").string() + " --out " +
+                       thermal.string())
+                .code,
+            0);
+  // Grains resting on a floor: contact frames with their fields.
+  const fs::path contacts = dir_ / "contacts";
+  const fs::path floor = write("floor.toml", small_drop() +
+                                                 "[[wall]]\nkind = \"plane\"\npoint = [0, 0, 0]\n"
+                                                 "normal = [0, 0, 1]\n");
+  ASSERT_EQ(run_cleave("run -q --max-steps 20 " + floor.string() +
+                       " --set dynamics.frames=2 --out " + contacts.string())
+                .code,
+            0);
+  std::ifstream frame(contacts / "frames" / "contacts_000001.vtp");
+  const std::string xml((std::istreambuf_iterator<char>(frame)), std::istreambuf_iterator<char>());
+  EXPECT_NE(xml.find("Name=\"overlap_m\""), std::string::npos) << "no contact in the last frame";
+  for (const char* f :
+       {"energy.csv", "walls.csv", "load_displacement.csv", "bonds.csv", "bond_breaks.csv",
+        "splits.csv", "timing.csv", "specimen.csv", "fragments.csv"})
+    EXPECT_TRUE(fs::exists(fracture / f)) << f;
+  EXPECT_TRUE(fs::exists(thermal / "thermal.csv"));
+  for (const fs::path& dir : {fracture, thermal, contacts}) {
+    std::size_t checked = 0;
+    const auto bad = names_without_unit(dir, checked);
+    EXPECT_GT(checked, 50u) << dir;
+    for (const auto& b : bad) ADD_FAILURE() << dir.filename().string() << "/" << b << ": no unit";
+  }
 }

@@ -154,7 +154,7 @@ TEST(MaterialLibrary, ANegativeOrZeroPropertyIsAnErrorAtItsLine) {
 TEST(MaterialLibrary, AnUnknownOrMissingUnitIsAnErrorListingTheAcceptedOnes) {
   EXPECT_EQ(error_of(replaced(kGood, "unit = \"GPa\"", "unit = \"psi\"")),
             "m.toml:7:31: key 'properties.young.unit': unknown unit 'psi' for Young's modulus E; "
-            "accepted: 'Pa', 'kPa', 'MPa', 'GPa'");
+            "accepted: 'Pa', 'kPa', 'MPa', 'GPa', 'N/m^2', 'N/mm^2'");
   EXPECT_EQ(error_of(replaced(kGood, "value = 5, unit = \"um\",", "value = 5,")),
             "m.toml:12:14: key 'properties.grain_size.unit': missing required key");
 }

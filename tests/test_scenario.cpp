@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -12,6 +13,8 @@
 
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
+#include "io/units.hpp"
+#include "io/world_setup.hpp"
 
 namespace cleave::io {
 namespace {
@@ -343,7 +346,9 @@ notch_depth = 1
 
 TEST(ScenarioErrors, WrongType) {
   EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = [12, 12, 4]\n[grain]\nr = \"1\"\n", 5,
-                        "grain.r", "expected a number (integer or float), found a string");
+                        "grain.r",
+                        "expected a number, or a number with its unit as a string (e.g. \"1 m\" "
+                        "for a length (m)); \"1\" has no unit");
   EXPECT_SCENARIO_ERROR("[specimen]\nshape = 3\n" + kGrain, 2, "specimen.shape",
                         "expected a string, found an integer");
   EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"box\"\nsize = 12\n" + kGrain, 3, "specimen.size",
@@ -994,4 +999,239 @@ gravity = [0, 0, 0]
   EXPECT_SCENARIO_ERROR(lattice, line_of_last(lattice, "axes"), "periodic.axes", "shape = \"voronoi\"");
 }
 
+}  // namespace cleave::io
+
+// ---- values with their units ------------------------------------------------------------
+
+namespace cleave::io {
+namespace {
+
+/// A bonded, staged scenario in metres whose every dimensional key is written with a unit.
+const std::string kWithUnits = R"([scenario]
+length_unit = "m"
+[specimen]
+shape = "box"
+size = { value = [6.0, 6.0, 2.0], unit = "mm" }
+[grain]
+r = "0.6 mm"
+t = "1 mm"
+[material]
+density = "3.1 g/cm^3"
+[contact]
+dilation_radius = "0.05 mm"
+[contact.particle_particle]
+kn = "5 N/m"
+ks = "2 kN/m"
+[contact.particle_wall]
+kn = "10 N/m"
+[dynamics]
+dt = "15 us"
+gravity = [0, 0, "-9.81 m/s^2"]
+[[wall]]
+kind = "plane"
+name = "top"
+point = ["0 mm", "6 mm", "0 mm"]
+normal = [0, -1, 0]
+velocity = ["0 mm/s", "-1 mm/s", "0 mm/s"]
+[bond]
+kbn = "6.4e8 N/m^3"
+kbs = "2.5 GN/m^3"
+tbn = "250 MPa"
+tbs = "0.1 GPa"
+[fracture]
+k_ic = "3.1 MPa m^0.5"
+sigma_f_hyd = "0 Pa"
+crack_length = "100 um"
+[thermal]
+temperature = "1773 K"
+alpha_a = "8.3e-6 1/K"
+alpha_c = "9e-6 K^-1"
+gradient = { value = [0, 2, 0], unit = "K/mm" }
+[[stage]]
+name = "bonding"
+kind = "bond"
+distance = "0.08 mm"
+[[stage]]
+name = "load"
+wall_velocity = { top = { value = [0, -2, 0], unit = "mm/s" } }
+time = "0.5 ms"
+ramp_time = "100 us"
+temperature_rate = "-60 K/min"
+temperature_target = "293 K"
+)";
+
+TEST(ScenarioUnits, AValueWithItsUnitIsItsNumberTimesTheUnitInSI) {
+  const Scenario s = parse_scenario(kWithUnits, "units.toml");
+  // Exact where the product is: powers of ten on integers, and 0.6 x 1e-3 = 6e-4.
+  EXPECT_EQ(s.specimen.r, 6e-4);
+  EXPECT_EQ(s.specimen.t, 1e-3);
+  EXPECT_EQ(s.specimen.outline.size, Eigen::Vector3d(6e-3, 6e-3, 2e-3));
+  EXPECT_EQ(s.material.density, 3100.0);
+  EXPECT_EQ(s.contact.dilation_radius, 5e-5);
+  EXPECT_EQ(s.contact.particle_particle.kn, 5.0);
+  EXPECT_EQ(s.contact.particle_particle.ks, 2000.0);
+  EXPECT_EQ(s.contact.particle_wall.kn, 10.0);
+  EXPECT_DOUBLE_EQ(s.dynamics.dt, 1.5e-5);  // 15 x 1e-6: within an ulp of 1.5e-5
+  EXPECT_EQ(s.dynamics.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_EQ(s.walls[0].origin, Eigen::Vector3d(0, 6e-3, 0));
+  EXPECT_EQ(s.walls[0].velocity, Eigen::Vector3d(0, -1e-3, 0));
+  EXPECT_EQ(s.bond.params.kbn, 6.4e8);
+  EXPECT_EQ(s.bond.params.kbs, 2.5e9);
+  EXPECT_EQ(s.bond.params.tbn, 2.5e8);
+  EXPECT_EQ(s.bond.params.tbs, 1e8);
+  EXPECT_EQ(s.fracture.params.k_ic, 3.1e6);
+  EXPECT_DOUBLE_EQ(s.fracture.params.crack_length, 1e-4);
+  EXPECT_EQ(s.thermal.temperature, 1773.0);
+  EXPECT_EQ(s.thermal.alpha_a, 8.3e-6);
+  EXPECT_DOUBLE_EQ(s.thermal.alpha_c, 9e-6);
+  EXPECT_EQ(s.thermal.gradient, Eigen::Vector3d(0, 2000.0, 0));  // 2 K/mm = 2000 K/m
+  ASSERT_EQ(s.stages.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.stages[0].bond_distance, 8e-5);
+  EXPECT_EQ(s.stages[1].wall_velocity.at(0).second, Eigen::Vector3d(0, -2e-3, 0));
+  EXPECT_DOUBLE_EQ(s.stages[1].time, 5e-4);
+  EXPECT_DOUBLE_EQ(s.stages[1].ramp_time, 1e-4);
+  EXPECT_DOUBLE_EQ(s.stages[1].temperature_rate, -1.0);  // -60 K/min
+  EXPECT_EQ(s.stages[1].temperature_target, 293.0);
+}
+
+TEST(ScenarioUnits, AUnitDoesNotDependOnTheFilesLengthUnit) {
+  // "0.6 mm" is 6e-4 m in a file of metres and in one of millimetres; a bare 0.6 is not.
+  for (const char* unit : {"m", "mm", "um"}) {
+    SCOPED_TRACE(unit);
+    const std::string text =
+        std::string("[scenario]\nlength_unit = \"") + unit +
+        "\"\n[specimen]\nshape = \"box\"\nsize = [\"6 mm\", \"6 mm\", \"2 mm\"]\n"
+        "[grain]\nr = \"0.6 mm\"\nt = \"1 mm\"\n";
+    const Scenario s = parse_scenario(text, "u.toml");
+    EXPECT_EQ(s.specimen.r, 6e-4);
+    EXPECT_EQ(s.specimen.outline.size.x(), 6e-3);
+  }
+}
+
+TEST(ScenarioUnits, AUnitOfAnotherDimensionIsAnErrorNamingFileLineAndKey) {
+  const std::string bond = kBase + "[bond]\nkbn = 1\nkbs = 1\n";
+  EXPECT_SCENARIO_ERROR(
+      bond + "tbn = \"5 mm\"\ntbs = 1\n", 10, "bond.tbn",
+      "'mm' is the unit of a length (m), but this key is a stress (Pa); accepted units: 'Pa'");
+  EXPECT_SCENARIO_ERROR(bond + "tbn = \"5 psi\"\ntbs = 1\n", 10, "bond.tbn",
+                        "unknown unit 'psi' for a stress (Pa); accepted units: 'Pa', 'kPa', 'MPa'");
+  EXPECT_SCENARIO_ERROR(bond + "tbn = \"MPa\"\ntbs = 1\n", 10, "bond.tbn",
+                        "expected a number and its unit, e.g. \"2.5 Pa\", found \"MPa\"");
+  EXPECT_SCENARIO_ERROR(kBase + "[orientation]\nfamily_mix = \"0.5 mm\"\n", 8,
+                        "orientation.family_mix", "is a plain number, without a unit");
+  EXPECT_SCENARIO_ERROR(
+      "[specimen]\nshape = \"box\"\nsize = [\"1 mm\", \"1 s\", \"1 mm\"]\n" + kGrain, 3,
+      "specimen.size", "element 2: 's' is the unit of a time (s), but this key is a length (m)");
+  EXPECT_SCENARIO_ERROR(
+      "[specimen]\nshape = \"box\"\nsize = { value = [1, 1, 1], unit = \"Pa\" }\n" + kGrain, 3,
+      "specimen.size", "element 1: 'Pa' is the unit of a stress (Pa), but this key is a length");
+  EXPECT_SCENARIO_ERROR("[specimen]\nshape = \"disc\"\ndiameter = { value = \"5 mm\", unit = \"mm\" }\n"
+                        "thickness = 5\n" + kGrain, 3, "specimen.diameter", "the unit is given once, as unit = \"mm\"");
+  // The range is checked on the converted value and reported as written.
+  EXPECT_SCENARIO_ERROR(
+      "[specimen]\nshape = \"disc\"\ndiameter = \"-15 mm\"\nthickness = 5\n" + kGrain, 3,
+      "specimen.diameter", "must be > 0, found \"-15 mm\"");
+  EXPECT_SCENARIO_ERROR(
+      kBase.substr(0, kBase.find("[grain]")) + "[grain]\nr = \"1 mm\"\nr_bar = \"1.5 mm\"\nt = 1\n",
+      6, "grain.r_bar", "must not exceed grain.r = \"1 mm\", found \"1.5 mm\"");
+}
+
+TEST(ScenarioUnits, TheSameWorldFromMetresWithUnitsAndFromBareMillimetres) {
+  // One drop test written twice: bare numbers in mm (the seeds' way) and in metres with a
+  // unit on every length. Both build the same bodies and step the same, bit for bit; a
+  // density off by 1 kg/m^3 does not, so the comparison sees the conversions.
+  const std::string mm = R"([scenario]
+length_unit = "mm"
+[specimen]
+shape = "box"
+size = [6.0, 6.0, 2.0]
+[grain]
+r = 1.0
+r_bar = 0.9
+t = 1.0
+t_bar = 0.85
+[material]
+density = 3100.0
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5000.0
+ks = 2000.0
+mu_s = 0.3
+[contact.particle_wall]
+kn = 10000.0
+ks = 2000.0
+[dynamics]
+dt = 1.2e-6
+duration = 0.1
+gravity = [0.0, 0.0, -9.81]
+lift = 0.02
+[[wall]]
+name = "floor"
+kind = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+velocity = [0.0, 0.0, 30.0]
+)";
+  std::string si = mm;
+  const auto set = [&](const std::string& from, const std::string& to) {
+    ASSERT_NE(si.find(from), std::string::npos) << from;
+    si.replace(si.find(from), from.size(), to);
+  };
+  set("length_unit = \"mm\"", "length_unit = \"m\"");
+  set("size = [6.0, 6.0, 2.0]", "size = { value = [6.0, 6.0, 2.0], unit = \"mm\" }");
+  set("r = 1.0", "r = \"1 mm\"");
+  set("r_bar = 0.9", "r_bar = \"0.9 mm\"");
+  set("t = 1.0", "t = \"1.0 mm\"");
+  set("t_bar = 0.85", "t_bar = \"0.85 mm\"");
+  set("density = 3100.0", "density = \"3.1 g/cm^3\"");
+  set("dilation_radius = 0.05", "dilation_radius = \"0.05 mm\"");
+  set("kn = 5000.0", "kn = \"5 kN/m\"");
+  set("dt = 1.2e-6", "dt = \"1.2e-6 s\"");
+  set("lift = 0.02", "lift = \"20 um\"");
+  set("velocity = [0.0, 0.0, 30.0]", "velocity = [\"0 mm/s\", \"0 mm/s\", \"30 mm/s\"]");
+  const auto hash_after = [](const std::string& text, int steps) {
+    const Scenario s = parse_scenario(text, "w.toml");
+    physics::World world = make_world(s, geometry::build_specimen(s.specimen));
+    for (int i = 0; i < steps; ++i) world.step();
+    return std::pair(world.body_count(), world.state_hash());
+  };
+  const auto a = hash_after(mm, 300), b = hash_after(si, 300);
+  EXPECT_GT(a.first, 10u);
+  EXPECT_EQ(a, b);
+  std::string heavier = si;
+  heavier.replace(heavier.find("\"3.1 g/cm^3\""), 12, "\"3101 kg/m^3\"");
+  EXPECT_NE(hash_after(heavier, 300), a);
+}
+
+}  // namespace
+}  // namespace cleave::io
+
+namespace cleave::io {
+namespace {
+
+TEST(ScenarioUnits, TheFormatReferenceNamesEveryDimensionalKeysUnits) {
+  // docs/SCENARIO_FORMAT.md#units lists each key in the row of its dimension, whose units
+  // are the reader's, the SI one first.
+  std::ifstream in(std::string(CLEAVE_SOURCE_DIR) + "/docs/SCENARIO_FORMAT.md");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("| ", 0) == 0) rows.push_back(line);
+  for (const KeyDimension& k : scenario_key_dimensions()) {
+    SCOPED_TRACE(std::string(k.key));
+    const auto row = std::find_if(rows.begin(), rows.end(), [&](const std::string& r) {
+      return r.find("`" + std::string(k.key) + "`") != std::string::npos &&
+             r.find(" | ") != std::string::npos &&
+             r.find("`" + std::string(units_of(k.dimension).front().name) + "`") !=
+                 std::string::npos;
+    });
+    ASSERT_NE(row, rows.end()) << "no row names the key with its SI unit";
+    std::string units;
+    for (const UnitSpec& u : units_of(k.dimension))
+      units += (units.empty() ? "`" : ", `") + std::string(u.name) + "`";
+    EXPECT_NE(row->find(units), std::string::npos) << *row << "\n  lacks: " << units;
+  }
+}
+
+}  // namespace
 }  // namespace cleave::io

@@ -58,6 +58,74 @@ TEST(SweepPoints, CartesianProductLastAxisFastest) {
   EXPECT_THROW(sweep_points({}), SweepError);
 }
 
+TEST(SweepPoints, ZippedAxesVaryTogetherAsOneFactorOfTheProduct) {
+  // --set a.x=1,2 --zip b.y=p,q,r --zip c.z=4,5,6: 2 x 3 runs (not 2 x 3 x 3), each b.y with
+  // the c.z of the same place in its list.
+  std::vector<SweepAxis> axes = {parse_sweep_axis("a.x=1,2"), parse_sweep_axis("b.y=p,q,r"),
+                                 parse_sweep_axis("c.z=4,5,6")};
+  axes[1].zipped = axes[2].zipped = true;
+  const auto points = sweep_points(axes);
+  ASSERT_EQ(points.size(), 6u);
+  const std::vector<SweepPoint> expected = {{"1", "p", "4"}, {"1", "q", "5"}, {"1", "r", "6"},
+                                            {"2", "p", "4"}, {"2", "q", "5"}, {"2", "r", "6"}};
+  EXPECT_EQ(points, expected);
+  // Only zipped axes: as many runs as each has values.
+  EXPECT_EQ(sweep_points({axes[1], axes[2]}).size(), 3u);
+  // Unequal lengths are an error naming both keys.
+  axes[2] = parse_sweep_axis("c.z=4,5");
+  axes[2].zipped = true;
+  try {
+    (void)sweep_points(axes);
+    ADD_FAILURE() << "zipped axes of 3 and 2 values were accepted";
+  } catch (const SweepError& e) {
+    EXPECT_NE(std::string(e.what()).find("--zip c.z has 2 values but --zip b.y has 3"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(SweepPointErrors, NameTheValueAtItsKeyAndKeepTheFilesOwnLines) {
+  const std::string text =
+      "[specimen]\nshape = \"box\"\nsize = [6.0, 6.0, 2.0]\n[grain]\nr = 1.0\n"
+      "r_bar = 0.9\nt = 1.0\n";
+  const auto read = [&](const std::string& file_text, const std::vector<std::string>& overrides) {
+    const auto [axes, point] = parse_overrides(overrides, "--set");
+    std::vector<std::string> shown;
+    for (const auto& o : overrides) shown.push_back("--set " + o);
+    return read_sweep_point(file_text, "s.toml", axes, point, shown, "/");
+  };
+  EXPECT_EQ(read(text, {"grain.r_bar=0.5"}).specimen.r_bar, 0.5e-3);
+  try {  // at the key the override sets: the override, no line
+    (void)read(text, {"grain.r_bar=abc"});
+    ADD_FAILURE();
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  "--set grain.r_bar=abc: key 'grain.r_bar': expected a number", 0),
+              0u)
+        << e.what();
+    EXPECT_EQ(e.file(), "s.toml");
+    EXPECT_EQ(e.line(), 0);
+    EXPECT_EQ(e.key(), "grain.r_bar");
+  }
+  try {  // the file's own error: its line
+    (void)read(text + "colour = 1\n", {"grain.r_bar=0.5"});
+    ADD_FAILURE();
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("s.toml:8:", 0), 0u) << e.what();
+  }
+  try {  // caused elsewhere: the file, the key and the override
+    (void)read(text, {"grain.r=0.5"});
+    ADD_FAILURE();
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("s.toml: key 'grain.r_bar': must not exceed", 0), 0u)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("(with --set grain.r=0.5)"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(parse_overrides({"grain.r=1,2"}, "--set"), SweepError);
+  EXPECT_THROW(parse_overrides({"grain.r=1", "grain.r=2"}, "--set"), SweepError);
+}
+
 TEST(ApplySweepPoint, SetsKeysWithTheirTypesCreatesTablesAndReachesStages) {
   const std::string text = R"(
 [bond]
@@ -215,5 +283,55 @@ TEST(SweepCommand, AKeyTheScenarioCannotTakeStopsBeforeAnyRun) {
   EXPECT_FALSE(fs::exists(dir / "run_001"));
   const Outcome r = run_cleave("sweep " + scenario + " --set orientation.seed=9..1");
   EXPECT_EQ(r.code, 2) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(SweepCommand, ZippedKeysMakeNRunsWithTheirValuesPaired) {
+  // --zip orientation.seed=1,2,3 --zip grain.r_bar=0.5,0.55,0.52: three runs, not nine, each
+  // scenario holding the pair of the same place; summary.csv has a column per key.
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleave_sweep_zip_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
+  const Outcome o =
+      run_cleave("sweep -q " + scenario +
+                 " --zip orientation.seed=1,2,3 --zip grain.r_bar=0.5,0.55,0.52 --max-steps 5 "
+                 "--jobs 2 -o " +
+                 dir.string());
+  ASSERT_EQ(o.code, 0) << o.output;
+  const auto rows = cleave::testing::read_csv_cells(dir / "summary.csv");
+  ASSERT_EQ(rows.size(), 4u);  // header + 3 runs
+  const auto& h = rows[0];
+  const auto col = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(h.begin(), h.end(), name) - h.begin());
+  };
+  ASSERT_LT(col("orientation.seed"), h.size());
+  ASSERT_LT(col("grain.r_bar"), h.size());
+  const std::vector<std::pair<std::string, std::string>> pairs = {
+      {"1", "0.5"}, {"2", "0.55"}, {"3", "0.52"}};
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    EXPECT_EQ(rows[r][col("orientation.seed")], pairs[r - 1].first);
+    EXPECT_EQ(rows[r][col("grain.r_bar")], pairs[r - 1].second);
+    const toml::table run = toml::parse_file((dir / "scenarios" / (rows[r][0] + ".toml")).string());
+    EXPECT_EQ(run["orientation"]["seed"].value<std::int64_t>(), std::stoll(pairs[r - 1].first));
+    EXPECT_EQ(run["grain"]["r_bar"].value<double>(), std::stod(pairs[r - 1].second));
+  }
+  EXPECT_EQ(read_manifest(dir).facts.at("zip.grain.r_bar"), "0.5,0.55,0.52");
+  // Unequal lists: a usage error before any run.
+  const fs::path bad = dir / "bad";
+  const Outcome b = run_cleave("sweep -q " + scenario +
+                               " --zip orientation.seed=1,2,3 --zip grain.r_bar=0.5,0.55 "
+                               "-o " +
+                               bad.string());
+  EXPECT_EQ(b.code, 2) << b.output;
+  EXPECT_NE(b.output.find("--zip grain.r_bar has 2 values but --zip orientation.seed has 3"),
+            std::string::npos)
+      << b.output;
+  EXPECT_FALSE(fs::exists(bad / "run_001"));
+  // A value the scenario cannot take is named as given.
+  const Outcome v =
+      run_cleave("sweep -q " + scenario + " --set bond.tbn=1000,abc -o " + bad.string());
+  EXPECT_EQ(v.code, 2) << v.output;
+  EXPECT_NE(v.output.find("--set bond.tbn=abc: key 'bond.tbn'"), std::string::npos) << v.output;
   fs::remove_all(dir);
 }

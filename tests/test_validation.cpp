@@ -487,3 +487,45 @@ TEST(CohesiveBeamOnly, StageITendsToLefmAsTheCohesiveStrengthGrows) {
   EXPECT_LT(stage1_max[1], 0.02);
   fs::remove_all(dir);
 }
+
+// Validation files take values with units as scenario files do: the coarse DCB written with
+// a unit on each dimensional key reads as the shipped one (bare lengths in mm, the rest SI);
+// a unit of another dimension is an error at its key.
+TEST(ValidationScenarioUnits, ValuesWithUnitsReadAsTheBareOnes) {
+  const std::string bare = shipped_dcb_coarse();
+  std::string with = bare;
+  const auto set = [&](const std::string& from, const std::string& to) {
+    ASSERT_NE(with.find(from), std::string::npos) << from;
+    with.replace(with.find(from), from.size(), to);
+  };
+  set("length = 30.0", "length = \"30 mm\"");
+  set("particle_radius = 0.125", "particle_radius = \"125 um\"");
+  set("young = 120e9", "young = \"120 GPa\"");
+  set("density = 2500.0", "density = \"2.5 g/cm^3\"");
+  set("cohesive_strength = 70e6", "cohesive_strength = \"70 MPa\"");
+  set("g_Ic = 260.0", "g_Ic = \"260 J/m^2\"");
+  set("velocity = 0.3", "velocity = \"300 mm/s\"");
+  set("ramp_time = 0.5e-3", "ramp_time = \"0.5 ms\"");
+  const auto a = cleave::io::parse_validation_scenario(bare, "bare.toml");
+  const auto b = cleave::io::parse_validation_scenario(with, "units.toml");
+  EXPECT_EQ(a.rig.length, b.rig.length);
+  EXPECT_DOUBLE_EQ(a.rig.radius,
+                   b.rig.radius);  // 125 x 1e-6 and 0.125 x 1e-3: an ulp apart at most
+  EXPECT_EQ(a.rig.material.young, b.rig.material.young);
+  EXPECT_EQ(a.rig.material.density, b.rig.material.density);
+  EXPECT_EQ(a.rig.material.sigma_c, b.rig.material.sigma_c);
+  EXPECT_EQ(a.rig.g_Ic, b.rig.g_Ic);
+  EXPECT_DOUBLE_EQ(a.rig.velocity, b.rig.velocity);
+  EXPECT_EQ(a.rig.ramp_time, b.rig.ramp_time);
+  std::string bad = bare;
+  bad.replace(bad.find("young = 120e9"), 13, "young = \"120 mm\"");
+  try {
+    (void)cleave::io::parse_validation_scenario(bad, "bad.toml");
+    ADD_FAILURE() << "a length was taken for Young's modulus";
+  } catch (const cleave::io::ScenarioError& e) {
+    EXPECT_EQ(e.key(), "material.young");
+    EXPECT_GT(e.line(), 0);
+    EXPECT_NE(std::string(e.what()).find("but this key is a stress (Pa)"), std::string::npos)
+        << e.what();
+  }
+}

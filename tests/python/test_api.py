@@ -111,6 +111,24 @@ def test_a_bad_key_raises_with_its_file_and_line_as_the_cli_says(root, cleave_bi
         cleave.Simulation.from_toml((root / MESH_GRAINS).read_text(), source="inline.toml",
                                     overrides={"dynamics.dt": -2.0}, base_dir=str(root / "scenarios"))
     assert err.value.file == "inline.toml" and err.value.key == "dynamics.dt"
+    # The value is not in the text: the error names the override, not a line.
+    assert err.value.line == 0
+    assert str(err.value).startswith("override dynamics.dt=-2.0: key 'dynamics.dt': must be > 0")
+
+
+def test_an_override_may_carry_its_unit_and_is_recorded(root, tmp_path, monkeypatch):
+    # dt = "0.25 us" is 2.5e-7 s: ten steps take 2.5e-6 s; run.toml lists the override.
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"), overrides={"dynamics.dt": "0.25 us"},
+                            max_steps=10)
+    report = sim.finish()
+    assert report["steps"] == 10
+    assert report["time"] == pytest.approx(10 * 2.5e-7, rel=1e-12)
+    with open(tmp_path / "r" / "run.toml", "rb") as f:
+        assert tomllib.load(f)["provenance"]["overrides"] == "dynamics.dt=0.25 us"
+    with pytest.raises(cleave.ScenarioError) as err:
+        cleave.Simulation(MESH_GRAINS, overrides={"dynamics.dt": "0.25 mm"})
+    assert str(err.value).startswith("override dynamics.dt=0.25 mm: key 'dynamics.dt': 'mm' is the unit of a length")
 
 
 def test_the_gil_is_released_while_stepping(root, tmp_path, monkeypatch):

@@ -187,7 +187,7 @@ def test_walls_are_drawn_with_their_sizes_and_reactions(result, scenario):
                 assert area == pytest.approx(wall["size"][0] * wall["size"][1] * MM**2, rel=1e-12)
             elif wall["kind"] == "cylinder":
                 axis = np.array(wall["normal"]) / np.linalg.norm(wall["normal"])
-                end = cell_array(poly, "origin")[cells[0]]
+                end = cell_array(poly, "origin_m")[cells[0]]
                 along = (corners - end) @ axis
                 across = np.linalg.norm(corners - end - np.outer(along, axis), axis=1)
                 assert np.allclose(across, wall["radius"] * MM, rtol=1e-12)
