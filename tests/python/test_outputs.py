@@ -185,3 +185,80 @@ def test_python_grain_stresses_are_symmetric_and_those_the_frames_show(root, tmp
                                rtol=1e-9, atol=1e-9 * np.abs(s).max())
     np.testing.assert_allclose(x[alive], bodies["centroid"][order], rtol=0, atol=1e-8)
     sim.finish()
+
+
+def mass_properties(frame, density):
+    """Each body's mass, centroid and inertia tensor about it, from its faces alone (fan
+    tetrahedra from the origin: int x dV and int x x^T dV), by body_index."""
+    index = vtk_to_numpy(frame.GetCellData().GetArray("body_index"))
+    points = vtk_to_numpy(frame.GetPoints().GetData()).astype(float)
+    polys = frame.GetPolys()
+    polys.InitTraversal()
+    ids = vtk.vtkIdList()
+    sums = {}
+    k = 0
+    while polys.GetNextCell(ids):
+        q = points[[ids.GetId(j) for j in range(ids.GetNumberOfIds())]]
+        v, first, second = sums.setdefault(int(index[k]), [0.0, np.zeros(3), np.zeros((3, 3))])
+        for j in range(1, len(q) - 1):
+            a, b, c = q[0], q[j], q[j + 1]
+            vol = np.dot(a, np.cross(b, c)) / 6.0
+            s = a + b + c
+            v += vol
+            first += vol * s / 4.0
+            second += vol / 20.0 * (np.outer(a, a) + np.outer(b, b) + np.outer(c, c) + np.outer(s, s))
+        sums[int(index[k])] = [v, first, second]
+        k += 1
+    out = []
+    for b in sorted(sums):
+        v, first, second = sums[b]
+        centroid = first / v
+        cov = second - v * np.outer(centroid, centroid)
+        out.append((density * v, centroid, density * (np.trace(cov) * np.eye(3) - cov)))
+    return out
+
+
+def test_the_kinetic_energy_in_energy_csv_is_that_of_the_frames_masses_and_velocities(loaded_disc):
+    # 1/2 m v^2 + 1/2 w.I w of every grain, with masses and inertia tensors from the frame's
+    # polyhedra and the scenario's density, against energy.csv at the frame's time.
+    out, bodies, _ = loaded_disc
+    pvd = (out / "bodies.pvd").read_text()
+    time, last = re.findall(r'timestep="([^"]+)"[^>]*file="([^"]+)"', pvd)[-1]
+    with open(ROOT / SCENARIO, "rb") as f:
+        density = tomllib.load(f)["material"]["density"]
+    props = mass_properties(read_vtp(out / last), density)
+    v, w = bodies["velocity_m_per_s"], bodies["angular_velocity_rad_per_s"]
+    energy = sum(0.5 * m * vi @ vi + 0.5 * wi @ inertia @ wi for (m, _, inertia), vi, wi in zip(props, v, w))
+    rows = [r.split(",") for r in (out / "energy.csv").read_text().splitlines()]
+    at = [r for r in rows[1:] if float(r[0]) == pytest.approx(float(time), rel=1e-8)]
+    assert at, f"no energy.csv row at t = {time}"
+    assert energy > 0
+    assert float(at[-1][rows[0].index("kinetic_J")]) == pytest.approx(energy, rel=1e-5)
+
+
+def test_bond_forces_in_the_frame_hold_each_grain_in_equilibrium(loaded_disc):
+    # Quasi-static loading: each grain's bond forces (bonds.vtp, matched to grains by their
+    # end points, the grains' centroids) and wall contact forces (contacts.vtp) add up to
+    # nearly nothing against the forces themselves.
+    out, bodies, _ = loaded_disc
+    last = re.findall(r'file="([^"]+)"', (out / "bodies.pvd").read_text())[-1]
+    frame = read_vtp(out / last.replace("bodies_", "bonds_"))
+    points = vtk_to_numpy(frame.GetPoints().GetData())
+    cells = frame.GetCellData()
+    force = vtk_to_numpy(cells.GetArray("force_N"))
+    intact = vtk_to_numpy(cells.GetArray("intact")) == 1
+    centroid = bodies["centroid"]
+    net = np.zeros_like(centroid)
+    ids = vtk.vtkIdList()
+    for k in range(frame.GetNumberOfCells()):
+        if not intact[k]:
+            continue
+        frame.GetCellPoints(k, ids)
+        a, b = (np.argmin(np.linalg.norm(centroid - points[ids.GetId(j)], axis=1)) for j in (0, 1))
+        net[b] += force[k]  # force_N acts on the second grain, its reaction on the first
+        net[a] -= force[k]
+    x, f, wall = contacts_of(read_vtp(out / last.replace("bodies_", "contacts_")))
+    for at, fc in zip(x[wall], f[wall]):
+        net[np.argmin(np.linalg.norm(centroid - at, axis=1))] += fc
+    typical = np.abs(force[intact]).max()
+    assert np.abs(net).max() < 0.05 * typical
