@@ -262,3 +262,66 @@ def test_bond_forces_in_the_frame_hold_each_grain_in_equilibrium(loaded_disc):
         net[np.argmin(np.linalg.norm(centroid - at, axis=1))] += fc
     typical = np.abs(force[intact]).max()
     assert np.abs(net).max() < 0.05 * typical
+
+
+@pytest.fixture(scope="module")
+def broken_disc(tmp_path_factory):
+    """The Brazilian disc run to its load drop: bonds broken, grains split."""
+    out = tmp_path_factory.mktemp("outputs") / "broken"
+    binary = os.environ.get("CLEAVE_BINARY", str(ROOT / "build" / "app" / "cleave"))
+    subprocess.run([binary, "run", SCENARIO, "--out", str(out), "--quiet"], cwd=ROOT, check=True)
+    return out
+
+
+def table(path):
+    rows = [r.split(",") for r in path.read_text().splitlines()]
+    return [dict(zip(rows[0], r)) for r in rows[1:]]
+
+
+def last_frame(out, series):
+    return read_vtp(out / re.findall(r'file="([^"]+)"', (out / f"{series}.pvd").read_text())[-1])
+
+
+def test_bond_counts_are_the_bond_breaks_and_the_last_bond_frame(broken_disc):
+    counts = table(broken_disc / "bonds.csv")[-1]
+    breaks = table(broken_disc / "bond_breaks.csv")
+    frame = last_frame(broken_disc, "bonds")
+    intact = vtk_to_numpy(frame.GetCellData().GetArray("intact"))
+    mode = vtk_to_numpy(frame.GetCellData().GetArray("failure_mode"))
+    assert len(breaks) > 0
+    assert int(counts["intact"]) == int((intact == 1).sum())
+    assert int(counts["intact"]) + len(breaks) == frame.GetNumberOfCells()
+    for k, name in enumerate(("tension", "shear", "bending", "torsion"), start=1):
+        assert int(counts[f"broken_{name}"]) == sum(b["mode"] == name for b in breaks)
+        assert int(counts[f"broken_{name}"]) == int(((intact == 0) & (mode == k)).sum()), name
+    # Each break lies between its two grains (both its ends' grains are in the specimen).
+    bodies = bodies_of(last_frame(broken_disc, "bodies"))
+    grains = {int(g): c for g, c in zip(bodies["grain_id"], bodies["centroid"])}
+    pitch = math.sqrt(3) * 0.6e-3
+    for b in breaks:
+        x = np.array([float(b["x_m"]), float(b["y_m"]), float(b["z_m"])])
+        for g in (int(b["grain_a"]), int(b["grain_b"])):
+            assert np.linalg.norm((x - grains[g])[:2]) < 1.5 * pitch
+
+
+def test_each_split_adds_its_pieces_and_reads_the_criterion_of_eqs_3_23_to_3_25(broken_disc):
+    # K_I = sigma sqrt(pi a), K_II = |tau| sqrt(pi a) (eq. 3.23) and the ellipse
+    # (K_I / K_Ic)^2 + (K_II / (c K_Ic))^2 >= 1 (eq. 3.25), from the scenario's constants.
+    with open(ROOT / SCENARIO, "rb") as f:
+        fracture = tomllib.load(f)["fracture"]
+    a = fracture["crack_length"] * 1e-3
+    k_ic, c = fracture["k_ic"], fracture["c"]
+    splits = table(broken_disc / "splits.csv")
+    assert len(splits) > 0
+    for s in splits:
+        k_i, k_ii = float(s["K_I_Pa_sqrt_m"]), float(s["K_II_Pa_sqrt_m"])
+        assert k_i == pytest.approx(max(float(s["sigma_Pa"]), 0.0) * math.sqrt(math.pi * a), rel=1e-4)
+        assert k_ii == pytest.approx(abs(float(s["tau_Pa"])) * math.sqrt(math.pi * a), rel=1e-4)
+        criterion = (k_i / k_ic) ** 2 + (k_ii / (c * k_ic)) ** 2
+        assert float(s["criterion"]) == pytest.approx(criterion, rel=1e-4)
+        assert criterion >= 1.0
+        assert float(s["mean_stress_Pa"]) >= fracture["sigma_f_hyd"]  # eq. 3.22's gate
+    grains = len(table(broken_disc / "specimen.csv"))
+    added = sum(len(s["pieces"].split()) - 1 for s in splits)
+    bodies = bodies_of(last_frame(broken_disc, "bodies"))
+    assert len(bodies["body_id"]) == grains + added
