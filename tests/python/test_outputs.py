@@ -68,12 +68,16 @@ def von_mises(p):
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
+def run_disc(tmp_path_factory, name, *args):
+    out = tmp_path_factory.mktemp("outputs") / name
+    binary = os.environ.get("CLEAVE_BINARY", str(ROOT / "build" / "app" / "cleave"))
+    subprocess.run([binary, "run", SCENARIO, "--out", str(out), "--quiet", *args], cwd=ROOT, check=True)
+    return out
+
+
 @pytest.fixture(scope="module")
 def loaded_disc(tmp_path_factory):
-    out = tmp_path_factory.mktemp("outputs") / "disc"
-    binary = os.environ.get("CLEAVE_BINARY", str(ROOT / "build" / "app" / "cleave"))
-    subprocess.run([binary, "run", SCENARIO, "--out", str(out), "--quiet", "--max-steps", str(STEPS)],
-                   cwd=ROOT, check=True)
+    out = run_disc(tmp_path_factory, "disc", "--max-steps", str(STEPS))
     pvd = (out / "bodies.pvd").read_text()
     last = re.findall(r'file="([^"]+)"', pvd)[-1]
     rows = (out / "load_displacement.csv").read_text().splitlines()
@@ -267,10 +271,7 @@ def test_bond_forces_in_the_frame_hold_each_grain_in_equilibrium(loaded_disc):
 @pytest.fixture(scope="module")
 def broken_disc(tmp_path_factory):
     """The Brazilian disc run to its load drop: bonds broken, grains split."""
-    out = tmp_path_factory.mktemp("outputs") / "broken"
-    binary = os.environ.get("CLEAVE_BINARY", str(ROOT / "build" / "app" / "cleave"))
-    subprocess.run([binary, "run", SCENARIO, "--out", str(out), "--quiet"], cwd=ROOT, check=True)
-    return out
+    return run_disc(tmp_path_factory, "broken")
 
 
 def table(path):
