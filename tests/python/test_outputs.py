@@ -188,7 +188,43 @@ def test_python_grain_stresses_are_symmetric_and_those_the_frames_show(root, tmp
     np.testing.assert_allclose(np.linalg.eigvalsh(s), bodies["principal_stress_Pa"][order],
                                rtol=1e-9, atol=1e-9 * np.abs(s).max())
     np.testing.assert_allclose(x[alive], bodies["centroid"][order], rtol=0, atol=1e-8)
+    np.testing.assert_array_equal(sim.velocities[alive], bodies["velocity_m_per_s"][order])
+    np.testing.assert_array_equal(sim.angular_velocities[alive], bodies["angular_velocity_rad_per_s"][order])
     sim.finish()
+
+
+def test_contacts_in_the_frame_are_the_linear_spring_law_and_energy_csvs_counts(loaded_disc):
+    # The platens press the disc slowly: each wall contact's force is its normal spring,
+    # K_n times the overlap (eq. 2.1, [contact.particle_wall] kn, no friction: mu_s = 0),
+    # along its normal, within the viscous share of a quasi-static load. energy.csv's
+    # contact count and largest overlap at the frame's time are the frame's.
+    out, _, _ = loaded_disc
+    pvd = (out / "bodies.pvd").read_text()
+    time, last = re.findall(r'timestep="([^"]+)"[^>]*file="([^"]+)"', pvd)[-1]
+    frame = read_vtp(out / last.replace("bodies_", "contacts_"))
+    cells = frame.GetCellData()
+    force, normal = vtk_to_numpy(cells.GetArray("force_N")), vtk_to_numpy(cells.GetArray("normal"))
+    overlap, wall = vtk_to_numpy(cells.GetArray("overlap_m")), vtk_to_numpy(cells.GetArray("with_wall")) == 1
+    with open(ROOT / SCENARIO, "rb") as f:
+        kn = tomllib.load(f)["contact"]["particle_wall"]["kn"]
+    assert wall.sum() >= 2
+    np.testing.assert_allclose(np.linalg.norm(normal, axis=1), 1.0, rtol=1e-12)
+    along = np.einsum("ij,ij->i", force, normal)
+    np.testing.assert_allclose(np.abs(along[wall]), kn * overlap[wall], rtol=0.02)
+    np.testing.assert_allclose(np.linalg.norm(force[wall], axis=1), np.abs(along[wall]), rtol=1e-9)
+    row = [r for r in table(out / "energy.csv") if float(r["time_s"]) == pytest.approx(float(time), rel=1e-8)][-1]
+    assert int(row["contacts"]) == frame.GetNumberOfCells()
+    assert float(row["max_overlap_m"]) == pytest.approx(overlap.max(), rel=1e-5)  # 6 digits
+
+
+def test_a_bonds_force_is_its_normal_and_shear_parts(loaded_disc):
+    out, _, _ = loaded_disc
+    last = re.findall(r'file="([^"]+)"', (out / "bodies.pvd").read_text())[-1]
+    cells = read_vtp(out / last.replace("bodies_", "bonds_")).GetCellData()
+    force = vtk_to_numpy(cells.GetArray("force_N"))
+    normal, shear = vtk_to_numpy(cells.GetArray("normal_force_N")), vtk_to_numpy(cells.GetArray("shear_force_N"))
+    np.testing.assert_allclose(np.linalg.norm(force, axis=1), np.hypot(normal, shear), rtol=1e-6,
+                               atol=1e-9 * np.abs(force).max())
 
 
 def mass_properties(frame, density):
