@@ -3,10 +3,12 @@
 #include <openssl/evp.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <toml++/toml.h>
 
 namespace cleave::io {
@@ -25,6 +27,34 @@ void write_file_atomically(const fs::path& path, const std::string& content) {
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
+}
+
+void check_result_folder(const fs::path& out) {
+  std::error_code ec;
+  const fs::path here = fs::weakly_canonical(fs::absolute(out), ec);
+  const auto refuse = [&](const std::string& why) {
+    throw std::invalid_argument("result folder " + out.string() + ": " + why +
+                                "; give --out a new or empty folder (or an earlier cleave result)");
+  };
+  if (ec) refuse("cannot be resolved (" + ec.message() + ")");
+  if (here == here.root_path()) refuse("is the file system's root");
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+    if (here == fs::weakly_canonical(fs::path(home), ec)) refuse("is the home folder");
+  }
+  if (here == fs::weakly_canonical(fs::current_path(), ec)) refuse("is the working folder");
+  if (!fs::exists(here, ec)) return;
+  if (!fs::is_directory(here, ec)) refuse("exists and is not a folder");
+  if (fs::is_empty(here, ec)) return;
+  bool ours = false;
+  if (fs::is_regular_file(here / kManifestName, ec)) {
+    std::ifstream in(here / kManifestName);
+    std::string line;
+    while (!ours && std::getline(in, line)) ours = line.rfind("cleave_version", 0) == 0;
+  }
+  if (!ours) {
+    refuse("holds files but no cleave run.toml: it is not a cleave result, and cleave removes only what it "
+           "wrote");
+  }
 }
 
 std::string read_file(const fs::path& path) {

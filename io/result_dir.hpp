@@ -26,6 +26,13 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 /// Reads a whole file; throws std::runtime_error naming the file when it cannot.
 std::string read_file(const std::filesystem::path& path);
 
+/// cleave writes only in a folder it owns. Refuses (std::invalid_argument, naming the folder
+/// and why) the file system's root, the home folder, the working folder, something that is
+/// not a folder, and a folder that holds files but no cleave manifest (another program's),
+/// before anything is written or removed there. A new or empty folder, or an earlier cleave
+/// result, passes.
+void check_result_folder(const std::filesystem::path& out);
+
 /// The statuses a result folder's manifest can hold.
 namespace run_status {
 inline constexpr const char* running = "running";        ///< written at the start

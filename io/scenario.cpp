@@ -204,6 +204,14 @@ void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
   if (default_name.empty()) default_name = s.source;
   s.name = t.string("name", default_name);
   if (s.name.empty()) t.fail(*t.find("name"), "name", "must not be empty");
+  // The name is a folder in results/: one plain component, so that it cannot lead out.
+  if (t.find("name") != nullptr && (s.name.find_first_of("/\\") != std::string::npos || s.name.front() == '.' ||
+                                     s.name.find('\0') != std::string::npos)) {
+    t.fail(*t.find("name"), "name",
+           fmt::format("'{}' must be a plain folder name (no '/', '\\' or leading '.'): the run writes "
+                       "results/NAME",
+                       s.name));
+  }
   s.description = t.string("description", "");
   std::vector<Choice<const Unit*>> units;
   for (const Unit& u : kUnits) units.push_back({std::string(u.name), &u});

@@ -143,6 +143,7 @@ struct Simulation::State {
           : checkpoint         ? (restart_file.has_parent_path() ? restart_file.parent_path() : fs::path("."))
                                : fs::path("results") / scenario.name;
     max_steps = options.max_steps > 0 || !checkpoint ? options.max_steps : checkpoint->meta.max_steps;
+    io::check_result_folder(out);
   }
 
   /// A run stopped between two phases: what is written stays, marked so.

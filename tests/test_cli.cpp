@@ -313,7 +313,10 @@ namespace {
 
 /// kSmallBox falling under gravity onto nothing: a dynamics run whose every step is dt long.
 std::string small_drop() {
-  return std::string(kSmallBox) + R"(
+  // Its two layers of prisms a little apart (t_bar < t): they would start pressed together.
+  std::string box = kSmallBox;
+  box.replace(box.find("t = 1.0\n"), 8, "t = 1.0\nt_bar = 0.8\n");
+  return box + R"(
 [contact]
 dilation_radius = 0.05
 [contact.particle_particle]
@@ -494,4 +497,39 @@ TEST_F(CleaveCli, EveryOutputColumnAndFieldNamesItsUnit) {
     EXPECT_GT(checked, 50u) << dir;
     for (const auto& b : bad) ADD_FAILURE() << dir.filename().string() << "/" << b << ": no unit";
   }
+}
+
+TEST_F(CleaveCli, AResultFolderOutsideWhatCleaveOwnsIsRefusedBeforeAnythingIsWritten) {
+  // A scenario name that would lead out of results/ is an error at its key; --out the root,
+  // or a folder holding another program's files, is a usage error, and those files stay.
+  std::string escaping = kSmallBox;
+  escaping.replace(escaping.find("name = \"small\""), 14, "name = \"../../cleave_escaped\"");
+  const fs::path scenario = write("escaping.toml", escaping);
+  const Outcome named = run_cleave("run " + scenario.string());
+  EXPECT_EQ(named.code, 2) << named.output;
+  EXPECT_NE(named.output.find("escaping.toml:3"), std::string::npos) << named.output;
+  EXPECT_NE(named.output.find("must be a plain folder name"), std::string::npos) << named.output;
+  EXPECT_FALSE(fs::exists(fs::current_path() / "../cleave_escaped"));
+
+  const fs::path small = write("small.toml", kSmallBox);
+  const Outcome root = run_cleave("run " + small.string() + " --out /");
+  EXPECT_EQ(root.code, 2) << root.output;
+  EXPECT_NE(root.output.find("is the file system's root"), std::string::npos) << root.output;
+
+  const fs::path foreign = dir_ / "foreign";
+  fs::create_directories(foreign / "meshes");
+  std::ofstream(foreign / "notes.txt") << "mine";
+  std::ofstream(foreign / "meshes" / "part.stl") << "mine too";
+  const Outcome refused = run_cleave("run " + small.string() + " --out " + foreign.string());
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("no cleave run.toml"), std::string::npos) << refused.output;
+  EXPECT_TRUE(fs::exists(foreign / "notes.txt"));
+  EXPECT_TRUE(fs::exists(foreign / "meshes" / "part.stl"));
+  EXPECT_FALSE(fs::exists(foreign / "run.toml"));
+
+  // Its own earlier result is a folder it may write again.
+  const fs::path mine = dir_ / "mine";
+  ASSERT_EQ(run_cleave("run " + small.string() + " --quiet --out " + mine.string()).code, 0);
+  const Outcome again = run_cleave("run " + small.string() + " --quiet --out " + mine.string());
+  EXPECT_EQ(again.code, 0) << again.output;
 }

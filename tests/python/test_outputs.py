@@ -188,6 +188,14 @@ def test_python_grain_stresses_are_symmetric_and_those_the_frames_show(root, tmp
     np.testing.assert_allclose(np.linalg.eigvalsh(s), bodies["principal_stress_Pa"][order],
                                rtol=1e-9, atol=1e-9 * np.abs(s).max())
     np.testing.assert_allclose(x[alive], bodies["centroid"][order], rtol=0, atol=1e-8)
+    # Eq. 2.18's in-plane invariants in the frame, from Python's tensors.
+    sxx, syy, sxy = s[:, 0, 0], s[:, 1, 1], s[:, 0, 1]
+    scale = np.abs(s).max()
+    np.testing.assert_allclose(bodies["p_xy_Pa"][order], 0.5 * (sxx + syy), rtol=1e-9, atol=1e-9 * scale)
+    np.testing.assert_allclose(bodies["q_xy_Pa"][order], np.hypot(0.5 * (sxx - syy), sxy), rtol=1e-9,
+                               atol=1e-9 * scale)
+    theta = np.degrees(0.5 * np.arctan2(2 * sxy, sxx - syy))
+    np.testing.assert_allclose(bodies["theta_xy_deg"][order], theta, atol=1e-6)
     np.testing.assert_array_equal(sim.velocities[alive], bodies["velocity_m_per_s"][order])
     np.testing.assert_array_equal(sim.angular_velocities[alive], bodies["angular_velocity_rad_per_s"][order])
     sim.finish()
@@ -362,3 +370,28 @@ def test_each_split_adds_its_pieces_and_reads_the_criterion_of_eqs_3_23_to_3_25(
     added = sum(len(s["pieces"].split()) - 1 for s in splits)
     bodies = bodies_of(last_frame(broken_disc, "bodies"))
     assert len(bodies["body_id"]) == grains + added
+
+
+def test_each_grains_c_axis_is_the_normal_of_its_hexagonal_faces(loaded_disc):
+    # A prism's crystal c axis is its hexagonal faces' normal, read here off the frame's
+    # own faces; energy.csv's potential energy is zero without gravity.
+    out, bodies, _ = loaded_disc
+    last = re.findall(r'file="([^"]+)"', (out / "bodies.pvd").read_text())[-1]
+    frame = read_vtp(out / last)
+    index = vtk_to_numpy(frame.GetCellData().GetArray("body_index"))
+    points = vtk_to_numpy(frame.GetPoints().GetData()).astype(float)
+    axis = {}
+    ids = vtk.vtkIdList()
+    for k in range(frame.GetNumberOfCells()):
+        frame.GetCellPoints(k, ids)
+        if ids.GetNumberOfIds() == 6:
+            q = points[[ids.GetId(j) for j in range(6)]]
+            n = np.cross(q[2] - q[0], q[4] - q[0])
+            axis[int(index[k])] = n / np.linalg.norm(n)
+    order = sorted(axis)
+    assert len(order) == len(bodies["c_axis"])
+    dots = np.abs(np.einsum("ij,ij->i", np.array([axis[b] for b in order]), bodies["c_axis"]))
+    np.testing.assert_allclose(dots, 1.0, atol=1e-6)
+    with open(ROOT / SCENARIO, "rb") as f:
+        assert tomllib.load(f)["dynamics"]["gravity"] == [0.0, 0.0, 0.0]
+    assert all(float(r["potential_J"]) == 0.0 for r in table(out / "energy.csv"))
