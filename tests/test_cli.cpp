@@ -418,7 +418,7 @@ bool names_its_unit(const std::string& name) {
       "path", "strain_x", "strain_y", "strain_z", "axis", "strain", "poisson", "part", "share",
       // VTK fields
       "body_index", "link_index", "body_id", "family_11_20", "c_axis", "normal", "with_wall",
-      "failure_mode", "periodic"};
+      "failure_mode", "periodic", "wall_index", "crack_index", "kind"};
   if (dimensionless.count(name) > 0) return true;
   return std::any_of(suffixes.begin(), suffixes.end(), [&](const std::string& s) {
     return name.size() > s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
