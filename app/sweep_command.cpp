@@ -187,6 +187,12 @@ int sweep_command(const SweepOptions& o) {
     return 2;
   }
   const fs::path out = o.out.empty() ? fs::path("results") / (base.name + "_sweep") : o.out;
+  try {
+    io::check_result_folder(out);
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
+    return 2;
+  }
   const fs::path base_dir = fs::absolute(o.scenario).parent_path();
   std::vector<Job> jobs(points.size());
   try {

@@ -145,6 +145,12 @@ int validate_command(const ValidateOptions& options) {
     return 2;
   }
   const fs::path out = options.out.empty() ? fs::path("results") / v.name : options.out;
+  try {
+    io::check_result_folder(out);
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
+    return 2;
+  }
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) {

@@ -29,6 +29,10 @@ void write_file_atomically(const fs::path& path, const std::string& content) {
   if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
 }
 
+bool is_plain_folder_name(std::string_view name) {
+  return !name.empty() && name.front() != '.' && name.find_first_of(std::string_view("/\\\0", 3)) == std::string_view::npos;
+}
+
 void check_result_folder(const fs::path& out) {
   std::error_code ec;
   const fs::path here = fs::weakly_canonical(fs::absolute(out), ec);

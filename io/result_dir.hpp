@@ -26,6 +26,10 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 /// Reads a whole file; throws std::runtime_error naming the file when it cannot.
 std::string read_file(const std::filesystem::path& path);
 
+/// A scenario's name names its folder in results/: one plain component (no '/', '\\',
+/// NUL or leading '.'), so that it cannot lead out of results/.
+bool is_plain_folder_name(std::string_view name);
+
 /// cleave writes only in a folder it owns. Refuses (std::invalid_argument, naming the folder
 /// and why) the file system's root, the home folder, the working folder, something that is
 /// not a folder, and a folder that holds files but no cleave manifest (another program's),

@@ -146,6 +146,7 @@
 /// concerns no key (a TOML syntax error) leaves out the "key '...': " part.
 
 #include "io/scenario.hpp"
+#include "io/result_dir.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -205,8 +206,7 @@ void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
   s.name = t.string("name", default_name);
   if (s.name.empty()) t.fail(*t.find("name"), "name", "must not be empty");
   // The name is a folder in results/: one plain component, so that it cannot lead out.
-  if (t.find("name") != nullptr && (s.name.find_first_of("/\\") != std::string::npos || s.name.front() == '.' ||
-                                     s.name.find('\0') != std::string::npos)) {
+  if (t.find("name") != nullptr && !is_plain_folder_name(s.name)) {
     t.fail(*t.find("name"), "name",
            fmt::format("'{}' must be a plain folder name (no '/', '\\' or leading '.'): the run writes "
                        "results/NAME",

@@ -1,4 +1,5 @@
 #include "io/validation_scenario.hpp"
+#include "io/result_dir.hpp"
 
 #include <fstream>
 #include <sstream>
@@ -233,6 +234,10 @@ ValidationScenario parse_validation_scenario(const std::string& text, const std:
     const TableReader t = reader("scenario");
     t.reject_unknown(kScenarioKeys);
     v.name = t.string("name", std::filesystem::path(source).stem().string());
+    if (t.find("name") != nullptr && !is_plain_folder_name(v.name)) {
+      t.fail(*t.find("name"), "name",
+             "'" + v.name + "' must be a plain folder name (no '/', '\\' or leading '.'): it names results/NAME");
+    }
     v.description = t.string("description", "");
     unit = t.choose<double>("length_unit", {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}}, 1e-3);
   }

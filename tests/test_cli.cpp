@@ -515,6 +515,14 @@ TEST_F(CleaveCli, AResultFolderOutsideWhatCleaveOwnsIsRefusedBeforeAnythingIsWri
   const Outcome root = run_cleave("run " + small.string() + " --out /");
   EXPECT_EQ(root.code, 2) << root.output;
   EXPECT_NE(root.output.find("is the file system's root"), std::string::npos) << root.output;
+  const fs::path src(CLEAVE_SOURCE_DIR);
+  for (const std::string& other :
+       {"sweep " + (src / "scenarios/brazilian_fracture.toml").string() + " --set orientation.seed=1..2",
+        "validate " + (src / "scenarios/validation/dcb_coarse.toml").string()}) {
+    const Outcome refused_root = run_cleave(other + " --out /");
+    EXPECT_EQ(refused_root.code, 2) << other << ": " << refused_root.output;
+    EXPECT_NE(refused_root.output.find("is the file system's root"), std::string::npos) << refused_root.output;
+  }
 
   const fs::path foreign = dir_ / "foreign";
   fs::create_directories(foreign / "meshes");
