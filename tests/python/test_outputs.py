@@ -110,19 +110,7 @@ def contacts_of(frame):
 
 def volumes_of(frame):
     """Each body's volume from its faces (divergence theorem), by body_index."""
-    index = vtk_to_numpy(frame.GetCellData().GetArray("body_index"))
-    points = vtk_to_numpy(frame.GetPoints().GetData())
-    polys = frame.GetPolys()
-    polys.InitTraversal()
-    ids = vtk.vtkIdList()
-    volume = {}
-    k = 0
-    while polys.GetNextCell(ids):
-        q = points[[ids.GetId(j) for j in range(ids.GetNumberOfIds())]]
-        area = sum(np.cross(q[j] - q[0], q[j + 1] - q[0]) for j in range(1, len(q) - 1))
-        volume[int(index[k])] = volume.get(int(index[k]), 0.0) + np.dot(q[0], area) / 6.0
-        k += 1
-    return np.array([volume[b] for b in sorted(volume)])
+    return np.array([mass for mass, _, _ in mass_properties(frame, 1.0)])
 
 
 def test_grain_stresses_sum_to_the_statics_of_the_wall_forces(loaded_disc):
