@@ -185,6 +185,14 @@ def test_python_grain_stresses_are_symmetric_and_those_the_frames_show(root, tmp
     theta = np.degrees(0.5 * np.arctan2(2 * sxy, sxx - syy))
     np.testing.assert_allclose(bodies["theta_xy_deg"][order], theta, atol=1e-6)
     np.testing.assert_array_equal(sim.velocities[alive], bodies["velocity_m_per_s"][order])
+    # Each body's force: the sum of its bond and contact forces in the frames, less Cundall's
+    # local damping, alpha |F_i| sign(v_i) per component ([dynamics] local_damping).
+    net, typical = net_forces(loaded_disc[0], bodies)
+    with open(ROOT / SCENARIO, "rb") as f:
+        alpha = tomllib.load(f)["dynamics"]["local_damping"]
+    v = bodies["velocity_m_per_s"]
+    damped = net - alpha * np.abs(net) * np.sign(v)
+    np.testing.assert_allclose(sim.forces[alive], damped[order], rtol=0, atol=1e-9 * typical)
     np.testing.assert_array_equal(sim.angular_velocities[alive], bodies["angular_velocity_rad_per_s"][order])
     sim.finish()
 
@@ -272,11 +280,10 @@ def test_the_kinetic_energy_in_energy_csv_is_that_of_the_frames_masses_and_veloc
     assert float(at[-1][rows[0].index("kinetic_J")]) == pytest.approx(energy, rel=1e-5)
 
 
-def test_bond_forces_in_the_frame_hold_each_grain_in_equilibrium(loaded_disc):
-    # Quasi-static loading: each grain's bond forces (bonds.vtp, matched to grains by their
-    # end points, the grains' centroids) and wall contact forces (contacts.vtp) add up to
-    # nearly nothing against the forces themselves.
-    out, bodies, _ = loaded_disc
+def net_forces(out, bodies):
+    """Each grain's bond forces (bonds.vtp, matched to grains by their end points, the grains'
+    centroids) and wall contact forces (contacts.vtp) summed, in the body frame's order; and
+    the largest bond force."""
     last = re.findall(r'file="([^"]+)"', (out / "bodies.pvd").read_text())[-1]
     frame = read_vtp(out / last.replace("bodies_", "bonds_"))
     points = vtk_to_numpy(frame.GetPoints().GetData())
@@ -296,7 +303,14 @@ def test_bond_forces_in_the_frame_hold_each_grain_in_equilibrium(loaded_disc):
     x, f, wall = contacts_of(read_vtp(out / last.replace("bodies_", "contacts_")))
     for at, fc in zip(x[wall], f[wall]):
         net[np.argmin(np.linalg.norm(centroid - at, axis=1))] += fc
-    typical = np.abs(force[intact]).max()
+    return net, np.abs(force[intact]).max()
+
+
+def test_bond_forces_in_the_frame_hold_each_grain_in_equilibrium(loaded_disc):
+    # Quasi-static loading: each grain's forces add up to nearly nothing against the forces
+    # themselves.
+    out, bodies, _ = loaded_disc
+    net, typical = net_forces(out, bodies)
     assert np.abs(net).max() < 0.05 * typical
 
 
