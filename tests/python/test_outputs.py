@@ -185,6 +185,16 @@ def test_python_grain_stresses_are_symmetric_and_those_the_frames_show(root, tmp
     theta = np.degrees(0.5 * np.arctan2(2 * sxy, sxx - syy))
     np.testing.assert_allclose(bodies["theta_xy_deg"][order], theta, atol=1e-6)
     np.testing.assert_array_equal(sim.velocities[alive], bodies["velocity_m_per_s"][order])
+    # Each orientation (principal frame to world) turns one principal axis onto the frame's c axis.
+    q = sim.orientations[alive]  # x, y, z, w
+    xyz, w = q[:, :3], q[:, 3:]
+    c_axis = bodies["c_axis"][order]
+    best = np.zeros(len(q))
+    for e in np.eye(3):
+        e = np.broadcast_to(e, xyz.shape)
+        turned = e + 2 * w * np.cross(xyz, e) + 2 * np.cross(xyz, np.cross(xyz, e))
+        best = np.maximum(best, np.abs(np.einsum("ij,ij->i", turned, c_axis)))
+    np.testing.assert_allclose(best, 1.0, atol=1e-9)
     # Each body's force: the sum of its bond and contact forces in the frames, less Cundall's
     # local damping, alpha |F_i| sign(v_i) per component ([dynamics] local_damping).
     net, typical = net_forces(loaded_disc[0], bodies)
