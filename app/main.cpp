@@ -45,13 +45,21 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--timing", run.timing,
                     "Clock each part of the steps (search, narrow phase, contact and bond laws, ...): "
                     "DIR/timing.csv and a table at the end");
+  // Step counts: whole numbers, so that -1 cannot wrap to 2^64 - 1 nor 1e23 pass.
+  const CLI::Validator steps{[](std::string& text) -> std::string {
+                               if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+                                 return "a number of steps is a whole number, 0 or more: " + text;
+                               if (text.size() > 15) return "at most 10^15 steps: " + text;
+                               return {};
+                             },
+                             "STEPS"};
   run_cmd->add_option("--max-steps", run.max_steps,
-                      "Stop the dynamics after this many steps (a quick look; 0: no limit)");
+                      "Stop the dynamics after this many steps (a quick look; 0: no limit)")->check(steps);
   run_cmd->add_option("--restart", run.restart,
                       "Continue from a checkpoint (DIR/checkpoint or DIR) instead of a scenario");
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every,
                       "Write DIR/checkpoint every N steps (overrides [output] checkpoint_every; "
-                      "one is always written on SIGINT/SIGTERM)");
+                      "one is always written on SIGINT/SIGTERM)")->check(steps);
 
   RunOptions restart;
   CLI::App* restart_cmd = app.add_subcommand(
@@ -62,9 +70,9 @@ int main(int argc, char** argv) {
   restart_cmd->add_flag("--quiet,-q", restart.quiet, "Print only errors");
   restart_cmd->add_flag("--timing", restart.timing, "As for run: DIR/timing.csv, the restarted steps");
   restart_cmd->add_option("--max-steps", restart.max_steps,
-                          "Total step limit (default: the interrupted run's --max-steps)");
+                          "Total step limit (default: the interrupted run's --max-steps)")->check(steps);
   restart_cmd->add_option("--checkpoint-every", restart.checkpoint_every,
-                          "Write a checkpoint every N steps (overrides the scenario)");
+                          "Write a checkpoint every N steps (overrides the scenario)")->check(steps);
 
   CLI::App* check_cmd = app.add_subcommand("check", "Check a result folder");
   check_cmd->require_subcommand(1);
@@ -100,7 +108,7 @@ int main(int argc, char** argv) {
       "run (equal numbers of values): N runs, not N^2; a product with the --set keys");
   sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)");
   sweep_cmd->add_option("--out,-o", sweep.out, "Folder (default: results/<scenario name>_sweep)");
-  sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run");
+  sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run")->check(steps);
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "Print only errors");
 
   CLI::App* validate_cmd = app.add_subcommand(
@@ -147,7 +155,12 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_option("--out,-o", calibrate.out, "Folder (default: results/<file name>)");
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only the result");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version end through here with 0; every other is a usage error: exit 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
 
   // Several processes: `cleave run` splits the specimen among them (parallel/); nothing
   // else does, and a build without MPI says so rather than running N copies.

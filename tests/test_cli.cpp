@@ -541,3 +541,18 @@ TEST_F(CleaveCli, AResultFolderOutsideWhatCleaveOwnsIsRefusedBeforeAnythingIsWri
   const Outcome again = run_cleave("run " + small.string() + " --quiet --out " + mine.string());
   EXPECT_EQ(again.code, 0) << again.output;
 }
+
+TEST_F(CleaveCli, UsageErrorsExitTwoAndStepCountsAreWholeNumbers) {
+  // Every usage error is exit 2 (the command line parser's own codes were 104-114); a step
+  // count is a whole number, so -1 cannot wrap to 2^64 - 1 and 1e23 is no count.
+  const fs::path small = write("small.toml", kSmallBox);
+  for (const std::string& bad : {"--max-steps -1", "--max-steps 1e23", "--checkpoint-every -5",
+                                 "--max-steps 10000000000000000", "--no-such-option"}) {
+    const Outcome o = run_cleave("run " + small.string() + " --quiet --out " + (dir_ / "o").string() + " " + bad);
+    EXPECT_EQ(o.code, 2) << bad << ": " << o.output;
+    EXPECT_FALSE(fs::exists(dir_ / "o" / "run.toml")) << bad;
+  }
+  EXPECT_EQ(run_cleave("frobnicate").code, 2);
+  EXPECT_EQ(run_cleave("--help").code, 0);
+  EXPECT_EQ(run_cleave("run " + small.string() + " --quiet --max-steps 10 --out " + (dir_ / "o").string()).code, 0);
+}
