@@ -883,7 +883,6 @@ class Dynamics::Runner {
     return p;
   }
 
-
   /// The transgranular check of sec. 3.4 on every body; logs each split. Returns how many.
   std::size_t split_grains() {
     const auto t0 = std::chrono::steady_clock::now();

@@ -229,6 +229,8 @@ void run_strength_test(Simulation& sim, Measurement& m, const SectionProbe* prob
     SectionForces last_forces;  // the probe's, on the last sample (zero without a probe)
     std::vector<Sample> samples;
     const double t0 = world.time();
+    std::vector<Eigen::Vector3d> origins;  // the walls at the loading's start
+    for (const physics::Wall& w : world.walls()) origins.push_back(w.origin);
     // A split adds bodies (nothing else does during a test); a break, a broken bond.
     const std::size_t bodies0 = world.body_count(), broken0 = world.bond_counts().broken();
     double work = 0.0;
@@ -242,8 +244,6 @@ void run_strength_test(Simulation& sim, Measurement& m, const SectionProbe* prob
         last_reaction[k] = w.reaction;
       }
       // The load as the run's table and peak read it (two platens each carry P, not 2P).
-      std::vector<Eigen::Vector3d> origins;
-      for (const physics::Wall& w : world.walls()) origins.push_back(w.origin);
       const double load = machine_reading(world, loaders, origins).load;
       if (m.first_crack.empty()) {
         if (world.body_count() != bodies0) m.first_crack = "grain";
