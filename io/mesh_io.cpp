@@ -1,4 +1,5 @@
 #include "io/mesh_io.hpp"
+#include "io/result_dir.hpp"
 
 #include <assimp/material.h>
 #include <assimp/mesh.h>
@@ -264,25 +265,12 @@ std::string stl_ascii_text(const std::vector<const PolygonMesh*>& triangulated,
   return out;
 }
 
-/// Writes `text` to `target` through a temporary file in the same folder and a rename.
+/// Writes `text` to `target` atomically (io::write_file_atomically), failing as a mesh error.
 void write_text_file(const fs::path& target, const std::string& text) {
-  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail(target, "cannot create the temporary file '" + tmp.string() + "'");
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      fail(target, "cannot write the temporary file '" + tmp.string() + "'");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    fail(target, "cannot rename the finished temporary file: " + ec.message());
+  try {
+    write_file_atomically(target, text);
+  } catch (const std::runtime_error& e) {
+    fail(target, e.what());
   }
 }
 

@@ -17,16 +17,20 @@ namespace fs = std::filesystem;
 
 void write_file_atomically(const fs::path& path, const std::string& content) {
   const fs::path tmp = path.string() + ".tmp";
+  std::error_code ec;
+  const auto give_up = [&](const std::string& why) {
+    fs::remove(tmp, ec);  // no half-written file left behind
+    throw std::runtime_error(path.string() + ": " + why);
+  };
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error(path.string() + ": cannot open for writing");
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.flush();
-    if (!out) throw std::runtime_error(path.string() + ": write failed");
+    if (!out) give_up("write failed");
   }
-  std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
+  if (ec) give_up("cannot rename into place: " + ec.message());
 }
 
 bool is_plain_folder_name(std::string_view name) {
