@@ -77,7 +77,8 @@ struct SweepOptions {
 /// values together, one factor of the product), `jobs` at a
 /// time as child `cleave run`s, and writes summary.csv (one row per run: the values, status,
 /// peak load, strength, bonds broken, splits, time), a plot, and for a seed ensemble the
-/// Weibull fit (weibull.csv, weibull.svg). Exit 0 when every run finished, 1 when one did
+/// Weibull fit (weibull.csv, weibull.svg). Exit 0 when every run finished (or stopped by
+/// --max-steps, as asked: status stopped, left out of the fits), 1 when one did
 /// not, 2 on bad input (nothing is run), 130/143 when interrupted.
 int sweep_command(const SweepOptions& options);
 

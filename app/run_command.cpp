@@ -1,6 +1,6 @@
 // `cleave run` / `cleave restart`: the command line over sim::Simulation; this file maps
 // what happens to the messages and exit codes of the CLI (2: bad input, 1: a failed run,
-// 128 + signal: stopped).
+// 128 + signal: interrupted; 0: finished, or stopped by --max-steps as asked).
 
 #include <fmt/format.h>
 
@@ -108,6 +108,13 @@ int run_command(const RunOptions& options) {
 #endif
   switch (report.status) {
     case sim::RunReport::Status::finished:
+      return 0;
+    case sim::RunReport::Status::stopped:
+      // The user asked for the limit: not an error, but the result is not the whole run.
+      if (!options.quiet) {
+        fmt::print(stderr, "cleave: {}; the result folder {} holds the run up to there (status "
+                           "stopped)\n", report.message, report.out.string());
+      }
       return 0;
     case sim::RunReport::Status::failed:
       fmt::print(stderr, "cleave: error: {}\n", report.message);

@@ -301,14 +301,17 @@ int sweep_command(const SweepOptions& o) {
   std::string csv = "run";
   for (const auto& a : axes) csv += "," + csv_field(a.key);
   csv += ",status,exit_code,peak_load_N,strength_Pa,bonds_broken,splits,wall_s,folder\n";
-  int failed = 0;
+  int failed = 0, cut = 0;  // cut: stopped by --max-steps, as asked (no strength counted)
   std::vector<double> strengths;
   for (const Job& j : jobs) {
     csv += j.dir.filename().string();
     for (const auto& v : points[j.index]) csv += "," + csv_field(v);
     const std::string status =
         j.pid < 0 ? "not started" : (j.has_manifest ? j.manifest.status : "no manifest");
-    if (j.pid >= 0 && (j.exit_code != 0 || status != io::run_status::finished)) ++failed;
+    if (j.pid >= 0 && j.exit_code == 0 && status == io::run_status::stopped)
+      ++cut;
+    else if (j.pid >= 0 && (j.exit_code != 0 || status != io::run_status::finished))
+      ++failed;
     csv += fmt::format(",{},{},{},{},{},{},{:.3f},{}\n", csv_field(status), j.exit_code,
                        fact(j, "peak_load_N"), fact(j, "brazilian_strength_Pa"),
                        fact(j, "intergranular_breaks"), fact(j, "transgranular_splits"),
@@ -396,6 +399,7 @@ int sweep_command(const SweepOptions& o) {
       io::write_plot_svg(out / "summary.svg", p);
     }
     record.manifest.facts["runs_failed"] = std::to_string(failed);
+    record.manifest.facts["runs_stopped"] = std::to_string(cut);
     if (stopped) {
       const int sig = stop_signal();
       record.close(io::run_status::interrupted,
@@ -407,6 +411,11 @@ int sweep_command(const SweepOptions& o) {
     if (failed > 0)
       record.close(io::run_status::failed, fmt::format("{} of {} runs failed (see summary.csv "
                                                        "and their .log files)", failed, jobs.size()));
+    else if (cut > 0)
+      record.close(io::run_status::stopped,
+                   fmt::format("{} of {} runs stopped by --max-steps {} before their stages ended (their "
+                               "strengths are left out of the fits)",
+                               cut, jobs.size(), o.max_steps));
     else
       record.close(io::run_status::finished);
   } catch (const std::exception& e) {
@@ -415,7 +424,8 @@ int sweep_command(const SweepOptions& o) {
     return 1;
   }
   if (!o.quiet)
-    fmt::print("cleave sweep: {} runs, {} failed, {:.1f} s -> {}\n", jobs.size(), failed,
+    fmt::print("cleave sweep: {} runs, {} failed{}, {:.1f} s -> {}\n", jobs.size(), failed,
+               cut > 0 ? fmt::format(", {} stopped by --max-steps", cut) : std::string(),
                std::chrono::duration<double>(Clock::now() - t0).count(),
                (out / "summary.csv").string());
   return failed > 0 ? 1 : 0;

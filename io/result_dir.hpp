@@ -4,8 +4,9 @@
 /// manifest (`run.toml`) that says what state the run is in and what it wrote.
 ///
 /// A run writes `run.toml` with status "running" before anything else, and again at the
-/// end with its final status: "finished", "interrupted" (SIGINT/SIGTERM, what was done so
-/// far is written) or "failed" (with `reason`). The final manifest lists every file the
+/// end with its final status: "finished", "stopped" (its step limit, --max-steps, ran out
+/// before its stages ended; `reason` names the step and the stage), "interrupted"
+/// (SIGINT/SIGTERM, what was done so far is written) or "failed" (with `reason`). The final manifest lists every file the
 /// run wrote with its size and SHA-256 (`[files]`, and `SHA256SUMS` for `sha256sum -c`),
 /// and its `[provenance]` says what produced it (versions, seed, scenario as run).
 
@@ -40,7 +41,11 @@ void check_result_folder(const std::filesystem::path& out);
 /// The statuses a result folder's manifest can hold.
 namespace run_status {
 inline constexpr const char* running = "running";        ///< written at the start
-inline constexpr const char* finished = "finished";      ///< complete; the only usable one
+inline constexpr const char* finished = "finished";      ///< complete: every stage ran
+/// The step limit (--max-steps) ran out before the stages ended: the files are whole and
+/// consistent up to that step, but the scenario did not run to its end (`reason`: the step
+/// and the stage; facts stopped_at_step, stopped_in_stage).
+inline constexpr const char* stopped = "stopped";
 inline constexpr const char* interrupted = "interrupted";  ///< stopped by SIGINT/SIGTERM
 inline constexpr const char* failed = "failed";          ///< stopped by an error (`reason`)
 }  // namespace run_status

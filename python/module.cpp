@@ -117,7 +117,8 @@ py::dict stage_dict(const cleave::sim::StageSummary& st) {
 }
 
 py::dict report_dict(const cleave::sim::RunReport& r) {
-  static const char* names[] = {"finished", "interrupted", "failed"};
+  static const char* names[] = {"finished", "interrupted", "failed", "stopped"};  // RunReport::Status
+  static_assert(static_cast<int>(cleave::sim::RunReport::Status::stopped) == 3);
   py::dict d("status"_a = names[static_cast<int>(r.status)], "message"_a = r.message,
              "out"_a = r.out.string());
   if (r.dynamics) {

@@ -682,13 +682,16 @@ class Dynamics::Runner {
         break;
     }
     if (i % r.log_every == 0 || i == limit || event) {
-      record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure)));
-      if (!load_walls.empty()) {
+      if (record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure))) &&
+          !load_walls.empty()) {
         r.progress.plot_x.push_back(closure);
         r.progress.plot_y.push_back(load);
       }
     }
-    if (r.frame_every && (i % r.frame_every == 0)) write_frame();
+    if (sum_.ending != RunEnding::blew_up && r.frame_every && (i % r.frame_every == 0)) write_frame();
+    // A value that is not finite in a row or frame of this step ends the run here (failed),
+    // before a checkpoint would keep the state.
+    if (sum_.ending == RunEnding::blew_up) return;
     const RunPoint point{world_, stage.name, stage_index_, st.steps, book_ ? &*book_ : nullptr,
                          [this] { return encode_run_state(); }};
     if (hooks_.on_checkpoint && hooks_.checkpoint_every > 0 &&
@@ -745,6 +748,7 @@ class Dynamics::Runner {
     if (r.capped && !event && !r.halt) {
       stopped_ = true;  // --max-steps reached inside this stage
       st.ended_by = "max_steps";
+      sum_.ending = RunEnding::stopped;
     }
     st.event_missed = !event && !r.halt && !stopped_ && stage.until != StageDef::Until::limit;
     if (plain) sum_.settled = event;
@@ -1004,19 +1008,77 @@ class Dynamics::Runner {
   }
 
   /// One row of every history; `reading` is the stage's (load, load-point displacement)
-  /// when it has load walls.
-  void record(double overlap, std::optional<std::pair<double, double>> reading) {
-    last_kinetic_ = kinetic_energy();
-    last_contacts_ = contact_count();
-    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), last_kinetic_,
-                           potential_energy(), last_contacts_, overlap, stage_);
+  /// when it has load walls. A row holding a value that is not finite is not written: the
+  /// run fails there (non_finite) and the tables keep only finite rows. Returns whether the
+  /// row was written.
+  bool record(double overlap, std::optional<std::pair<double, double>> reading) {
+    const double kinetic = kinetic_energy(), potential = potential_energy();
+    const std::size_t contacts = contact_count();
+    // What the row would say that is not finite: the first such column, named.
+    std::string bad;
+    auto check = [&bad](bool finite, auto&& name) {
+      if (bad.empty() && !finite) bad = name();
+    };
+    check(std::isfinite(kinetic), [] { return std::string("the kinetic energy (energy.csv kinetic_J)"); });
+    check(std::isfinite(potential), [] { return std::string("the potential energy (energy.csv potential_J)"); });
+    check(std::isfinite(overlap), [] { return std::string("the largest overlap (energy.csv max_overlap_m)"); });
+    std::vector<WallReading> wall_readings;
+    for (std::size_t i = 0; i < world_.walls().size(); ++i) {
+      const auto& w = world_.walls()[i];
+      wall_readings.push_back(read_wall(w, origin0_[i]));
+      auto name = [&](const char* what) {
+        return [&, what] { return fmt::format("wall {} ('{}'): its {}", i, w.name, what); };
+      };
+      check(w.reaction.allFinite(), name("reaction (walls.csv)"));
+      check(std::isfinite(wall_readings.back().displacement), name("displacement (load_displacement.csv)"));
+      check(std::isfinite(wall_readings.back().force), name("force (load_displacement.csv)"));
+    }
+    if (reading) {
+      check(std::isfinite(reading->first), [] { return std::string("the load (load_displacement.csv load_N)"); });
+      check(std::isfinite(reading->second), [] { return std::string("the load-point displacement (load_displacement.csv)"); });
+    }
+    double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    std::size_t bodies = 0;
+    if (scenario_.thermal.enabled) {
+      for (const physics::BodyId id : world_.body_ids()) {
+        const double t = world_.temperature(id);
+        check(std::isfinite(t), [&] { return fmt::format("body {} (grain {}): its temperature (thermal.csv)", id.index, world_.info(id).grain_id); });
+        sum += t;
+        lo = std::min(lo, t);
+        hi = std::max(hi, t);
+        ++bodies;
+      }
+    }
+    Eigen::Vector3d cell_l, cell_e;
+    Eigen::Matrix3d cell_sg;
+    const physics::PeriodicCell* cell = world_.cell();
+    if (cell) {
+      // The cell's size, its strain from the start, and the mean stress in it.
+      cell_l = cell->vectors().colwise().norm().transpose();
+      cell_e = cell_l.cwiseQuotient(cell0_) - Eigen::Vector3d::Ones();
+      cell_sg = world_.cell_stress();
+      check(cell_l.allFinite() && cell_e.allFinite(), [] { return std::string("the periodic cell's size (cell.csv)"); });
+      check(cell_sg.allFinite(), [] { return std::string("the periodic cell's stress (cell.csv)"); });
+    }
+    std::optional<std::string> failure;
+    if (!bad.empty()) failure = bad;
+    if (domain() && domain()->any(failure.has_value())) failure = domain()->first(failure);
+    if (failure) {
+      non_finite(*failure + " is not finite (NaN or infinite) in the history row of this step, which is not "
+                            "written");
+      return false;
+    }
+
+    last_kinetic_ = kinetic;
+    last_contacts_ = contacts;
+    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), kinetic, potential, contacts,
+                           overlap, stage_);
     walls_ += fmt::format("{:.9g}", world_.time());
     loads_ += fmt::format("{:.9g},{},{}", world_.time(), world_.steps(), stage_);
     for (std::size_t i = 0; i < world_.walls().size(); ++i) {
       const auto& w = world_.walls()[i];
       walls_ += fmt::format(",{:.9g},{:.9g},{:.9g}", w.reaction.x(), w.reaction.y(), w.reaction.z());
-      const WallReading r = read_wall(w, origin0_[i]);
-      loads_ += fmt::format(",{:.9g},{:.9g}", r.displacement, r.force);
+      loads_ += fmt::format(",{:.9g},{:.9g}", wall_readings[i].displacement, wall_readings[i].force);
     }
     walls_ += "\n";
     loads_ += reading ? fmt::format(",{:.9g},{:.9g}\n", reading->first, reading->second) : ",,\n";
@@ -1026,43 +1088,82 @@ class Dynamics::Runner {
                                   c.tension, c.shear, c.bending, c.torsion);
     }
     if (scenario_.thermal.enabled) {
-      double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      const auto ids = world_.body_ids();
-      for (const physics::BodyId id : ids) {
-        const double t = world_.temperature(id);
-        sum += t;
-        lo = std::min(lo, t);
-        hi = std::max(hi, t);
-      }
       const physics::BondCounts c = world_.bond_counts();
       thermal_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", world_.time(), stage_,
-                              ids.empty() ? 0.0 : sum / static_cast<double>(ids.size()), lo, hi, c.intact,
+                              bodies == 0 ? 0.0 : sum / static_cast<double>(bodies), lo, hi, c.intact,
                               c.tension + c.shear + c.bending + c.torsion, sum_.splits);
     }
-    if (const physics::PeriodicCell* cell = world_.cell()) {
-      // The cell's size, its strain from the start, and the mean stress in it.
-      const Eigen::Vector3d l = cell->vectors().colwise().norm().transpose();
-      const Eigen::Vector3d e = l.cwiseQuotient(cell0_) - Eigen::Vector3d::Ones();
-      const Eigen::Matrix3d sg = world_.cell_stress();
+    if (cell) {
+      const Eigen::Vector3d& l = cell_l;
+      const Eigen::Vector3d& e = cell_e;
+      const Eigen::Matrix3d& sg = cell_sg;
       cell_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
                            world_.time(), stage_, l.x(), l.y(), l.z(), e.x(), e.y(), e.z(), sg(0, 0), sg(1, 1), sg(2, 2),
                            sg(1, 2), sg(0, 2), sg(0, 1));
     }
+    return true;
+  }
+
+  /// The run fails at this step: something it would write is not finite (`what`, naming the
+  /// body, wall or column). The first failure stays; the run stops after this step.
+  void non_finite(const std::string& what) {
+    if (sum_.ending == RunEnding::blew_up) return;
+    sum_.ending = RunEnding::blew_up;
+    sum_.failure = fmt::format("the run failed at step {} (t = {:.3g} s): {}", world_.steps(), world_.time(), what);
+    stopped_ = true;
+    if (stage_run_) stage_run_->halt = true;
   }
 
   bool writes_walls() const { return !world_.walls().empty(); }
   bool writes_cracks() const { return scenario_.bond.enabled || book_.has_value(); }
 
-  /// `gathered`: on several processes, the whole world is here already.
-  void write_frame(bool gathered = false) {
+  /// `gathered`: on several processes, the whole world is here already. A frame holding a
+  /// value that is not finite is not written: the run fails there (non_finite), naming the
+  /// item. Returns whether it was written.
+  bool write_frame(bool gathered = false) {
     if (domain() && !gathered) domain()->gather_all(world_, true);  // the whole world, its contacts too
     // A second frame at the step of the last one (the bond stage right after the first
     // frame) replaces it: every series lists each time once.
     const bool again = sum_.frames > 0 && world_.steps() == last_frame_step_;
-    if (!root_) {  // several processes: the first writes the frames
+    // Built first, then checked, then written: a frame is written whole or not at all.
+    std::optional<io::BodyFrame> bodies, walls, cracks;
+    std::optional<io::LinkFrame> contacts, bonds, cell_edges;
+    std::optional<std::string> bad;
+    if (root_) {  // several processes: the first writes the frames
+      bodies = body_frame(world_, specimen_);
+      contacts = contact_frame(world_);
+      if (scenario_.bond.enabled) bonds = bond_frame(world_);
+      if (const physics::PeriodicCell* cell = world_.cell()) cell_edges = cell_frame(*cell);
+      if (writes_walls()) walls = io::wall_frame(world_);
+      if (writes_cracks()) cracks = io::crack_frame(world_, book_ ? &*book_ : nullptr);
+      const std::vector<physics::BodyId> ids = world_.body_ids();
+      auto body_name = [&](std::size_t row) {
+        return row < ids.size() ? fmt::format("body {} (grain {})", ids[row].index, world_.info(ids[row]).grain_id)
+                                : fmt::format("body row {}", row);
+      };
+      auto wall_name = [&](std::size_t row) {
+        return row < world_.walls().size() ? fmt::format("wall {} ('{}')", row, world_.walls()[row].name)
+                                           : fmt::format("wall row {}", row);
+      };
+      auto numbered = [](const char* what) { return [what](std::size_t row) { return fmt::format("{} {}", what, row); }; };
+      if (!bad && bodies) bad = non_finite_in(*bodies, "bodies", body_name);
+      if (!bad && contacts) bad = non_finite_in(*contacts, "contacts", numbered("contact"));
+      if (!bad && bonds) bad = non_finite_in(*bonds, "bonds", numbered("bond"));
+      if (!bad && cell_edges) bad = non_finite_in(*cell_edges, "cell", numbered("cell edge"));
+      if (!bad && walls) bad = non_finite_in(*walls, "walls", wall_name);
+      // A crack face's broken_at_s is NaN on purpose for split sections (no bond broke): only
+      // its place is checked.
+      if (!bad && cracks) bad = non_finite_in(cracks->meshes, "cracks", numbered("crack face"));
+    }
+    if (domain() && domain()->any(bad.has_value())) bad = domain()->first(bad);
+    if (bad) {
+      non_finite(*bad + " is not finite (NaN or infinite) in the frame of this step, which is not written");
+      return false;
+    }
+    if (!root_) {
       if (!again) ++sum_.frames;
       last_frame_step_ = world_.steps();
-      return;
+      return true;
     }
     const std::string stem = fmt::format("{:06d}", again ? sum_.frames - 1 : sum_.frames);
     const fs::path dir = "frames";
@@ -1071,15 +1172,52 @@ class Dynamics::Runner {
       io::write_vtp(out_ / file, frame);
       pvd.add(world_.time(), file);
     };
-    write(bodies_pvd_, "bodies", body_frame(world_, specimen_));
-    write(contacts_pvd_, "contacts", contact_frame(world_));
-    if (scenario_.bond.enabled) write(bonds_pvd_, "bonds", bond_frame(world_));
-    if (const physics::PeriodicCell* cell = world_.cell()) write(cell_pvd_, "cell", cell_frame(*cell));
-    if (writes_walls()) write(walls_pvd_, "walls", io::wall_frame(world_));
-    if (writes_cracks()) write(cracks_pvd_, "cracks", io::crack_frame(world_, book_ ? &*book_ : nullptr));
+    write(bodies_pvd_, "bodies", *bodies);
+    write(contacts_pvd_, "contacts", *contacts);
+    if (bonds) write(bonds_pvd_, "bonds", *bonds);
+    if (cell_edges) write(cell_pvd_, "cell", *cell_edges);
+    if (walls) write(walls_pvd_, "walls", *walls);
+    if (cracks) write(cracks_pvd_, "cracks", *cracks);
     if (scenario_.output.frame_meshes) write_frame_meshes(stem);
     if (!again) ++sum_.frames;
     last_frame_step_ = world_.steps();
+    return true;
+  }
+
+  /// The first value of a frame that is not finite, as "<item>: its <field> (<file>)".
+  template <class Name>
+  static std::optional<std::string> non_finite_in(const io::FieldSet& fields, const char* file, Name&& item) {
+    for (const auto& [field, values] : fields.scalars) {
+      for (std::size_t k = 0; k < values.size(); ++k)
+        if (!std::isfinite(values[k])) return fmt::format("{}: its {} ({} frame)", item(k), field, file);
+    }
+    for (const auto& [field, values] : fields.vectors) {
+      for (std::size_t k = 0; k < values.size(); ++k)
+        if (!values[k].allFinite()) return fmt::format("{}: its {} ({} frame)", item(k), field, file);
+    }
+    return std::nullopt;
+  }
+  template <class Name>
+  static std::optional<std::string> non_finite_in(const std::vector<geometry::PolygonMesh>& meshes, const char* file,
+                                                  Name&& item) {
+    for (std::size_t k = 0; k < meshes.size(); ++k) {
+      for (const Eigen::Vector3d& v : meshes[k].vertices)
+        if (!v.allFinite()) return fmt::format("{}: its place (a vertex of its mesh, {} frame)", item(k), file);
+    }
+    return std::nullopt;
+  }
+  template <class Name>
+  static std::optional<std::string> non_finite_in(const io::BodyFrame& frame, const char* file, Name&& item) {
+    if (auto bad = non_finite_in(frame.meshes, file, item)) return bad;
+    return non_finite_in(frame.body_fields, file, item);
+  }
+  template <class Name>
+  static std::optional<std::string> non_finite_in(const io::LinkFrame& frame, const char* file, Name&& item) {
+    for (std::size_t k = 0; k < frame.a.size(); ++k) {
+      if (!frame.a[k].allFinite() || (k < frame.b.size() && !frame.b[k].allFinite()))
+        return fmt::format("{}: its end points ({} frame)", item(k), file);
+    }
+    return non_finite_in(frame.fields, file, item);
   }
 
   /// Every body as a mesh in its world pose, named by its lineage (grain_0017.1.0), in a

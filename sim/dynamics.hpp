@@ -49,9 +49,14 @@ MachineReading machine_reading(const physics::World& world, const std::vector<st
 
 /// How a dynamic run ended.
 enum class RunEnding {
-  completed,    ///< every stage ran (or --max-steps was reached)
+  completed,    ///< every stage ran to its end
   interrupted,  ///< RunHooks::stop_requested said stop (SIGINT/SIGTERM)
-  blew_up,      ///< the step guard found a non-finite state or a body moving too far
+  /// The step guard found a non-finite state (body, wall, cell) or a body moving too far, or
+  /// a history row or frame would have held a value that is not finite (not written).
+  blew_up,
+  /// `max_steps` ran out before the stages ended: the stage it fell in says ended_by
+  /// "max_steps"; the stages after it did not run.
+  stopped,
 };
 
 /// Where a run is, for the hooks: the world and the stage it is in.
@@ -101,7 +106,8 @@ struct RunHooks {
 
 struct DynamicsSummary {
   RunEnding ending = RunEnding::completed;
-  /// With blew_up: the message (step, body, suggested dt); physics::describe.
+  /// With blew_up: the message (step, body or wall, suggested dt; physics::describe), or the
+  /// step and the item whose value was not finite.
   std::string failure;
   std::uint64_t steps = 0;
   double time = 0.0;

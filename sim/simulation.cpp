@@ -435,6 +435,7 @@ RunReport Simulation::State::finish() {
       manifest.facts["lowest_point_m"] = fmt::format("{:.9g}", d.lowest_point);
       manifest.facts["dynamics_ending"] = d.ending == RunEnding::completed     ? "completed"
                                           : d.ending == RunEnding::interrupted ? "interrupted"
+                                          : d.ending == RunEnding::stopped     ? "stopped"
                                                                                : "blew_up";
     }
     manifest.facts["grains"] = std::to_string(specimen->grains.size());
@@ -454,6 +455,23 @@ RunReport Simulation::State::finish() {
       const std::string reason = stop_reason();
       record->close_quietly(io::run_status::interrupted, reason);
       report = RunReport{RunReport::Status::interrupted, reason, out, result};
+      return *report;
+    }
+    if (result && result->ending == RunEnding::stopped) {
+      // The step limit the user set ran out before the stages ended: what ran is written
+      // and complete, but it is not the scenario's whole run.
+      const auto cut = std::find_if(result->stages.rbegin(), result->stages.rend(),
+                                    [](const StageSummary& st) { return st.ended_by == "max_steps"; });
+      const std::string stage = cut != result->stages.rend() ? cut->name : std::string("run");
+      const std::uint64_t stage_steps = cut != result->stages.rend() ? cut->steps : result->steps;
+      const std::string reason =
+          fmt::format("stopped at step {} by the step limit (max_steps = {}), in stage '{}' after {} of its steps; "
+                      "the rest of the scenario did not run",
+                      result->steps, max_steps, stage, stage_steps);
+      manifest.facts["stopped_at_step"] = std::to_string(result->steps);
+      manifest.facts["stopped_in_stage"] = stage;
+      record->close(io::run_status::stopped, reason);
+      report = RunReport{RunReport::Status::stopped, reason, out, result};
       return *report;
     }
     record->close(io::run_status::finished);

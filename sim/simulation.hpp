@@ -53,9 +53,12 @@ struct SimulationOptions {
 
 /// How a run ended.
 struct RunReport {
-  enum class Status { finished, interrupted, failed };
+  /// stopped: `max_steps` ran out before the stages ended (run.toml: io::run_status::stopped).
+  enum class Status { finished, interrupted, failed, stopped };
   Status status = Status::finished;
-  std::string message;  ///< interrupted: the reason; failed: what went wrong (a blow-up)
+  /// interrupted: the reason; failed: what went wrong (a blow-up, a value that is not
+  /// finite); stopped: the step and the stage it stopped in.
+  std::string message;
   std::filesystem::path out;
   std::optional<DynamicsSummary> dynamics;  ///< with [dynamics]
 };

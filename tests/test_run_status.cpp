@@ -24,6 +24,7 @@
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
+#include "sim/simulation.hpp"
 
 extern char** environ;
 
@@ -312,4 +313,140 @@ TEST_F(RunStatus, ABlowUpKeepsTheLastGoodCheckpointWhichReproducesIt) {
   EXPECT_EQ(again.status, "failed");
   EXPECT_NE(again.reason.find("step " + std::to_string(blew_at) + " "), std::string::npos)
       << again.reason;
+}
+
+namespace {
+
+/// `command` through the shell with its output in `log`; its exit code (-1: not exited).
+int shell(const std::string& command, const fs::path& log) {
+  const int rc = std::system((command + " > " + log.string() + " 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Every cell of every CSV table in `dir` that reads as NaN or an infinity, as "file: cell".
+std::vector<std::string> non_finite_cells(const fs::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".csv") continue;
+    std::stringstream text(slurp(e.path()));
+    std::string line;
+    while (std::getline(text, line)) {
+      std::stringstream cells(line);
+      std::string cell;
+      while (std::getline(cells, cell, ',')) {
+        std::string c;
+        for (char ch : cell) c += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+        if (!c.empty() && (c[0] == '-' || c[0] == '+')) c.erase(0, 1);
+        if (c == "nan" || c == "inf" || c == "infinity") found.push_back(e.path().filename().string() + ": " + line);
+      }
+    }
+  }
+  return found;
+}
+
+}  // namespace
+
+TEST_F(RunStatus, AStepLimitThatCutsTheStagesShortIsStoppedWithItsStepAndStage) {
+  // Four-point bending: its approach stage ends on walls_touch after a few hundred steps,
+  // so a limit of 1000 steps in all falls in the loading stage, long before its load drop.
+  const fs::path out = dir_ / "out";
+  const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/scenarios/four_point_bending.toml";
+  const int code =
+      shell(std::string(CLEAVE_BINARY) + " run " + scenario + " --max-steps 1000 --out " + out.string(), dir_ / "log.txt");
+  EXPECT_EQ(code, 0) << log();  // the user asked for the limit: not an error
+  const Manifest m = read_manifest(out);
+  EXPECT_EQ(m.status, cleave::io::run_status::stopped);
+  EXPECT_NE(m.reason.find("step 1000 "), std::string::npos) << m.reason;
+  EXPECT_NE(m.reason.find("'loading'"), std::string::npos) << m.reason;
+  EXPECT_EQ(m.facts.at("stopped_at_step"), "1000");
+  EXPECT_EQ(m.facts.at("stopped_in_stage"), "loading");
+  EXPECT_EQ(m.facts.at("stage_loading_ended_by"), "max_steps");
+  EXPECT_EQ(m.facts.at("dynamics_ending"), "stopped");
+  EXPECT_NE(log().find("stopped at step 1000"), std::string::npos) << log();
+  expect_files_hashed(out, m);
+  // Its files are whole up to the step it stopped at: the exact volume check takes it.
+  EXPECT_EQ(shell(std::string(CLEAVE_BINARY) + " check volume --summary " + out.string(), dir_ / "check.txt"), 0)
+      << slurp(dir_ / "check.txt");
+}
+
+TEST_F(RunStatus, AStepLimitAtTheRunsOwnLengthIsFinishedAndOneLessIsStopped) {
+  const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
+  const std::string run_cmd = std::string(CLEAVE_BINARY) + " run --quiet " + scenario.string();
+  ASSERT_EQ(shell(run_cmd + " --out " + (dir_ / "whole").string(), dir_ / "log.txt"), 0) << log();
+  const Manifest whole = read_manifest(dir_ / "whole");
+  ASSERT_EQ(whole.status, "finished");
+  const std::uint64_t n = std::stoull(whole.facts.at("dynamics_steps"));
+  ASSERT_GT(n, 2u);
+  // A limit the run does not reach before its end changes nothing.
+  ASSERT_EQ(shell(run_cmd + " --max-steps " + std::to_string(n) + " --out " + (dir_ / "at").string(), dir_ / "log.txt"),
+            0)
+      << log();
+  const Manifest at = read_manifest(dir_ / "at");
+  EXPECT_EQ(at.status, "finished");
+  EXPECT_EQ(at.facts.at("final_state_hash"), whole.facts.at("final_state_hash"));
+  // One step less: the run (a plain one, its stage "run") did not get to its end.
+  ASSERT_EQ(shell(run_cmd + " --max-steps " + std::to_string(n - 1) + " --out " + (dir_ / "short").string(),
+                  dir_ / "log.txt"),
+            0)
+      << log();
+  const Manifest cut = read_manifest(dir_ / "short");
+  EXPECT_EQ(cut.status, "stopped");
+  EXPECT_EQ(cut.facts.at("stopped_at_step"), std::to_string(n - 1));
+  EXPECT_EQ(cut.facts.at("stopped_in_stage"), "run");
+  EXPECT_EQ(cut.facts.at("dynamics_steps"), std::to_string(n - 1));
+}
+
+TEST_F(RunStatus, ABlowUpToInfinityFailsAtItsStepAndWritesNoNonFiniteValue) {
+  // Gravity 1e300 m/s^2: after one step a grain's speed is 1.2e294 m/s and its kinetic
+  // energy overflows a double. The run fails at step 1 naming the body, and no table holds
+  // the infinite row.
+  const fs::path scenario = write("inf.toml", drop_scenario("duration = 1e-3\ngravity = [0.0, 0.0, -1e300]\n"));
+  const fs::path out = dir_ / "out";
+  EXPECT_EQ(run(scenario, out), 1) << log();
+  const Manifest m = read_manifest(out);
+  EXPECT_EQ(m.status, "failed");
+  EXPECT_NE(m.reason.find("step 1 "), std::string::npos) << m.reason;
+  EXPECT_NE(m.reason.find("body 0 "), std::string::npos) << m.reason;
+  EXPECT_EQ(non_finite_cells(out), std::vector<std::string>{});
+  expect_files_hashed(out, m);
+}
+
+TEST_F(RunStatus, ANonFiniteWallVelocitySetBetweenStepsFailsThereNamingTheWall) {
+  // The library's own door (Python's sim.wall(...).velocity): a NaN velocity given to a
+  // wall after step 5. The wall's place is NaN after step 6; nothing it touches need turn
+  // NaN (no body is near it), so only the wall can tell.
+  const std::string text = drop_scenario("duration = 1e-4\nframes = 2\n") + R"(
+[[wall]]
+name = "lid"
+kind = "plane"
+point = [0.0, 0.0, 60.0]
+normal = [0.0, 0.0, -1.0]
+)";
+  cleave::sim::SimulationOptions options;
+  options.out = dir_ / "out";
+  options.quiet = true;
+  auto sim = cleave::sim::Simulation::from_text(text, "lid.toml", options);
+  sim->start();
+  ASSERT_EQ(sim->advance(5), 5u);
+  cleave::physics::World& world = sim->dynamics()->world();
+  ASSERT_EQ(world.walls().size(), 2u);
+  ASSERT_EQ(world.walls()[1].name, "lid");
+  world.wall(1).velocity = Eigen::Vector3d(0.0, 0.0, std::nan(""));
+  const cleave::sim::RunReport report = sim->finish();
+  EXPECT_EQ(report.status, cleave::sim::RunReport::Status::failed);
+  EXPECT_NE(report.message.find("step 6 "), std::string::npos) << report.message;
+  EXPECT_NE(report.message.find("wall 1 ('lid')"), std::string::npos) << report.message;
+  EXPECT_NE(report.message.find("velocity"), std::string::npos) << report.message;
+  const Manifest m = read_manifest(dir_ / "out");
+  EXPECT_EQ(m.status, "failed");
+  EXPECT_EQ(m.reason, report.message);
+  EXPECT_EQ(non_finite_cells(dir_ / "out"), std::vector<std::string>{});
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "load_displacement.csv"));
 }

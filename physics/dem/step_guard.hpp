@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Catching a run that blows up: after a step, every body's state must be finite and no
+/// Catching a run that blows up: after a step, every body's state (pose, velocities, forces),
+/// every wall's (place, velocity, reaction) and the periodic cell must be finite, and no
 /// body may have moved more than a fraction of its size. An explicit scheme past its
 /// stable step (or driven by an absurd load) shows this first; the run should stop there
 /// with the step, the body and a time step that would have kept the motion in bounds,
@@ -15,14 +16,20 @@
 
 namespace cleave::physics {
 
-/// What went wrong in one step, for one body (the first found, in slot order).
+/// What went wrong in one step, for one wall, the cell or one body (the first found: walls
+/// in order, then the cell, then bodies in slot order).
 struct BlowUp {
   std::uint64_t step = 0;   ///< the step that produced it (World::steps() after it)
   double time = 0.0;        ///< simulated time after it, s
   BodyId body;
   int grain_id = -1;
-  /// "position", "orientation", "velocity", "angular momentum" or "angular velocity"
-  /// when a value is not finite; empty when the body moved too far.
+  /// A wall's state is not finite (its index in World::walls(); `body` is unset).
+  std::optional<std::size_t> wall;
+  std::string wall_name;
+  bool cell = false;  ///< the periodic cell's vectors are not finite (`body` is unset)
+  /// "position", "orientation", "velocity", "angular momentum", "angular velocity", "force"
+  /// or "torque" (a wall: "position", "velocity" or "reaction"; the cell: "vectors") when
+  /// a value is not finite; empty when the body moved too far.
   std::string non_finite;
   double displacement = 0.0;  ///< largest movement of any point of the body in the step, m
   double fraction = 0.0;      ///< the guard's fraction of the bounding radius
