@@ -220,8 +220,19 @@ Scenario read_sweep_point(const std::string& text, const std::string& source,
                           const std::vector<SweepAxis>& axes, const SweepPoint& point,
                           const std::vector<std::string>& shown,
                           const std::filesystem::path& base_dir, std::string* text_as_run) {
-  std::string applied =
-      axes.empty() ? text : apply_sweep_point(text, source, axes, point, base_dir);
+  std::string applied;
+  try {
+    applied = axes.empty() ? text : apply_sweep_point(text, source, axes, point, base_dir);
+  } catch (const SweepError& e) {
+    // apply_sweep_point names a key as "--set KEY"; an override is named by its own text,
+    // as it was given ("--set KEY=VALUE", "override KEY=VALUE").
+    const std::string message = e.what();
+    for (std::size_t k = 0; k < axes.size() && k < shown.size(); ++k) {
+      const std::string prefix = "--set " + axes[k].key + ":";
+      if (message.rfind(prefix, 0) == 0) throw SweepError(shown[k] + ":" + message.substr(prefix.size()));
+    }
+    throw;
+  }
   try {
     Scenario s = parse_scenario(applied, source);
     if (text_as_run != nullptr) *text_as_run = std::move(applied);

@@ -1,8 +1,9 @@
 // _cleave: the compiled half of the Python module `cleave` (python/cleave/__init__.py
 // re-exports it). A thin layer over sim::Simulation and geometry::ExactPolyhedron: runs
-// are stepped with the GIL released, body state is read through numpy views on the
-// World's own arrays, exact volumes come back as fractions.Fraction, and a scenario error
-// becomes cleave.ScenarioError with the CLI's file:line:col: key message.
+// are stepped with the GIL released, body state is read as read-only numpy copies (a view
+// would outlive the World's array when a grain split moves it), exact volumes come back as
+// fractions.Fraction, and a scenario error becomes cleave.ScenarioError with the CLI's
+// file:line:col: key message (an override's error names the override).
 
 #include <fmt/format.h>
 #include <pybind11/eigen.h>
@@ -14,6 +15,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -85,18 +87,43 @@ cleave::physics::World& world_of(Simulation& s) {
   return s.dynamics()->world();
 }
 
-/// A read-only (slots, width) view on one Eigen member of every BodyState, kept alive by
-/// the Simulation object `owner`.
-py::array state_view(py::object owner, std::size_t offset, py::ssize_t width) {
-  Simulation& s = owner.cast<Simulation&>();
+/// The world to change (a wall, temperatures) or step: refused once the run has ended
+/// (finish() was called, or a step failed), whose result folder is written and closed.
+cleave::physics::World& live_world(Simulation& s, const char* what) {
+  if (s.finished())
+    throw std::runtime_error(fmt::format("{}: the run has ended (finish() was called, or it failed) and its "
+                                         "result folder {} is closed; start a new Simulation to run again",
+                                         what, s.out().string()));
+  return world_of(s);
+}
+
+/// A read-only (slots, width) copy of one Eigen member of every BodyState. A copy, not a
+/// view on the World's array: that array moves when a grain splits (new slots), and a view
+/// kept across a split would read freed memory. 10^4 bodies x 3 doubles copy in tens of us.
+py::array state_copy(Simulation& s, std::size_t offset, py::ssize_t width) {
   const auto& states = world_of(s).slot_states();
+  const auto n = static_cast<py::ssize_t>(states.size());
+  py::array_t<double> a({n, width});
+  auto r = a.mutable_unchecked<2>();
   const char* base = reinterpret_cast<const char*>(states.data());
-  py::array_t<double> a({static_cast<py::ssize_t>(states.size()), width},
-                        {static_cast<py::ssize_t>(sizeof(cleave::physics::BodyState)),
-                         static_cast<py::ssize_t>(sizeof(double))},
-                        reinterpret_cast<const double*>(base + offset), owner);
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const char* row = base + static_cast<std::size_t>(i) * sizeof(cleave::physics::BodyState) + offset;
+    for (py::ssize_t k = 0; k < width; ++k) {
+      double v;
+      std::memcpy(&v, row + static_cast<std::size_t>(k) * sizeof(double), sizeof v);
+      r(i, k) = v;
+    }
+  }
   py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
   return a;
+}
+
+/// A wall's new velocity, place or move: finite, or ValueError naming the wall.
+const Eigen::Vector3d& finite_for(const cleave::physics::Wall& w, const char* what, const Eigen::Vector3d& v) {
+  if (!v.allFinite())
+    throw py::value_error(fmt::format("wall '{}': {} must be finite (no NaN or infinity), got ({}, {}, {})", w.name,
+                                      what, v.x(), v.y(), v.z()));
+  return v;
 }
 
 /// One value per body slot, read off its BodyInfo (a copy: the records are not contiguous).
@@ -241,21 +268,38 @@ PYBIND11_MODULE(_cleave, m) {
     py::object sim;
     std::size_t index;
     cleave::physics::Wall& wall() const { return world_of(sim.cast<Simulation&>()).wall(index); }
+    /// The wall to change: refused once the run has ended.
+    cleave::physics::Wall& live(const char* what) const {
+      return live_world(sim.cast<Simulation&>(), what).wall(index);
+    }
   };
   py::class_<WallRef>(m, "Wall", "A wall of a running simulation (a plane, platen or cylinder).")
       .def_property_readonly("name", [](const WallRef& w) { return w.wall().name; })
       .def_property(
           "origin", [](const WallRef& w) { return Eigen::Vector3d(w.wall().origin); },
-          [](const WallRef& w, const Eigen::Vector3d& x) { w.wall().origin = x; }, "Its reference point, m.")
+          [](const WallRef& w, const Eigen::Vector3d& x) {
+            cleave::physics::Wall& wall = w.live("Wall.origin");
+            wall.origin = finite_for(wall, "origin", x);
+          },
+          "Its reference point, m (finite: ValueError otherwise).")
       .def_property(
           "velocity", [](const WallRef& w) { return Eigen::Vector3d(w.wall().velocity); },
-          [](const WallRef& w, const Eigen::Vector3d& v) { w.wall().velocity = v; },
-          "Its prescribed velocity, m/s (a new stage sets it from its table).")
+          [](const WallRef& w, const Eigen::Vector3d& v) {
+            cleave::physics::Wall& wall = w.live("Wall.velocity");
+            wall.velocity = finite_for(wall, "velocity", v);
+          },
+          "Its prescribed velocity, m/s (a new stage sets it from its table; finite: ValueError otherwise).")
       .def_property_readonly("reaction", [](const WallRef& w) { return Eigen::Vector3d(w.wall().reaction); },
                              "The force of the bodies on it in the last step, N.")
       .def_property_readonly("normal", [](const WallRef& w) { return Eigen::Vector3d(w.wall().normal); })
-      .def("move", [](const WallRef& w, const Eigen::Vector3d& d) { w.wall().origin += d; }, "delta"_a,
-           "Moves it by `delta` (m) at once.");
+      .def(
+          "move",
+          [](const WallRef& w, const Eigen::Vector3d& d) {
+            cleave::physics::Wall& wall = w.live("Wall.move");
+            const Eigen::Vector3d to = wall.origin + finite_for(wall, "move", d);
+            wall.origin = finite_for(wall, "origin after the move", to);
+          },
+          "delta"_a, "Moves it by `delta` (m) at once.");
 
   // --- the run ---
   using cleave::physics::BodyState;
@@ -289,6 +333,7 @@ PYBIND11_MODULE(_cleave, m) {
           "advance",
           [](py::object self, std::uint64_t steps, py::object callback, std::uint64_t every) {
             Simulation& s = self.cast<Simulation&>();
+            if (s.finished()) live_world(s, "advance");
             if (callback.is_none()) {
               // In chunks, so that Ctrl-C (KeyboardInterrupt) is seen within a chunk's time;
               // the run can go on afterwards. The steps are the same as in one call.
@@ -332,6 +377,7 @@ PYBIND11_MODULE(_cleave, m) {
       .def(
           "advance_stage",
           [](Simulation& s) -> py::object {
+            if (s.finished()) live_world(s, "advance_stage");
             std::optional<cleave::sim::StageSummary> st;
             {
               py::gil_scoped_release release;
@@ -362,18 +408,18 @@ PYBIND11_MODULE(_cleave, m) {
       .def_property_readonly("state_hash", [](Simulation& s) { return fmt_hash(world_of(s).state_hash()); },
                              "The World's state hash, as run.toml's final_state_hash writes it.")
       .def_property_readonly("kinetic_energy", [](Simulation& s) { return world_of(s).kinetic_energy(); })
-      .def_property_readonly("positions", [](py::object self) { return state_view(self, offsetof(BodyState, x), 3); },
-                             "(slots, 3) centroids, m: a read-only view, no copy (see alive).")
+      .def_property_readonly("positions", [](Simulation& s) { return state_copy(s, offsetof(BodyState, x), 3); },
+                             "(slots, 3) centroids, m: a read-only copy of the state now (see alive).")
       .def_property_readonly("orientations",
-                             [](py::object self) { return state_view(self, offsetof(BodyState, q), 4); },
+                             [](Simulation& s) { return state_copy(s, offsetof(BodyState, q), 4); },
                              "(slots, 4) unit quaternions (x, y, z, w), principal frame to world.")
-      .def_property_readonly("velocities", [](py::object self) { return state_view(self, offsetof(BodyState, v), 3); })
+      .def_property_readonly("velocities", [](Simulation& s) { return state_copy(s, offsetof(BodyState, v), 3); })
       .def_property_readonly("angular_velocities",
-                             [](py::object self) { return state_view(self, offsetof(BodyState, w), 3); })
+                             [](Simulation& s) { return state_copy(s, offsetof(BodyState, w), 3); })
       .def_property_readonly("angular_momenta",
-                             [](py::object self) { return state_view(self, offsetof(BodyState, L), 3); })
-      .def_property_readonly("forces", [](py::object self) { return state_view(self, offsetof(BodyState, f), 3); })
-      .def_property_readonly("torques", [](py::object self) { return state_view(self, offsetof(BodyState, tau), 3); })
+                             [](Simulation& s) { return state_copy(s, offsetof(BodyState, L), 3); })
+      .def_property_readonly("forces", [](Simulation& s) { return state_copy(s, offsetof(BodyState, f), 3); })
+      .def_property_readonly("torques", [](Simulation& s) { return state_copy(s, offsetof(BodyState, tau), 3); })
       .def_property_readonly("alive",
                              [](Simulation& s) { return per_slot<bool>(s, [](const auto& b) { return b.alive; }); },
                              "(slots,) which slots hold a live body.")
@@ -392,7 +438,13 @@ PYBIND11_MODULE(_cleave, m) {
       .def(
           "set_temperatures",
           [](Simulation& s, const py::array_t<double, py::array::c_style | py::array::forcecast>& kelvin) {
-            cleave::physics::World& w = world_of(s);
+            cleave::physics::World& w = live_world(s, "set_temperatures");
+            if (!s.scenario().thermal.enabled)
+              throw std::runtime_error(fmt::format(
+                  "set_temperatures: {} has no [thermal] section: without it a temperature moves nothing (no "
+                  "thermal expansion, no conduction); add [thermal] with the grains' expansion coefficients "
+                  "(docs/SCENARIO_FORMAT.md) to prescribe temperatures",
+                  s.scenario().source));
             const auto n = static_cast<py::ssize_t>(w.slot_thermal().size());
             if (kelvin.ndim() != 1 || kelvin.shape(0) != n)
               throw py::value_error(fmt::format("set_temperatures: expected a 1-D array of {} temperatures (one per "

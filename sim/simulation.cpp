@@ -249,8 +249,13 @@ void Simulation::State::start() {
     if (scenario.dynamics.enabled && !checkpoint) {
       (void)io::make_world(scenario, *specimen);
       if (writes_results()) {
-        for (const io::ScenarioError& w : io::start_warnings(scenario, *specimen))
-          fmt::print(stderr, "cleave: warning: {}\n", w.what());
+        for (const io::ScenarioError& w : io::start_warnings(scenario, *specimen)) {
+          // With overrides the scenario was parsed from a rewritten text: its lines are not
+          // the file's, so a warning names the override (or lists them), as errors do.
+          const io::ScenarioError shown =
+              override_axes.empty() ? w : io::blame_sweep_point(w, override_axes, overrides_shown);
+          fmt::print(stderr, "cleave: warning: {}\n", shown.what());
+        }
       }
     }
 

@@ -335,3 +335,31 @@ TEST(SweepCommand, ZippedKeysMakeNRunsWithTheirValuesPaired) {
   EXPECT_NE(v.output.find("--set bond.tbn=abc: key 'bond.tbn'"), std::string::npos) << v.output;
   fs::remove_all(dir);
 }
+
+TEST(SweepCommand, RunsCutByMaxStepsAreStoppedRowsNotFailuresAndStayOutOfTheFit) {
+  // Five steps cannot reach the load drop of a Brazilian test: every run is stopped, as
+  // asked. The sweep is not a failure (exit 0) but says stopped, and no strength is fitted.
+  const fs::path dir = fs::temp_directory_path() / ("cleave_sweep_cut_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
+  const Outcome o = run_cleave("sweep " + scenario + " --set orientation.seed=1..3 --max-steps 5 --jobs 2 -o " +
+                               dir.string());
+  ASSERT_EQ(o.code, 0) << o.output;
+  EXPECT_NE(o.output.find("3 stopped by --max-steps"), std::string::npos) << o.output;
+  const auto rows = cleave::testing::read_csv_cells(dir / "summary.csv");
+  ASSERT_EQ(rows.size(), 4u);  // header + 3 runs
+  const auto& h = rows[0];
+  const auto status = static_cast<std::size_t>(std::find(h.begin(), h.end(), "status") - h.begin());
+  ASSERT_LT(status, h.size());
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    EXPECT_EQ(rows[r][status], "stopped");
+    EXPECT_EQ(read_manifest(dir / rows[r][0]).status, "stopped");
+  }
+  const Manifest sweep = read_manifest(dir);
+  EXPECT_EQ(sweep.status, "stopped");
+  EXPECT_EQ(sweep.facts.at("runs_failed"), "0");
+  EXPECT_EQ(sweep.facts.at("runs_stopped"), "3");
+  EXPECT_EQ(sweep.facts.count("weibull_modulus"), 0u);
+  EXPECT_FALSE(fs::exists(dir / "weibull.csv"));
+  fs::remove_all(dir);
+}

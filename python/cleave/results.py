@@ -25,7 +25,15 @@ class Result:
 
     @property
     def status(self):
+        """run.toml's status: "finished" (every stage ran), "stopped" (a step limit,
+        max_steps / --max-steps, ended it before its stages did: see `reason`),
+        "interrupted", "failed" (see `reason`) or "running" (under way, or killed)."""
         return self.run.get("status")
+
+    @property
+    def reason(self):
+        """Why the run stopped or failed ("" for a finished run)."""
+        return self.run.get("reason", "")
 
     @property
     def facts(self):

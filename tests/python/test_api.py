@@ -39,29 +39,61 @@ def test_stepping_from_python_gives_the_cli_state_hash_and_files(root, cleave_bi
         assert (tmp_path / "api" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
 
 
-def test_state_arrays_are_views_that_see_the_next_step(root, tmp_path, monkeypatch):
+def test_state_arrays_are_read_only_snapshots_and_a_new_read_sees_the_next_step(root, tmp_path, monkeypatch):
     monkeypatch.chdir(root)
     sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
     sim.advance(10)
     x = sim.positions
-    v = sim.velocities
     assert x.shape == (3, 3) and sim.orientations.shape == (3, 4)
-    assert not x.flags.writeable and not x.flags.owndata
+    assert not x.flags.writeable
     before = x.copy()
     sim.advance(100)
-    # The same array, not re-read, holds the new state: the grains fall under gravity.
-    assert np.all(x[:, 2] < before[:, 2])
-    assert np.shares_memory(x, sim.positions)
+    # The array kept is the state when it was read; reading again gives the state now.
+    assert np.array_equal(x, before)
+    assert not np.shares_memory(x, sim.positions)
+    x1, v = sim.positions, sim.velocities
+    assert np.all(x1[:, 2] < before[:, 2])  # the grains fall under gravity
     # Free fall from rest (no contact in the first 110 steps): the drop is g (t1^2 - t0^2) / 2,
-    # to within the integrator's O(dt) offset (1 % here), and v = -g t, the view again.
+    # to within the integrator's O(dt) offset (1 % here), and v = -g t.
     dt = 5e-7
     t0, t1 = 10 * dt, 110 * dt
     g = 9.80665
-    assert np.allclose(before[:, 2] - x[:, 2], 0.5 * g * (t1**2 - t0**2), rtol=2e-2)
+    assert np.allclose(before[:, 2] - x1[:, 2], 0.5 * g * (t1**2 - t0**2), rtol=2e-2)
     assert np.allclose(v[:, 2], -g * t1, rtol=1e-3)
     q = sim.orientations
     assert np.allclose(np.linalg.norm(q, axis=1), 1.0)
     assert sim.alive.all() and len(sim.grain_stresses) == 3
+
+
+def falling_grains_that_split_soon(root):
+    """scenarios/falling_grains.toml with its floor 1 mm below the grains and gravity 20 g: the
+    same impact speed as its 20 mm fall (sqrt(2 g h)), so grains split within ~7000 steps."""
+    text = (root / "scenarios/falling_grains.toml").read_text()
+    for old, new in (("point = [0.0, -19.95, 0.0]", "point = [0.0, -1.0, 0.0]"),
+                     ("gravity = [0.0, -9.81, 0.0]", "gravity = [0.0, -196.2, 0.0]")):
+        assert old in text
+        text = text.replace(old, new)
+    return text
+
+
+def test_a_state_array_kept_across_a_grain_split_keeps_its_values(root, tmp_path):
+    # A split adds body slots and moves the World's state array: an array read before it must
+    # not look into the memory it left (it read values like 6.9e-310 when it was a view).
+    sim = cleave.Simulation.from_toml(falling_grains_that_split_soon(root), out=str(tmp_path / "r"),
+                                      base_dir=str(root / "scenarios"))
+    sim.advance(1)
+    kept = {name: getattr(sim, name) for name in
+            ("positions", "orientations", "velocities", "angular_velocities", "angular_momenta", "forces",
+             "torques")}
+    values = {name: a.copy() for name, a in kept.items()}
+    slots = len(sim.alive)
+    while len(sim.alive) == slots and sim.steps < 20000:
+        sim.advance(500)
+    assert len(sim.alive) > slots, "no grain split: the test needs one"
+    for name, a in kept.items():
+        assert np.array_equal(a, values[name]), name
+        assert len(getattr(sim, name)) == len(sim.alive), name
+    assert np.all(np.abs(kept["positions"]) < 0.05)  # metres: inside the rig
 
 
 def test_split_volumes_are_exact_fractions_that_sum_to_the_grain():
@@ -170,6 +202,82 @@ def test_walls_can_be_read_and_moved(root, tmp_path, monkeypatch):
     assert np.allclose(np.array(w.origin) - o, (0, 0, -1e-3 * 1000 * 5e-7), rtol=1e-9, atol=1e-15)
     w.move((0, 0, 1e-6))
     assert math.isclose(w.origin[2] - o[2], 1e-6 - 5e-7, rel_tol=1e-9)
+
+
+def test_a_wall_velocity_or_place_that_is_not_finite_raises_naming_the_wall(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
+    sim.advance(1)
+    w = sim.walls[0]
+    origin, velocity = np.array(w.origin), np.array(w.velocity)
+    for bad in (math.nan, math.inf, -math.inf):
+        with pytest.raises(ValueError, match=f"wall '{w.name}': velocity must be finite"):
+            w.velocity = (0.0, bad, 0.0)
+        with pytest.raises(ValueError, match=f"wall '{w.name}': origin must be finite"):
+            w.origin = (bad, 0.0, 0.0)
+        with pytest.raises(ValueError, match=f"wall '{w.name}'"):
+            w.move((0.0, 0.0, bad))
+    w.origin = (0.0, 0.0, 1e308)
+    with pytest.raises(ValueError, match=f"wall '{w.name}': origin after the move must be finite"):
+        w.move((0.0, 0.0, 1e308))  # a finite move to a place that is not
+    w.origin = tuple(origin)
+    # The refused values changed nothing: the run goes on with the wall as it was.
+    assert np.array_equal(w.velocity, velocity) and np.array_equal(w.origin, origin)
+    sim.advance(10)
+    assert np.all(np.isfinite(w.origin)) and np.all(np.isfinite(sim.positions))
+
+
+def test_set_temperatures_without_a_thermal_section_raises_naming_it(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"))
+    sim.advance(1)
+    with pytest.raises(RuntimeError, match=r"has no \[thermal\] section"):
+        sim.set_temperatures(np.full(len(sim.alive), 300.0))
+
+
+def test_stepping_or_changing_the_run_after_finish_raises(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    sim = cleave.Simulation(MESH_GRAINS, out=str(tmp_path / "r"), max_steps=50)
+    sim.advance(10)
+    w = sim.walls[0]
+    sim.finish()
+    for call in (lambda: sim.advance(1), lambda: sim.advance(5, callback=lambda s: None), sim.advance_stage,
+                 lambda: setattr(w, "velocity", (0.0, 0.0, 1.0)), lambda: setattr(w, "origin", (0.0, 0.0, 0.0)),
+                 lambda: w.move((0.0, 0.0, 1e-6)), lambda: sim.set_temperatures(np.full(3, 300.0))):
+        with pytest.raises(RuntimeError, match="the run has ended"):
+            call()
+    # Reading the final state still works, and the result is as finish() left it.
+    assert sim.positions.shape == (3, 3) and sim.steps == 50
+    assert sim.finish()["steps"] == 50
+
+
+def test_a_run_cut_by_max_steps_is_stopped_not_finished(root, tmp_path, monkeypatch):
+    # Four-point bending ends its approach stage on walls_touch after a few hundred steps: a
+    # limit of 1000 steps falls in the loading stage, long before its load drop.
+    monkeypatch.chdir(root)
+    report = cleave.run("scenarios/four_point_bending.toml", out=str(tmp_path / "r"), max_steps=1000)
+    assert report["status"] == "stopped"
+    assert "step 1000 " in report["message"] and "'loading'" in report["message"]
+    assert report["stages"][-1]["ended_by"] == "max_steps"
+    res = cleave.load_result(tmp_path / "r")
+    assert res.status == "stopped" and res.reason == report["message"]
+    assert res.facts["stopped_at_step"] == "1000" and res.facts["stopped_in_stage"] == "loading"
+
+
+def test_an_override_error_or_warning_names_the_override_not_a_line_of_the_file(root, tmp_path, monkeypatch, capfd):
+    monkeypatch.chdir(root)
+    # A stage the scenario does not have: named as the override was given.
+    with pytest.raises(ValueError) as err:
+        cleave.Simulation("scenarios/four_point_bending.toml", overrides={"stage[9].time": 1})
+    assert str(err.value).startswith("override stage[9].time=1: ")
+    # Dilated grains that overlap at the start (a warning at start): the scenario is parsed from
+    # a rewritten text whose lines are not the file's; the warning names the override instead.
+    sim = cleave.Simulation("scenarios/brazilian_fracture.toml", out=str(tmp_path / "r"),
+                            overrides={"contact.dilation_radius": 0.09})
+    sim.start()
+    warning = capfd.readouterr().err
+    assert "warning: override contact.dilation_radius=0.09: key 'contact.dilation_radius'" in warning, warning
+    assert "brazilian_fracture.toml:" not in warning, warning
 
 
 def test_load_result_reads_the_tables_and_plots(root, tmp_path, monkeypatch):
