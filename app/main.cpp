@@ -3,14 +3,32 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <string>
 
 #include "cleave_version.hpp"
 #include "commands.hpp"
 #ifdef CLEAVE_HAVE_MPI
 #include "parallel/mpi_domain.hpp"
 #endif
+
+namespace {
+/// A real number in [lo, hi] (lo excluded when `open_lo`): NaN, infinities and text refused
+/// with the range, which CLI11 puts after the option's name ("--voxel-tolerance: ...").
+CLI::Validator real_in(double lo, double hi, bool open_lo = false) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        const bool number = !text.empty() && end == text.c_str() + text.size() && std::isfinite(v);
+        if (number && (open_lo ? v > lo : v >= lo) && v <= hi) return {};
+        return fmt::format("expected a number {} {:g} and <= {:g}, got {}", open_lo ? ">" : ">=", lo, hi, text);
+      },
+      fmt::format("NUMBER in {}{:g}, {:g}]", open_lo ? "(" : "[", lo, hi));
+}
+}  // namespace
 
 #ifndef CLEAVE_HAVE_MPI
 namespace {
@@ -84,11 +102,11 @@ int main(int argc, char** argv) {
                        "Also measure every exported mesh through OpenVDB (flags leaky meshes)");
   volume_cmd->add_option("--voxels-per-length", check.voxels_per_length,
                          "Voxels across each fragment's thickness 6V/A")
-      ->check(CLI::Range(4.0, 400.0))
+      ->check(real_in(4.0, 400.0))
       ->capture_default_str();
   volume_cmd->add_option("--voxel-tolerance", check.voxel_tolerance,
                          "Largest accepted relative volume difference of a mesh")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(real_in(0.0, 1.0))
       ->capture_default_str();
   volume_cmd->add_flag("--summary", check.summary_only, "Print the summary only, not every grain");
 
@@ -106,7 +124,8 @@ int main(int argc, char** argv) {
       "--zip", sweep.zips,
       "KEY=VALUES as --set, but every --zip key takes its i-th value in the same "
       "run (equal numbers of values): N runs, not N^2; a product with the --set keys");
-  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)");
+  // Each job is a process: a bound keeps a typo from starting thousands.
+  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)")->check(CLI::Range(1, 1024));
   sweep_cmd->add_option("--out,-o", sweep.out, "Folder (default: results/<scenario name>_sweep)");
   sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run")->check(steps);
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "Print only errors");
@@ -140,7 +159,7 @@ int main(int argc, char** argv) {
                         "Quasi-static check: rerun at half the loading rate until the value changes by "
                         "less than --tolerance (DIR/rate_*/, DIR/convergence.csv and .svg)");
   measure_cmd->add_option("--tolerance", measure.tolerance, "--converge: relative change (default 0.02)")
-      ->check(CLI::PositiveNumber);
+      ->check(real_in(0.0, 1.0, true));
   measure_cmd->add_option("--max-runs", measure.max_runs, "--converge: most runs (default 5)")
       ->check(CLI::Range(2, 12));
 
@@ -151,7 +170,9 @@ int main(int argc, char** argv) {
       ->required();
   calibrate_cmd->add_option("--target", calibrate.targets,
                             "KEY=VALUE: E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6, K_Ic=3.1e6 (default: the file's preset)");
-  calibrate_cmd->add_option("--tolerance", calibrate.tolerance, "Relative, on every target (default 0.02)");
+  // As the calibration file's tolerance (io/calibration_file.cpp): above 0, at most 0.5.
+  calibrate_cmd->add_option("--tolerance", calibrate.tolerance, "Relative, on every target (default 0.02)")
+      ->check(real_in(0.0, 0.5, true));
   calibrate_cmd->add_option("--out,-o", calibrate.out, "Folder (default: results/<file name>)");
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only the result");
 

@@ -98,7 +98,10 @@ SweepAxis parse_sweep_axis(const std::string& spec) {
     if (!parse_int(trim(values.substr(0, dots)), lo) || !parse_int(trim(values.substr(dots + 2)), hi))
       throw SweepError(fmt::format("--set '{}': a range is two integers, LO..HI", spec));
     if (hi < lo) throw SweepError(fmt::format("--set '{}': the range is empty ({} > {})", spec, lo, hi));
-    if (hi - lo >= 100000) throw SweepError(fmt::format("--set '{}': the range is too long", spec));
+    // The length in unsigned arithmetic: hi - lo of two far-apart long longs overflows (and
+    // wrapped negative, it passed, and the loop allocated until bad_alloc).
+    if (static_cast<unsigned long long>(hi) - static_cast<unsigned long long>(lo) >= 100000)
+      throw SweepError(fmt::format("--set '{}': the range is too long (at most 100000 values)", spec));
     for (long long v = lo; v <= hi; ++v) axis.values.push_back(std::to_string(v));
   } else {
     std::stringstream ss(values);
