@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 mode="${1:-demo}"
 build_dir="${CLEAVE_BUILD_DIR:-build}"
 asan_dir="${CLEAVE_ASAN_BUILD_DIR:-build-asan}"
-fuzz_seconds="${CLEAVE_FUZZ_SECONDS:-20}"  # per fuzz target (CI: the four take 80 s, a check of the corpus and a short search; longer runs by hand)
+fuzz_seconds="${CLEAVE_FUZZ_SECONDS:-20}"  # per fuzz target (CI: the five take 100 s, a check of the corpus and a short search; longer runs by hand)
 jobs="${CLEAVE_JOBS:-$(nproc)}"
 
 packages=(
@@ -116,7 +116,7 @@ run_sanitized_tests() {
 # build-asan/fuzz/artifacts/.
 run_fuzzers() {
   local t scratch artifacts
-  for t in fuzz_scenario fuzz_validation_scenario fuzz_mesh fuzz_checkpoint; do
+  for t in fuzz_scenario fuzz_validation_scenario fuzz_mesh fuzz_checkpoint fuzz_cli; do
     scratch="$asan_dir/fuzz/corpus/$t"
     artifacts="$asan_dir/fuzz/artifacts"
     mkdir -p "$scratch" "$artifacts"
