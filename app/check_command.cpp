@@ -17,8 +17,9 @@ int check_volume_command(const CheckVolumeOptions& options) {
     const io::Manifest manifest = io::read_manifest(options.dir);
     if (manifest.status == io::run_status::stopped) {
       // Cut by --max-steps: its files are whole up to that step, so its pieces can be checked.
-      fmt::print("note: {} is a run stopped before its end ({}); checking the pieces it ended with\n",
-                 options.dir.string(), manifest.reason);
+      fmt::print(
+          "note: {} is a run stopped before its end ({}); checking the pieces it ended with\n",
+          options.dir.string(), manifest.reason);
     } else if (manifest.status != io::run_status::finished) {
       fmt::print(stderr, "cleave: error: {} holds an unfinished run (status '{}'{}{})\n",
                  options.dir.string(), manifest.status, manifest.reason.empty() ? "" : ": ",

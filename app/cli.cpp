@@ -83,12 +83,14 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   volume_cmd->add_option("dir", check.dir, "Result folder written by `cleave run`")->required();
   volume_cmd->add_flag("--voxel", check.voxel,
                        "Also measure every exported mesh through OpenVDB (flags leaky meshes)");
-  volume_cmd->add_option("--voxels-per-length", check.voxels_per_length,
-                         "Voxels across each fragment's thickness 6V/A")
+  volume_cmd
+      ->add_option("--voxels-per-length", check.voxels_per_length,
+                   "Voxels across each fragment's thickness 6V/A")
       ->check(real_in(4.0, 400.0))
       ->capture_default_str();
-  volume_cmd->add_option("--voxel-tolerance", check.voxel_tolerance,
-                         "Largest accepted relative volume difference of a mesh")
+  volume_cmd
+      ->add_option("--voxel-tolerance", check.voxel_tolerance,
+                   "Largest accepted relative volume difference of a mesh")
       ->check(real_in(0.0, 1.0))
       ->capture_default_str();
   volume_cmd->add_flag("--summary", check.summary_only, "Print the summary only, not every grain");
@@ -106,7 +108,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
       "KEY=VALUES as --set, but every --zip key takes its i-th value in the same "
       "run (equal numbers of values): N runs, not N^2; a product with the --set keys");
   // Each job is a process: a bound keeps a typo from starting thousands.
-  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)")->check(CLI::Range(1, 1024));
+  sweep_cmd->add_option("--jobs,-j", sweep.jobs, "Runs at a time (default 1)")
+      ->check(CLI::Range(1, 1024));
   sweep_cmd->add_option("--out,-o", sweep.out, "Folder (default: results/<scenario name>_sweep)");
   sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run")->check(steps);
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "Print only errors");
@@ -137,7 +140,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   measure_cmd->add_flag("--converge", measure.converge,
                         "Quasi-static check: rerun at half the loading rate until the value changes by "
                         "less than --tolerance (DIR/rate_*/, DIR/convergence.csv and .svg)");
-  measure_cmd->add_option("--tolerance", measure.tolerance, "--converge: relative change (default 0.02)")
+  measure_cmd
+      ->add_option("--tolerance", measure.tolerance, "--converge: relative change (default 0.02)")
       ->check(real_in(0.0, 1.0, true));
   measure_cmd->add_option("--max-runs", measure.max_runs, "--converge: most runs (default 5)")
       ->check(CLI::Range(2, 12));
@@ -149,7 +153,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   calibrate_cmd->add_option("--target", calibrate.targets,
                             "KEY=VALUE: E=415e9, nu=0.16, sigma_t=250e6, sigma_f=359e6, K_Ic=3.1e6 (default: the file's preset)");
   // As the calibration file's tolerance (io/calibration_file.cpp): above 0, at most 0.5.
-  calibrate_cmd->add_option("--tolerance", calibrate.tolerance, "Relative, on every target (default 0.02)")
+  calibrate_cmd
+      ->add_option("--tolerance", calibrate.tolerance, "Relative, on every target (default 0.02)")
       ->check(real_in(0.0, 0.5, true));
   calibrate_cmd->add_option("--out,-o", calibrate.out, "Folder (default: results/<file name>)");
   calibrate_cmd->add_flag("--quiet,-q", calibrate.quiet, "Print only the result");

@@ -112,8 +112,10 @@ int run_command(const RunOptions& options) {
     case sim::RunReport::Status::stopped:
       // The user asked for the limit: not an error, but the result is not the whole run.
       if (!options.quiet) {
-        fmt::print(stderr, "cleave: {}; the result folder {} holds the run up to there (status "
-                           "stopped)\n", report.message, report.out.string());
+        fmt::print(stderr,
+                   "cleave: {}; the result folder {} holds the run up to there (status "
+                   "stopped)\n",
+                   report.message, report.out.string());
       }
       return 0;
     case sim::RunReport::Status::failed:

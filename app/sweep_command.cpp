@@ -412,10 +412,11 @@ int sweep_command(const SweepOptions& o) {
       record.close(io::run_status::failed, fmt::format("{} of {} runs failed (see summary.csv "
                                                        "and their .log files)", failed, jobs.size()));
     else if (cut > 0)
-      record.close(io::run_status::stopped,
-                   fmt::format("{} of {} runs stopped by --max-steps {} before their stages ended (their "
-                               "strengths are left out of the fits)",
-                               cut, jobs.size(), o.max_steps));
+      record.close(
+          io::run_status::stopped,
+          fmt::format("{} of {} runs stopped by --max-steps {} before their stages ended (their "
+                      "strengths are left out of the fits)",
+                      cut, jobs.size(), o.max_steps));
     else
       record.close(io::run_status::finished);
   } catch (const std::exception& e) {

@@ -163,7 +163,8 @@ void write_manifest(const fs::path& dir, const Manifest& manifest) {
   }
   std::ostringstream out;
   out << "# cleave result manifest: status = \"running\" while the run goes, then \"finished\", "
-         "\"stopped\" (--max-steps), \"interrupted\" or \"failed\";\n# only \"finished\" marks a complete result. [[files]]: "
+         "\"stopped\" (--max-steps), \"interrupted\" or \"failed\";\n# only \"finished\" marks a "
+         "complete result. [[files]]: "
          "what the run wrote, with SHA-256 (also in SHA256SUMS).\n"
       << root << '\n';
   write_file_atomically(dir / kManifestName, out.str());

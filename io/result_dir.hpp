@@ -6,9 +6,10 @@
 /// A run writes `run.toml` with status "running" before anything else, and again at the
 /// end with its final status: "finished", "stopped" (its step limit, --max-steps, ran out
 /// before its stages ended; `reason` names the step and the stage), "interrupted"
-/// (SIGINT/SIGTERM, what was done so far is written) or "failed" (with `reason`). The final manifest lists every file the
-/// run wrote with its size and SHA-256 (`[files]`, and `SHA256SUMS` for `sha256sum -c`),
-/// and its `[provenance]` says what produced it (versions, seed, scenario as run).
+/// (SIGINT/SIGTERM, what was done so far is written) or "failed" (with `reason`). The final
+/// manifest lists every file the run wrote with its size and SHA-256 (`[files]`, and `SHA256SUMS`
+/// for `sha256sum -c`), and its `[provenance]` says what produced it (versions, seed, scenario as
+/// run).
 
 #include <cstdint>
 #include <filesystem>

@@ -101,7 +101,8 @@ SweepAxis parse_sweep_axis(const std::string& spec) {
     // The length in unsigned arithmetic: hi - lo of two far-apart long longs overflows (and
     // wrapped negative, it passed, and the loop allocated until bad_alloc).
     if (static_cast<unsigned long long>(hi) - static_cast<unsigned long long>(lo) >= 100000)
-      throw SweepError(fmt::format("--set '{}': the range is too long (at most 100000 values)", spec));
+      throw SweepError(
+          fmt::format("--set '{}': the range is too long (at most 100000 values)", spec));
     for (long long v = lo; v <= hi; ++v) axis.values.push_back(std::to_string(v));
   } else {
     std::stringstream ss(values);
@@ -232,7 +233,8 @@ Scenario read_sweep_point(const std::string& text, const std::string& source,
     const std::string message = e.what();
     for (std::size_t k = 0; k < axes.size() && k < shown.size(); ++k) {
       const std::string prefix = "--set " + axes[k].key + ":";
-      if (message.rfind(prefix, 0) == 0) throw SweepError(shown[k] + ":" + message.substr(prefix.size()));
+      if (message.rfind(prefix, 0) == 0)
+        throw SweepError(shown[k] + ":" + message.substr(prefix.size()));
     }
     throw;
   }

@@ -682,13 +682,15 @@ class Dynamics::Runner {
         break;
     }
     if (i % r.log_every == 0 || i == limit || event) {
-      if (record(overlap, load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure))) &&
+      if (record(overlap,
+                 load_walls.empty() ? std::nullopt : std::optional(std::pair(load, closure))) &&
           !load_walls.empty()) {
         r.progress.plot_x.push_back(closure);
         r.progress.plot_y.push_back(load);
       }
     }
-    if (sum_.ending != RunEnding::blew_up && r.frame_every && (i % r.frame_every == 0)) write_frame();
+    if (sum_.ending != RunEnding::blew_up && r.frame_every && (i % r.frame_every == 0))
+      write_frame();
     // A value that is not finite in a row or frame of this step ends the run here (failed),
     // before a checkpoint would keep the state.
     if (sum_.ending == RunEnding::blew_up) return;
@@ -1019,9 +1021,12 @@ class Dynamics::Runner {
     auto check = [&bad](bool finite, auto&& name) {
       if (bad.empty() && !finite) bad = name();
     };
-    check(std::isfinite(kinetic), [] { return std::string("the kinetic energy (energy.csv kinetic_J)"); });
-    check(std::isfinite(potential), [] { return std::string("the potential energy (energy.csv potential_J)"); });
-    check(std::isfinite(overlap), [] { return std::string("the largest overlap (energy.csv max_overlap_m)"); });
+    check(std::isfinite(kinetic),
+          [] { return std::string("the kinetic energy (energy.csv kinetic_J)"); });
+    check(std::isfinite(potential),
+          [] { return std::string("the potential energy (energy.csv potential_J)"); });
+    check(std::isfinite(overlap),
+          [] { return std::string("the largest overlap (energy.csv max_overlap_m)"); });
     std::vector<WallReading> wall_readings;
     for (std::size_t i = 0; i < world_.walls().size(); ++i) {
       const auto& w = world_.walls()[i];
@@ -1030,19 +1035,25 @@ class Dynamics::Runner {
         return [&, what] { return fmt::format("wall {} ('{}'): its {}", i, w.name, what); };
       };
       check(w.reaction.allFinite(), name("reaction (walls.csv)"));
-      check(std::isfinite(wall_readings.back().displacement), name("displacement (load_displacement.csv)"));
+      check(std::isfinite(wall_readings.back().displacement),
+            name("displacement (load_displacement.csv)"));
       check(std::isfinite(wall_readings.back().force), name("force (load_displacement.csv)"));
     }
     if (reading) {
-      check(std::isfinite(reading->first), [] { return std::string("the load (load_displacement.csv load_N)"); });
-      check(std::isfinite(reading->second), [] { return std::string("the load-point displacement (load_displacement.csv)"); });
+      check(std::isfinite(reading->first),
+            [] { return std::string("the load (load_displacement.csv load_N)"); });
+      check(std::isfinite(reading->second),
+            [] { return std::string("the load-point displacement (load_displacement.csv)"); });
     }
     double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
     std::size_t bodies = 0;
     if (scenario_.thermal.enabled) {
       for (const physics::BodyId id : world_.body_ids()) {
         const double t = world_.temperature(id);
-        check(std::isfinite(t), [&] { return fmt::format("body {} (grain {}): its temperature (thermal.csv)", id.index, world_.info(id).grain_id); });
+        check(std::isfinite(t), [&] {
+          return fmt::format("body {} (grain {}): its temperature (thermal.csv)", id.index,
+                             world_.info(id).grain_id);
+        });
         sum += t;
         lo = std::min(lo, t);
         hi = std::max(hi, t);
@@ -1057,28 +1068,32 @@ class Dynamics::Runner {
       cell_l = cell->vectors().colwise().norm().transpose();
       cell_e = cell_l.cwiseQuotient(cell0_) - Eigen::Vector3d::Ones();
       cell_sg = world_.cell_stress();
-      check(cell_l.allFinite() && cell_e.allFinite(), [] { return std::string("the periodic cell's size (cell.csv)"); });
-      check(cell_sg.allFinite(), [] { return std::string("the periodic cell's stress (cell.csv)"); });
+      check(cell_l.allFinite() && cell_e.allFinite(),
+            [] { return std::string("the periodic cell's size (cell.csv)"); });
+      check(cell_sg.allFinite(),
+            [] { return std::string("the periodic cell's stress (cell.csv)"); });
     }
     std::optional<std::string> failure;
     if (!bad.empty()) failure = bad;
     if (domain() && domain()->any(failure.has_value())) failure = domain()->first(failure);
     if (failure) {
-      non_finite(*failure + " is not finite (NaN or infinite) in the history row of this step, which is not "
-                            "written");
+      non_finite(*failure +
+                 " is not finite (NaN or infinite) in the history row of this step, which is not "
+                 "written");
       return false;
     }
 
     last_kinetic_ = kinetic;
     last_contacts_ = contacts;
-    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), kinetic, potential, contacts,
-                           overlap, stage_);
+    energy_ += fmt::format("{:.9g},{:.9g},{:.9g},{},{:.6g},{}\n", world_.time(), kinetic, potential,
+                           contacts, overlap, stage_);
     walls_ += fmt::format("{:.9g}", world_.time());
     loads_ += fmt::format("{:.9g},{},{}", world_.time(), world_.steps(), stage_);
     for (std::size_t i = 0; i < world_.walls().size(); ++i) {
       const auto& w = world_.walls()[i];
       walls_ += fmt::format(",{:.9g},{:.9g},{:.9g}", w.reaction.x(), w.reaction.y(), w.reaction.z());
-      loads_ += fmt::format(",{:.9g},{:.9g}", wall_readings[i].displacement, wall_readings[i].force);
+      loads_ +=
+          fmt::format(",{:.9g},{:.9g}", wall_readings[i].displacement, wall_readings[i].force);
     }
     walls_ += "\n";
     loads_ += reading ? fmt::format(",{:.9g},{:.9g}\n", reading->first, reading->second) : ",,\n";
@@ -1090,8 +1105,8 @@ class Dynamics::Runner {
     if (scenario_.thermal.enabled) {
       const physics::BondCounts c = world_.bond_counts();
       thermal_ += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", world_.time(), stage_,
-                              bodies == 0 ? 0.0 : sum / static_cast<double>(bodies), lo, hi, c.intact,
-                              c.tension + c.shear + c.bending + c.torsion, sum_.splits);
+                              bodies == 0 ? 0.0 : sum / static_cast<double>(bodies), lo, hi,
+                              c.intact, c.tension + c.shear + c.bending + c.torsion, sum_.splits);
     }
     if (cell) {
       const Eigen::Vector3d& l = cell_l;
@@ -1109,7 +1124,8 @@ class Dynamics::Runner {
   void non_finite(const std::string& what) {
     if (sum_.ending == RunEnding::blew_up) return;
     sum_.ending = RunEnding::blew_up;
-    sum_.failure = fmt::format("the run failed at step {} (t = {:.3g} s): {}", world_.steps(), world_.time(), what);
+    sum_.failure = fmt::format("the run failed at step {} (t = {:.3g} s): {}", world_.steps(),
+                               world_.time(), what);
     stopped_ = true;
     if (stage_run_) stage_run_->halt = true;
   }
@@ -1138,14 +1154,18 @@ class Dynamics::Runner {
       if (writes_cracks()) cracks = io::crack_frame(world_, book_ ? &*book_ : nullptr);
       const std::vector<physics::BodyId> ids = world_.body_ids();
       auto body_name = [&](std::size_t row) {
-        return row < ids.size() ? fmt::format("body {} (grain {})", ids[row].index, world_.info(ids[row]).grain_id)
+        return row < ids.size() ? fmt::format("body {} (grain {})", ids[row].index,
+                                              world_.info(ids[row]).grain_id)
                                 : fmt::format("body row {}", row);
       };
       auto wall_name = [&](std::size_t row) {
-        return row < world_.walls().size() ? fmt::format("wall {} ('{}')", row, world_.walls()[row].name)
-                                           : fmt::format("wall row {}", row);
+        return row < world_.walls().size()
+                   ? fmt::format("wall {} ('{}')", row, world_.walls()[row].name)
+                   : fmt::format("wall row {}", row);
       };
-      auto numbered = [](const char* what) { return [what](std::size_t row) { return fmt::format("{} {}", what, row); }; };
+      auto numbered = [](const char* what) {
+        return [what](std::size_t row) { return fmt::format("{} {}", what, row); };
+      };
       if (!bad && bodies) bad = non_finite_in(*bodies, "bodies", body_name);
       if (!bad && contacts) bad = non_finite_in(*contacts, "contacts", numbered("contact"));
       if (!bad && bonds) bad = non_finite_in(*bonds, "bonds", numbered("bond"));
@@ -1157,7 +1177,9 @@ class Dynamics::Runner {
     }
     if (domain() && domain()->any(bad.has_value())) bad = domain()->first(bad);
     if (bad) {
-      non_finite(*bad + " is not finite (NaN or infinite) in the frame of this step, which is not written");
+      non_finite(
+          *bad +
+          " is not finite (NaN or infinite) in the frame of this step, which is not written");
       return false;
     }
     if (!root_) {
@@ -1186,33 +1208,39 @@ class Dynamics::Runner {
 
   /// The first value of a frame that is not finite, as "<item>: its <field> (<file>)".
   template <class Name>
-  static std::optional<std::string> non_finite_in(const io::FieldSet& fields, const char* file, Name&& item) {
+  static std::optional<std::string> non_finite_in(const io::FieldSet& fields, const char* file,
+                                                  Name&& item) {
     for (const auto& [field, values] : fields.scalars) {
       for (std::size_t k = 0; k < values.size(); ++k)
-        if (!std::isfinite(values[k])) return fmt::format("{}: its {} ({} frame)", item(k), field, file);
+        if (!std::isfinite(values[k]))
+          return fmt::format("{}: its {} ({} frame)", item(k), field, file);
     }
     for (const auto& [field, values] : fields.vectors) {
       for (std::size_t k = 0; k < values.size(); ++k)
-        if (!values[k].allFinite()) return fmt::format("{}: its {} ({} frame)", item(k), field, file);
+        if (!values[k].allFinite())
+          return fmt::format("{}: its {} ({} frame)", item(k), field, file);
     }
     return std::nullopt;
   }
   template <class Name>
-  static std::optional<std::string> non_finite_in(const std::vector<geometry::PolygonMesh>& meshes, const char* file,
-                                                  Name&& item) {
+  static std::optional<std::string> non_finite_in(const std::vector<geometry::PolygonMesh>& meshes,
+                                                  const char* file, Name&& item) {
     for (std::size_t k = 0; k < meshes.size(); ++k) {
       for (const Eigen::Vector3d& v : meshes[k].vertices)
-        if (!v.allFinite()) return fmt::format("{}: its place (a vertex of its mesh, {} frame)", item(k), file);
+        if (!v.allFinite())
+          return fmt::format("{}: its place (a vertex of its mesh, {} frame)", item(k), file);
     }
     return std::nullopt;
   }
   template <class Name>
-  static std::optional<std::string> non_finite_in(const io::BodyFrame& frame, const char* file, Name&& item) {
+  static std::optional<std::string> non_finite_in(const io::BodyFrame& frame, const char* file,
+                                                  Name&& item) {
     if (auto bad = non_finite_in(frame.meshes, file, item)) return bad;
     return non_finite_in(frame.body_fields, file, item);
   }
   template <class Name>
-  static std::optional<std::string> non_finite_in(const io::LinkFrame& frame, const char* file, Name&& item) {
+  static std::optional<std::string> non_finite_in(const io::LinkFrame& frame, const char* file,
+                                                  Name&& item) {
     for (std::size_t k = 0; k < frame.a.size(); ++k) {
       if (!frame.a[k].allFinite() || (k < frame.b.size() && !frame.b[k].allFinite()))
         return fmt::format("{}: its end points ({} frame)", item(k), file);

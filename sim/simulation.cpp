@@ -465,14 +465,16 @@ RunReport Simulation::State::finish() {
     if (result && result->ending == RunEnding::stopped) {
       // The step limit the user set ran out before the stages ended: what ran is written
       // and complete, but it is not the scenario's whole run.
-      const auto cut = std::find_if(result->stages.rbegin(), result->stages.rend(),
-                                    [](const StageSummary& st) { return st.ended_by == "max_steps"; });
+      const auto cut =
+          std::find_if(result->stages.rbegin(), result->stages.rend(),
+                       [](const StageSummary& st) { return st.ended_by == "max_steps"; });
       const std::string stage = cut != result->stages.rend() ? cut->name : std::string("run");
       const std::uint64_t stage_steps = cut != result->stages.rend() ? cut->steps : result->steps;
-      const std::string reason =
-          fmt::format("stopped at step {} by the step limit (max_steps = {}), in stage '{}' after {} of its steps; "
-                      "the rest of the scenario did not run",
-                      result->steps, max_steps, stage, stage_steps);
+      const std::string reason = fmt::format(
+          "stopped at step {} by the step limit (max_steps = {}), in stage '{}' after {} of its "
+          "steps; "
+          "the rest of the scenario did not run",
+          result->steps, max_steps, stage, stage_steps);
       manifest.facts["stopped_at_step"] = std::to_string(result->steps);
       manifest.facts["stopped_in_stage"] = stage;
       record->close(io::run_status::stopped, reason);

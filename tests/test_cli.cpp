@@ -564,29 +564,39 @@ TEST_F(CleaveCli, NumericOptionsOutsideTheirRangeAreUsageErrorsNamingTheOption) 
   const fs::path small = write("small.toml", kSmallBox);
   const fs::path result = dir_ / "result";
   ASSERT_EQ(run_cleave("run " + small.string() + " --quiet --out " + result.string()).code, 0);
-  const std::string sweep = "sweep " + std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml -q -o " +
-                            (dir_ / "sweep").string() + " ";
+  const std::string sweep = "sweep " + std::string(CLEAVE_SOURCE_DIR) +
+                            "/tests/data/sweep_brazilian.toml -q -o " + (dir_ / "sweep").string() +
+                            " ";
   const std::pair<std::string, std::string> cases[] = {
-      {"check volume " + result.string() + " --voxel --voxels-per-length nan", "--voxels-per-length"},
-      {"check volume " + result.string() + " --voxel --voxels-per-length 1e400", "--voxels-per-length"},
+      {"check volume " + result.string() + " --voxel --voxels-per-length nan",
+       "--voxels-per-length"},
+      {"check volume " + result.string() + " --voxel --voxels-per-length 1e400",
+       "--voxels-per-length"},
       {"check volume " + result.string() + " --voxel --voxel-tolerance nan", "--voxel-tolerance"},
       {"check volume " + result.string() + " --voxel --voxel-tolerance -0.1", "--voxel-tolerance"},
-      {"measure brazilian " + small.string() + " --converge --tolerance nan -o " + (dir_ / "m").string(),
+      {"measure brazilian " + small.string() + " --converge --tolerance nan -o " +
+           (dir_ / "m").string(),
        "--tolerance"},
-      {"measure brazilian " + small.string() + " --converge --tolerance inf -o " + (dir_ / "m").string(),
+      {"measure brazilian " + small.string() + " --converge --tolerance inf -o " +
+           (dir_ / "m").string(),
        "--tolerance"},
-      {"measure brazilian " + small.string() + " --converge --tolerance 0 -o " + (dir_ / "m").string(),
+      {"measure brazilian " + small.string() + " --converge --tolerance 0 -o " +
+           (dir_ / "m").string(),
        "--tolerance"},
-      {"measure brazilian " + small.string() + " --converge --max-runs 2.5 -o " + (dir_ / "m").string(),
+      {"measure brazilian " + small.string() + " --converge --max-runs 2.5 -o " +
+           (dir_ / "m").string(),
        "--max-runs"},
-      {"calibrate " + small.string() + " --tolerance nan -o " + (dir_ / "c").string(), "--tolerance"},
-      {"calibrate " + small.string() + " --tolerance -1 -o " + (dir_ / "c").string(), "--tolerance"},
+      {"calibrate " + small.string() + " --tolerance nan -o " + (dir_ / "c").string(),
+       "--tolerance"},
+      {"calibrate " + small.string() + " --tolerance -1 -o " + (dir_ / "c").string(),
+       "--tolerance"},
       {"calibrate " + small.string() + " --tolerance 7 -o " + (dir_ / "c").string(), "--tolerance"},
       {sweep + "--set orientation.seed=1,2 --jobs 0", "--jobs"},
       {sweep + "--set orientation.seed=1,2 --jobs -3", "--jobs"},
       {sweep + "--set orientation.seed=1,2 --jobs 1.5", "--jobs"},
       {sweep + "--set orientation.seed=1,2 --jobs 100000000", "--jobs"},
-      {sweep + "--set orientation.seed=-9000000000000000000..9000000000000000000", "orientation.seed"},
+      {sweep + "--set orientation.seed=-9000000000000000000..9000000000000000000",
+       "orientation.seed"},
       {sweep + "--set orientation.seed=1,2 --max-steps 2.5", "--max-steps"},
   };
   for (const auto& [args, option] : cases) {

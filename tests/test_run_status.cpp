@@ -1,10 +1,9 @@
 // A result folder tells the truth about its run: `running` while it goes, then `finished`,
 // `interrupted` (SIGTERM) or `failed` (a blow-up, with the step, the body and a time step),
 // and its provenance: versions, seed, the scenario as run and the SHA-256 of every file.
-#include <gtest/gtest.h>
-
-#include <openssl/evp.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
+#include <openssl/evp.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -344,7 +343,8 @@ std::vector<std::string> non_finite_cells(const fs::path& dir) {
         std::string c;
         for (char ch : cell) c += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
         if (!c.empty() && (c[0] == '-' || c[0] == '+')) c.erase(0, 1);
-        if (c == "nan" || c == "inf" || c == "infinity") found.push_back(e.path().filename().string() + ": " + line);
+        if (c == "nan" || c == "inf" || c == "infinity")
+          found.push_back(e.path().filename().string() + ": " + line);
       }
     }
   }
@@ -357,9 +357,11 @@ TEST_F(RunStatus, AStepLimitThatCutsTheStagesShortIsStoppedWithItsStepAndStage) 
   // Four-point bending: its approach stage ends on walls_touch after a few hundred steps,
   // so a limit of 1000 steps in all falls in the loading stage, long before its load drop.
   const fs::path out = dir_ / "out";
-  const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/scenarios/four_point_bending.toml";
-  const int code =
-      shell(std::string(CLEAVE_BINARY) + " run " + scenario + " --max-steps 1000 --out " + out.string(), dir_ / "log.txt");
+  const std::string scenario =
+      std::string(CLEAVE_SOURCE_DIR) + "/scenarios/four_point_bending.toml";
+  const int code = shell(
+      std::string(CLEAVE_BINARY) + " run " + scenario + " --max-steps 1000 --out " + out.string(),
+      dir_ / "log.txt");
   EXPECT_EQ(code, 0) << log();  // the user asked for the limit: not an error
   const Manifest m = read_manifest(out);
   EXPECT_EQ(m.status, cleave::io::run_status::stopped);
@@ -372,7 +374,9 @@ TEST_F(RunStatus, AStepLimitThatCutsTheStagesShortIsStoppedWithItsStepAndStage) 
   EXPECT_NE(log().find("stopped at step 1000"), std::string::npos) << log();
   expect_files_hashed(out, m);
   // Its files are whole up to the step it stopped at: the exact volume check takes it.
-  EXPECT_EQ(shell(std::string(CLEAVE_BINARY) + " check volume --summary " + out.string(), dir_ / "check.txt"), 0)
+  EXPECT_EQ(shell(std::string(CLEAVE_BINARY) + " check volume --summary " + out.string(),
+                  dir_ / "check.txt"),
+            0)
       << slurp(dir_ / "check.txt");
 }
 
@@ -385,14 +389,17 @@ TEST_F(RunStatus, AStepLimitAtTheRunsOwnLengthIsFinishedAndOneLessIsStopped) {
   const std::uint64_t n = std::stoull(whole.facts.at("dynamics_steps"));
   ASSERT_GT(n, 2u);
   // A limit the run does not reach before its end changes nothing.
-  ASSERT_EQ(shell(run_cmd + " --max-steps " + std::to_string(n) + " --out " + (dir_ / "at").string(), dir_ / "log.txt"),
-            0)
+  ASSERT_EQ(
+      shell(run_cmd + " --max-steps " + std::to_string(n) + " --out " + (dir_ / "at").string(),
+            dir_ / "log.txt"),
+      0)
       << log();
   const Manifest at = read_manifest(dir_ / "at");
   EXPECT_EQ(at.status, "finished");
   EXPECT_EQ(at.facts.at("final_state_hash"), whole.facts.at("final_state_hash"));
   // One step less: the run (a plain one, its stage "run") did not get to its end.
-  ASSERT_EQ(shell(run_cmd + " --max-steps " + std::to_string(n - 1) + " --out " + (dir_ / "short").string(),
+  ASSERT_EQ(shell(run_cmd + " --max-steps " + std::to_string(n - 1) + " --out " +
+                      (dir_ / "short").string(),
                   dir_ / "log.txt"),
             0)
       << log();
@@ -407,7 +414,8 @@ TEST_F(RunStatus, ABlowUpToInfinityFailsAtItsStepAndWritesNoNonFiniteValue) {
   // Gravity 1e300 m/s^2: after one step a grain's speed is 1.2e294 m/s and its kinetic
   // energy overflows a double. The run fails at step 1 naming the body, and no table holds
   // the infinite row.
-  const fs::path scenario = write("inf.toml", drop_scenario("duration = 1e-3\ngravity = [0.0, 0.0, -1e300]\n"));
+  const fs::path scenario =
+      write("inf.toml", drop_scenario("duration = 1e-3\ngravity = [0.0, 0.0, -1e300]\n"));
   const fs::path out = dir_ / "out";
   EXPECT_EQ(run(scenario, out), 1) << log();
   const Manifest m = read_manifest(out);

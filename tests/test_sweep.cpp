@@ -339,11 +339,13 @@ TEST(SweepCommand, ZippedKeysMakeNRunsWithTheirValuesPaired) {
 TEST(SweepCommand, RunsCutByMaxStepsAreStoppedRowsNotFailuresAndStayOutOfTheFit) {
   // Five steps cannot reach the load drop of a Brazilian test: every run is stopped, as
   // asked. The sweep is not a failure (exit 0) but says stopped, and no strength is fitted.
-  const fs::path dir = fs::temp_directory_path() / ("cleave_sweep_cut_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleave_sweep_cut_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
-  const Outcome o = run_cleave("sweep " + scenario + " --set orientation.seed=1..3 --max-steps 5 --jobs 2 -o " +
-                               dir.string());
+  const Outcome o =
+      run_cleave("sweep " + scenario + " --set orientation.seed=1..3 --max-steps 5 --jobs 2 -o " +
+                 dir.string());
   ASSERT_EQ(o.code, 0) << o.output;
   EXPECT_NE(o.output.find("3 stopped by --max-steps"), std::string::npos) << o.output;
   const auto rows = cleave::testing::read_csv_cells(dir / "summary.csv");

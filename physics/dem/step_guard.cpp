@@ -55,8 +55,8 @@ std::optional<BlowUp> StepGuard::check(const World& world, bool step_completed) 
   // of what its bodies do next. A handful of walls: no cost worth counting.
   for (std::size_t i = 0; i < world.walls().size(); ++i) {
     const Wall& w = world.walls()[i];
-    const char* part = !finite(w.velocity) ? "velocity"  // the cause before its effect
-                       : !finite(w.origin) ? "position"
+    const char* part = !finite(w.velocity)   ? "velocity"  // the cause before its effect
+                       : !finite(w.origin)   ? "position"
                        : !finite(w.reaction) ? "reaction"
                                              : nullptr;
     if (part) {
@@ -113,9 +113,11 @@ std::optional<BlowUp> StepGuard::check(const World& world, bool step_completed) 
 std::string describe(const BlowUp& b, double stable_dt) {
   if (b.wall) {
     // A wall moves as it is told: the cause is its prescribed motion, not the time step.
-    return "the run blew up at step " + std::to_string(b.step) + " (t = " + number(b.time) + " s): wall " +
-           std::to_string(*b.wall) + " ('" + b.wall_name + "'): its " + b.non_finite +
-           " is not finite (NaN or infinite); a wall moves as prescribed (its stage's wall_velocity, "
+    return "the run blew up at step " + std::to_string(b.step) + " (t = " + number(b.time) +
+           " s): wall " + std::to_string(*b.wall) + " ('" + b.wall_name + "'): its " +
+           b.non_finite +
+           " is not finite (NaN or infinite); a wall moves as prescribed (its stage's "
+           "wall_velocity, "
            "or a velocity or place set between steps)";
   }
   std::string what;
@@ -125,12 +127,14 @@ std::string describe(const BlowUp& b, double stable_dt) {
     what = "it moved " + number(b.displacement) + " m in one step, more than " +
            number(b.fraction) + " of its bounding radius (" + number(b.limit) + " m)";
   }
-  const std::string who = b.cell ? std::string("the periodic cell")
-                                 : "body " + std::to_string(b.body.index) +
-                                       (b.grain_id >= 0 ? " (grain " + std::to_string(b.grain_id) + ")" : "");
-  std::string line = "the run blew up at step " + std::to_string(b.step) + " (t = " +
-                     number(b.time) + " s): " + who + ": " + what + "; dt = " + number(b.dt) + " s, suggested dt <= " +
-                     number(b.suggested_dt) + " s";
+  const std::string who =
+      b.cell ? std::string("the periodic cell")
+             : "body " + std::to_string(b.body.index) +
+                   (b.grain_id >= 0 ? " (grain " + std::to_string(b.grain_id) + ")" : "");
+  std::string line = "the run blew up at step " + std::to_string(b.step) +
+                     " (t = " + number(b.time) + " s): " + who + ": " + what +
+                     "; dt = " + number(b.dt) + " s, suggested dt <= " + number(b.suggested_dt) +
+                     " s";
   if (stable_dt > 0.0) {
     line += b.dt > stable_dt
                 ? "; the stable step (critical step x dt_safety) is " + number(stable_dt) +
