@@ -106,7 +106,7 @@ class ResultRecord {
   /// When start() was called (file-system clock); a checkpoint keeps it for resume().
   [[nodiscard]] std::filesystem::file_time_type started() const { return started_; }
   /// Lists and hashes the files written since start(), writes SHA256SUMS and run.toml with
-  /// the final status (run_status::finished, interrupted or failed) and reason. Throws
+  /// the final status (run_status::finished, stopped, interrupted or failed) and reason. Throws
   /// std::runtime_error when they cannot be written.
   void close(const std::string& status, const std::string& reason = {});
   /// close() for a run that is already failing: reports nothing, returns false on error.
