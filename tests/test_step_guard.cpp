@@ -165,3 +165,25 @@ TEST(StepGuard, TheMessageNamesStepBodyAndTimeSteps) {
   const std::string within = describe(b, 5e-6);
   EXPECT_NE(within.find("within the stable step"), std::string::npos) << within;
 }
+
+TEST(StepGuard, ANonFiniteWallIsNamedBeforeTheBodiesItWouldSpoil) {
+  // A wall far from every body, given a NaN velocity: its place is NaN after the step while
+  // every body is still finite. The guard names the wall and its velocity (the cause).
+  FreeWorld f;
+  f.add({0, 0, 0}, {1, 0, 0});
+  f.world.add_wall(Wall::plane("floor", {0, 0, -1.0}, {0, 0, 1}));
+  f.world.add_wall(Wall::plane("lid", {0, 0, 1.0}, {0, 0, -1}));
+  StepGuard guard;
+  EXPECT_FALSE(f.run(guard, 2));
+  f.world.wall(1).velocity = {0, 0, std::numeric_limits<double>::quiet_NaN()};
+  const auto b = f.run(guard, 1);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->step, 3u);
+  ASSERT_TRUE(b->wall);
+  EXPECT_EQ(*b->wall, 1u);
+  EXPECT_EQ(b->wall_name, "lid");
+  EXPECT_EQ(b->non_finite, "velocity");
+  const std::string text = describe(*b);
+  EXPECT_NE(text.find("step 3 "), std::string::npos) << text;
+  EXPECT_NE(text.find("wall 1 ('lid'): its velocity is not finite"), std::string::npos) << text;
+}
