@@ -44,6 +44,10 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
       "a number, true/false, or a string such as \"250 MPa\"), repeatable; as "
       "cleave sweep --set with one value");
   run_cmd->add_flag("--quiet,-q", run.quiet, "Print only errors");
+  run_cmd->add_flag("--replace", run.replace,
+                    "Replace an earlier cleave result in the folder: of another scenario, an interrupted "
+                    "run with a checkpoint, or one that did not end (an earlier run of the same "
+                    "scenario is replaced without it); only the files its run.toml lists are removed");
   run_cmd->add_flag("--timing", run.timing,
                     "Clock each part of the steps (search, narrow phase, contact and bond laws, ...): "
                     "DIR/timing.csv and a table at the end");
@@ -69,6 +73,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
       ->required();
   restart_cmd->add_option("--out,-o", restart.out, "Result folder (default: the checkpoint's folder)");
   restart_cmd->add_flag("--quiet,-q", restart.quiet, "Print only errors");
+  restart_cmd->add_flag("--replace", restart.replace,
+                        "With --out: replace an earlier cleave result there, as run --replace does");
   restart_cmd->add_flag("--timing", restart.timing, "As for run: DIR/timing.csv, the restarted steps");
   restart_cmd->add_option("--max-steps", restart.max_steps,
                           "Total step limit (default: the interrupted run's --max-steps)")->check(steps);
@@ -113,6 +119,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   sweep_cmd->add_option("--out,-o", sweep.out, "Folder (default: results/<scenario name>_sweep)");
   sweep_cmd->add_option("--max-steps", sweep.max_steps, "Passed to every run")->check(steps);
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "Print only errors");
+  sweep_cmd->add_flag("--replace", sweep.replace,
+                      "Replace an earlier cleave result in the folder, as run --replace does");
 
   validate_cmd = app.add_subcommand(
       "validate",
@@ -122,6 +130,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   validate_cmd->add_option("--out,-o", validate.out,
                            "Result folder (default: results/<scenario name>)");
   validate_cmd->add_flag("--quiet,-q", validate.quiet, "Print only errors");
+  validate_cmd->add_flag("--replace", validate.replace,
+                         "Replace an earlier cleave result in the folder, as run --replace does");
   validate_cmd->add_flag("--cohesive-beam-only", validate.cohesive_beam_only,
                          "Do not run the lattice: judge beam theory with the scenario's cohesive "
                          "zone against the closed forms (where LEFM holds for its sigma_c)");

@@ -29,6 +29,7 @@ struct RunOptions {
   /// number of processes.
   int mpi_size = 0;
   bool timing = false;  ///< --timing: timing.csv, where each step's time goes
+  bool replace = false;  ///< --replace: see sim::SimulationOptions::replace
 };
 
 /// Builds the specimen, splits every grain into its cleavage slabs and writes the result
@@ -55,6 +56,7 @@ struct ValidateOptions {
   /// against the closed forms with the scenario's bounds: where LEFM holds for a sigma_c,
   /// in seconds, before a lattice run of hours. The lattice is not run.
   bool cohesive_beam_only = false;
+  bool replace = false;  ///< --replace: an earlier result of another run in `out` is replaced
 };
 
 /// Runs a validation scenario (DCB, ENF or MMB on the cubic lattice, seed 002 sec. 7) and
@@ -71,6 +73,7 @@ struct SweepOptions {
   std::filesystem::path out;      ///< empty: results/<scenario name>_sweep
   std::uint64_t max_steps = 0;    ///< passed to each run (0: none)
   bool quiet = false;
+  bool replace = false;  ///< --replace: an earlier result of another run in `out` is replaced
 };
 
 /// Runs the scenario once per combination of the --set values (io/sweep.hpp; the --zip

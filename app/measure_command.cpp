@@ -216,6 +216,16 @@ int measure_command(const MeasureOptions& options) {
   }
   io::write_file_atomically(out / "measure.toml", text);
   if (*test == sim::Test::elastic) write_elastic_outputs(m, out);
+  // The run's manifest lists them too: a later measurement replaces them with the run.
+  std::vector<std::string> written{"measure.toml"};
+  if (*test == sim::Test::elastic)
+    written.insert(written.end(), {"measure.csv", "stress_strain.svg"});
+  try {
+    io::add_to_manifest(out, written);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave measure: warning: {}/run.toml does not list them: {}\n",
+               out.string(), e.what());
+  }
   fmt::print("  {} = {:.4g} {}", r.label, judged / r.scale, r.unit);
   if (*test == sim::Test::elastic) {
     fmt::print(", nu = {:.4f}; from the platens E = {:.4g} GPa", m.poisson, m.young_platens / 1e9);

@@ -3,6 +3,13 @@
 // 128 + signal: interrupted; 0: finished, or stopped by --max-steps as asked).
 
 #include <fmt/format.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <filesystem>
+#include <string>
 
 #include "commands.hpp"
 #include "io/checkpoint.hpp"
@@ -12,9 +19,6 @@
 #include "sim/simulation.hpp"
 
 #ifdef CLEAVE_HAVE_MPI
-#include <unistd.h>
-
-#include <filesystem>
 #include <memory>
 
 #include "parallel/mpi_domain.hpp"
@@ -22,8 +26,62 @@
 
 namespace cleave::app {
 
+namespace {
+
+std::string this_host() {
+  std::array<char, 256> buf{};
+  return ::gethostname(buf.data(), buf.size() - 1) == 0 ? std::string(buf.data())
+                                                        : std::string("host");
+}
+
+#ifdef CLEAVE_HAVE_MPI
+/// The scratch folder of MPI rank `rank` of this process: the host and pid in its name say
+/// whose it is, so that a later run can tell one left by a killed run.
+std::filesystem::path scratch_folder(int rank) {
+  return std::filesystem::temp_directory_path() /
+         fmt::format("cleave-rank{}-{}-{}", rank, this_host(), static_cast<long>(::getpid()));
+}
+#endif
+
+/// Removes the scratch folders (cleave-rankN-HOST-PID in the temp folder) that runs on this
+/// host left when they were killed: those whose process is gone (and cleave-rankN-PID, the
+/// name earlier versions gave them). A kill(2) that cannot tell (another user's process)
+/// keeps the folder.
+void remove_stale_scratch() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path tmp = fs::temp_directory_path(ec);
+  if (ec) return;
+  const std::string host = this_host();
+  for (auto it = fs::directory_iterator(tmp, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const std::string prefix = "cleave-rank";
+    std::error_code kind;
+    if (name.rfind(prefix, 0) != 0 || it->is_symlink(kind) || !it->is_directory(kind)) continue;
+    // cleave-rank<N>-<host>-<pid>, or cleave-rank<N>-<pid>
+    const auto dash = name.find('-', prefix.size());
+    const auto last = name.rfind('-');
+    if (dash == std::string::npos ||
+        (last != dash && name.substr(dash + 1, last - dash - 1) != host))
+      continue;
+    const std::string rank = name.substr(prefix.size(), dash - prefix.size());
+    const std::string pid = name.substr(last + 1);
+    if (rank.empty() || pid.empty() || pid.size() > 9 ||
+        rank.find_first_not_of("0123456789") != std::string::npos ||
+        pid.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;
+    std::error_code rm;
+    fs::remove_all(it->path(), rm);
+  }
+}
+
+}  // namespace
+
 int run_command(const RunOptions& options) {
   install_stop_handlers();
+  remove_stale_scratch();
   sim::SimulationOptions so;
   so.out = options.out;
   so.quiet = options.quiet;
@@ -32,6 +90,7 @@ int run_command(const RunOptions& options) {
   so.timing = options.timing;
   so.mesh_format = options.mesh_format;
   so.mesh_layout = options.mesh_layout;
+  so.replace = options.replace;
   so.stop_requested = [] { return stop_signal() != 0; };
   so.stop_reason = [] { return fmt::format("stopped by {}", signal_name(stop_signal())); };
 
@@ -51,8 +110,7 @@ int run_command(const RunOptions& options) {
     domain = std::make_unique<parallel::MpiDomain>();
     so.domain = domain.get();
     if (domain->rank() != 0) {
-      scratch = std::filesystem::temp_directory_path() /
-                fmt::format("cleave-rank{}-{}", domain->rank(), static_cast<long>(::getpid()));
+      scratch = scratch_folder(domain->rank());
       so.out = scratch;
       so.quiet = true;
     }

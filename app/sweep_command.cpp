@@ -187,51 +187,68 @@ int sweep_command(const SweepOptions& o) {
     return 2;
   }
   const fs::path out = o.out.empty() ? fs::path("results") / (base.name + "_sweep") : o.out;
+  io::FolderPlan plan;
   try {
-    io::check_result_folder(out);
+    plan = io::check_result_folder(out, io::FolderClaim{"sweep", base.name, o.replace, false});
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
     return 2;
   }
   const fs::path base_dir = fs::absolute(o.scenario).parent_path();
   std::vector<Job> jobs(points.size());
-  try {
-    fs::create_directories(out / "scenarios");
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      Job& j = jobs[i];
-      j.index = i;
-      const std::string name = fmt::format("run_{:03}", i + 1);
-      j.scenario = out / "scenarios" / (name + ".toml");
-      j.dir = out / name;
-      j.log = out / (name + ".log");
-      // A key the scenario cannot take fails here, before anything runs, naming the value.
-      std::vector<std::string> shown;
-      for (std::size_t k = 0; k < axes.size(); ++k)
-        shown.push_back(
-            fmt::format("--{} {}={}", axes[k].zipped ? "zip" : "set", axes[k].key, points[i][k]));
-      std::string s;
-      try {
-        (void)io::read_sweep_point(text, o.scenario.string(), axes, points[i], shown, base_dir, &s);
-      } catch (const io::ScenarioError& e) {
-        fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
-        return 2;
-      }
-      io::write_file_atomically(j.scenario, s);
+  std::vector<std::string> texts(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Job& j = jobs[i];
+    j.index = i;
+    const std::string name = fmt::format("run_{:03}", i + 1);
+    j.scenario = out / "scenarios" / (name + ".toml");
+    j.dir = out / name;
+    j.log = out / (name + ".log");
+    // A key the scenario cannot take fails here, before anything runs, naming the value.
+    std::vector<std::string> shown;
+    for (std::size_t k = 0; k < axes.size(); ++k)
+      shown.push_back(
+          fmt::format("--{} {}={}", axes[k].zipped ? "zip" : "set", axes[k].key, points[i][k]));
+    try {
+      (void)io::read_sweep_point(text, o.scenario.string(), axes, points[i], shown, base_dir,
+                                 &texts[i]);
+    } catch (const io::ScenarioError& e) {
+      fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
+      return 2;
     }
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
-    return 2;
   }
+  // run.toml says "running" from before the first file, so that every file is the sweep's.
   io::ResultRecord record(out);
   record.manifest.provenance["cleave_version"] = CLEAVE_VERSION;
+  record.manifest.provenance["command"] = "sweep";
   record.manifest.facts["scenario"] = o.scenario.string();
+  record.manifest.facts["scenario_name"] = base.name;
   for (const auto& a : axes) {
     std::string v;
     for (std::size_t k = 0; k < a.values.size(); ++k) v += (k ? "," : "") + a.values[k];
     record.manifest.facts[(a.zipped ? "zip." : "set.") + a.key] = v;
   }
   record.manifest.facts["runs"] = std::to_string(points.size());
-  record.start();
+  try {
+    io::clear_result_folder(out, plan);
+    fs::create_directories(out);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
+    return 1;
+  }
+  try {
+    record.start();
+    fs::create_directories(out / "scenarios");
+    for (std::size_t i = 0; i < points.size(); ++i)
+      io::write_file_atomically(jobs[i].scenario, texts[i]);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
+    record.close_quietly(io::run_status::failed, e.what());
+    return 1;
+  }
   install_stop_handlers();
 
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());

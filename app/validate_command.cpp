@@ -145,13 +145,21 @@ int validate_command(const ValidateOptions& options) {
     return 2;
   }
   const fs::path out = options.out.empty() ? fs::path("results") / v.name : options.out;
+  io::FolderPlan plan;
   try {
-    io::check_result_folder(out);
+    plan =
+        io::check_result_folder(out, io::FolderClaim{"validate", v.name, options.replace, false});
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
     return 2;
   }
   std::error_code ec;
+  try {
+    io::clear_result_folder(out, plan);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave: error: {}\n", e.what());
+    return 1;
+  }
   fs::create_directories(out, ec);
   if (ec) {
     fmt::print(stderr, "cleave: error: cannot create the result folder {}: {}\n", out.string(),
@@ -166,6 +174,7 @@ int validate_command(const ValidateOptions& options) {
   io::Manifest& manifest = record.manifest;
   manifest.facts["cleave_version"] = CLEAVE_VERSION;
   manifest.facts["scenario"] = fs::absolute(options.scenario).string();
+  manifest.facts["scenario_name"] = v.name;
   manifest.provenance = io::library_versions();
   manifest.provenance["cleave_version"] = CLEAVE_VERSION;
   manifest.provenance["command"] = "validate";
@@ -174,7 +183,6 @@ int validate_command(const ValidateOptions& options) {
   manifest.provenance["seed"] = "none";
   manifest.provenance["started_utc"] = io::utc_now();
   try {
-    fs::remove(out / io::kChecksumsName);
     const std::string input = io::read_file(options.scenario);
     manifest.provenance["scenario_sha256"] = io::sha256_hex(input);
     record.start();

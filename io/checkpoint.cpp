@@ -216,27 +216,26 @@ Checkpoint decode_checkpoint(std::string_view bytes, const std::string& source) 
 
 void write_checkpoint_file(const fs::path& file, std::string_view bytes) {
   const fs::path tmp = file.string() + ".tmp";
-  auto fail = [&](const std::string& what) {
-    return CheckpointError(fmt::format("{}: {}: {}", file.string(), what, std::strerror(errno)));
+  // errno is taken where the call failed, and the half-written .tmp does not stay behind.
+  auto fail = [&](const std::string& what, int err, int fd) {
+    if (fd >= 0) ::close(fd);
+    ::unlink(tmp.c_str());
+    return CheckpointError(fmt::format("{}: {}: {}", file.string(), what, std::strerror(err)));
   };
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw fail("cannot open " + tmp.filename().string() + " for writing");
+  if (fd < 0) throw fail("cannot open " + tmp.filename().string() + " for writing", errno, -1);
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0) {
       if (errno == EINTR) continue;
-      ::close(fd);
-      throw fail("write failed");
+      throw fail("cannot write", errno, fd);
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    throw fail("fsync failed");
-  }
-  if (::close(fd) != 0) throw fail("close failed");
-  if (::rename(tmp.c_str(), file.c_str()) != 0) throw fail("cannot rename into place");
+  if (::fsync(fd) != 0) throw fail("cannot write (fsync)", errno, fd);
+  if (::close(fd) != 0) throw fail("cannot write (close)", errno, -1);
+  if (::rename(tmp.c_str(), file.c_str()) != 0) throw fail("cannot rename into place", errno, -1);
   // The rename itself is durable once the folder is synced.
   const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
   if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
@@ -253,7 +252,9 @@ fs::path checkpoint_file(const fs::path& path) {
 Checkpoint read_checkpoint(const fs::path& path) {
   const fs::path file = checkpoint_file(path);
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw CheckpointError(file.string() + ": cannot be read (no checkpoint there)");
+  if (!in)
+    throw CheckpointError(file.string() +
+                          ": cannot be read (no checkpoint there): " + std::strerror(errno));
   std::ostringstream ss;
   ss << in.rdbuf();
   return decode_checkpoint(ss.str(), file.string());

@@ -22,22 +22,59 @@
 namespace cleave::io {
 
 /// Writes `content` to `path` through `path.tmp` + rename, so a reader never sees a
-/// half-written file under the final name. Throws std::runtime_error naming the file.
+/// half-written file under the final name. Throws std::runtime_error naming the file and the
+/// system's reason ("No space left on device"); no `.tmp` is left behind.
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);
 
-/// Reads a whole file; throws std::runtime_error naming the file when it cannot.
+/// Reads a whole file; throws std::runtime_error naming the file and the system's reason.
 std::string read_file(const std::filesystem::path& path);
 
 /// A scenario's name names its folder in results/: one plain component (no '/', '\\',
 /// NUL or leading '.'), so that it cannot lead out of results/.
 bool is_plain_folder_name(std::string_view name);
 
-/// cleave writes only in a folder it owns. Refuses (std::invalid_argument, naming the folder
-/// and why) the file system's root, the home folder, the working folder, something that is
-/// not a folder, and a folder that holds files but no cleave manifest (another program's),
-/// before anything is written or removed there. A new or empty folder, or an earlier cleave
-/// result, passes.
-void check_result_folder(const std::filesystem::path& out);
+/// Who asks for a result folder: the new run's command and scenario, and what it may replace.
+struct FolderClaim {
+  std::string command = "run";  ///< as run.toml's provenance names it: run, sweep, validate
+  std::string scenario_name;    ///< the new run's scenario name
+  /// --replace: an earlier cleave result of another scenario or command, or a run that did
+  /// not end (its process gone), may be replaced too. Files cleave did not write never are.
+  bool replace = false;
+  /// A restart continuing its own run in this folder: only unfinished writes are removed.
+  bool restart = false;
+};
+
+/// What preparing a result folder removes, relative to it: the earlier cleave run's files
+/// (its manifest's [files], run.toml and SHA256SUMS) and unfinished writes of a killed run
+/// (`*.tmp` files and `.cleave-tmp-*` folders, which cleave's writers rename into place).
+struct FolderPlan {
+  std::vector<std::filesystem::path> files;
+  std::vector<std::filesystem::path> leftovers;
+};
+
+/// cleave writes only in a folder it owns. Refuses (std::invalid_argument, naming the folder,
+/// the file and why) before anything is written or removed: the file system's root, the home
+/// folder, the working folder, something that is not a folder, a folder that holds files but
+/// no cleave manifest (another program's), a run a live process is writing, and a file in an
+/// earlier cleave result that its run did not write (not in its manifest, or changed since).
+/// Without `claim.replace` also an earlier result of another scenario or command, an
+/// interrupted run with a checkpoint (restart it) and a run that did not end. An earlier
+/// finished or failed run of the same command and scenario is replaced. Returns what
+/// clear_result_folder() then removes.
+FolderPlan check_result_folder(const std::filesystem::path& out, const FolderClaim& claim);
+
+/// Removes what `plan` lists below `out`, then the folders that held them and are now
+/// empty. Throws std::runtime_error naming the path and the system's reason.
+void clear_result_folder(const std::filesystem::path& out, const FolderPlan& plan);
+
+/// Adds files written into a closed result folder after its run (a measurement's tables)
+/// to its manifest and SHA256SUMS, so that they are the run's as well.
+void add_to_manifest(const std::filesystem::path& dir, const std::vector<std::string>& files);
+
+/// Whether a cleave process recorded in a `running` manifest (its host, pid and the pid's
+/// start time) is alive on this machine. Unknown hosts count as alive.
+bool recorded_process_alive(const std::string& host, const std::string& pid,
+                            const std::string& pid_start);
 
 /// The statuses a result folder's manifest can hold.
 namespace run_status {
@@ -68,6 +105,11 @@ struct Manifest {
   std::map<std::string, std::string> provenance;
   std::map<std::string, std::string> facts;
   std::vector<FileRecord> files;
+  /// A restarted run's start mark (file-clock ticks; 0: run.toml's own time while running).
+  std::int64_t started_ticks = 0;
+  /// While `running`: the process writing the result (host, pid, pid's start time), so that
+  /// a later run tells a live run from a killed one.
+  std::string host, pid, pid_start;
 };
 
 constexpr const char* kManifestName = "run.toml";

@@ -68,8 +68,9 @@ std::vector<std::string> override_strings(const py::object& overrides) {
 }
 
 cleave::sim::SimulationOptions options(const py::object& out, bool quiet, std::uint64_t max_steps,
-                                       std::optional<std::uint64_t> checkpoint_every) {
+                                       std::optional<std::uint64_t> checkpoint_every, bool replace = false) {
   cleave::sim::SimulationOptions o;
+  o.replace = replace;
   if (!out.is_none()) o.out = py::str(out).cast<std::string>();
   o.quiet = quiet;
   o.max_steps = max_steps;
@@ -305,28 +306,29 @@ PYBIND11_MODULE(_cleave, m) {
   using cleave::physics::BodyState;
   py::class_<Simulation>(m, "Simulation", "One cleave run: scenario -> specimen -> slabs -> dynamics -> results.")
       .def(py::init([](const std::filesystem::path& scenario, py::object out, py::object overrides, bool quiet,
-                       std::uint64_t max_steps, std::optional<std::uint64_t> checkpoint_every) {
-             return Simulation::open(scenario, options(out, quiet, max_steps, checkpoint_every),
+                       std::uint64_t max_steps, std::optional<std::uint64_t> checkpoint_every, bool replace) {
+             return Simulation::open(scenario, options(out, quiet, max_steps, checkpoint_every, replace),
                                      override_strings(overrides));
            }),
            "scenario"_a, "out"_a = py::none(), "overrides"_a = py::none(), "quiet"_a = true,
-           "max_steps"_a = 0, "checkpoint_every"_a = py::none(),
+           "max_steps"_a = 0, "checkpoint_every"_a = py::none(), "replace"_a = false,
            "Loads a scenario file; overrides: {'table.key': value} as `cleave sweep --set` takes them.")
       .def_static(
           "from_toml",
           [](std::string text, py::object out, py::object overrides, bool quiet, std::uint64_t max_steps,
-             std::string source, const std::filesystem::path& base_dir) {
-            return Simulation::from_text(std::move(text), source, options(out, quiet, max_steps, std::nullopt),
+             std::string source, const std::filesystem::path& base_dir, bool replace) {
+            return Simulation::from_text(std::move(text), source,
+                                         options(out, quiet, max_steps, std::nullopt, replace),
                                          override_strings(overrides), base_dir);
           },
           "text"_a, "out"_a = py::none(), "overrides"_a = py::none(), "quiet"_a = true, "max_steps"_a = 0,
-          "source"_a = "<string>", "base_dir"_a = ".", "A scenario given as TOML text.")
+          "source"_a = "<string>", "base_dir"_a = ".", "replace"_a = false, "A scenario given as TOML text.")
       .def_static(
           "restart",
-          [](const std::filesystem::path& checkpoint, py::object out, bool quiet) {
-            return Simulation::restart(checkpoint, options(out, quiet, 0, std::nullopt));
+          [](const std::filesystem::path& checkpoint, py::object out, bool quiet, bool replace) {
+            return Simulation::restart(checkpoint, options(out, quiet, 0, std::nullopt, replace));
           },
-          "checkpoint"_a, "out"_a = py::none(), "quiet"_a = true, "Continues a run from its checkpoint.")
+          "checkpoint"_a, "out"_a = py::none(), "quiet"_a = true, "replace"_a = false, "Continues a run from its checkpoint.")
       .def("start", &Simulation::start, py::call_guard<py::gil_scoped_release>(),
            "Builds the specimen, cuts the slabs, writes the static outputs.")
       .def(

@@ -116,6 +116,7 @@ struct Simulation::State {
   std::optional<io::Checkpoint> checkpoint;
   fs::path restart_file;
   fs::path out;
+  io::FolderPlan folder;  ///< what start() clears of an earlier run in `out`
   std::uint64_t max_steps = 0;
   std::optional<io::ResultRecord> record;
   std::optional<Specimen> specimen;
@@ -143,7 +144,16 @@ struct Simulation::State {
           : checkpoint         ? (restart_file.has_parent_path() ? restart_file.parent_path() : fs::path("."))
                                : fs::path("results") / scenario.name;
     max_steps = options.max_steps > 0 || !checkpoint ? options.max_steps : checkpoint->meta.max_steps;
-    io::check_result_folder(out);
+    io::FolderClaim claim{"run", scenario.name, options.replace, false};
+    if (checkpoint) {
+      // A restart in the checkpoint's own folder continues there; elsewhere it is a new result.
+      std::error_code ec;
+      const fs::path home =
+          restart_file.has_parent_path() ? restart_file.parent_path() : fs::path(".");
+      claim.restart = fs::weakly_canonical(fs::absolute(out), ec) ==
+                      fs::weakly_canonical(fs::absolute(home), ec);
+    }
+    folder = io::check_result_folder(out, claim);
   }
 
   /// A run stopped between two phases: what is written stays, marked so.
@@ -172,19 +182,19 @@ void Simulation::State::start() {
   started = true;
   // Whatever was in the folder is no longer a result until this run finishes.
   try {
+    // Exactly the earlier run's files (check_result_folder), and a killed run's unfinished
+    // writes; a restart keeps the frames before its checkpoint.
+    io::clear_result_folder(out, folder);
     fs::create_directories(out);
     fs::remove(out / io::kManifestName);
     fs::remove(out / io::kChecksumsName);
     fs::remove_all(out / "meshes");
-    if (!checkpoint) {
-      // A restart keeps the frames before its checkpoint; a fresh run starts clean (and
-      // drops any checkpoint of an earlier run, which is not this run's to continue).
-      fs::remove_all(out / "frame_meshes");
-      fs::remove(out / io::kCheckpointName);
-    }
   } catch (const fs::filesystem_error& e) {
     finished = true;
     throw std::runtime_error(fmt::format("{}: {}", out.string(), e.what()));
+  } catch (const std::exception&) {
+    finished = true;
+    throw;
   }
 
   // run.toml says "running" from here on; close() gives the final status and the files.

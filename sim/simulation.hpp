@@ -49,6 +49,9 @@ struct SimulationOptions {
   bool timing = false;
   /// How overrides are named in errors: "--set" gives "--set dynamics.dt=abc: key ...".
   std::string override_label = "--set";
+  /// --replace: `out` may hold an earlier result of another scenario, an interrupted run
+  /// with a checkpoint or a killed run; it is replaced (io::check_result_folder).
+  bool replace = false;
 };
 
 /// How a run ended.

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -193,22 +194,22 @@ TEST_F(RunStatus, AFinishedRunRecordsItsProvenanceAndHashesEveryFile) {
   expect_files_hashed(out, m);
 }
 
-TEST_F(RunStatus, TheFileListLeavesOutFilesOfAnEarlierRun) {
+TEST_F(RunStatus, AFileTheEarlierRunDidNotWriteStopsTheRerunAndThenTheListIsTheFolder) {
   const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
   const fs::path out = dir_ / "out";
-  ASSERT_EQ(run(scenario, out), 0) << log();  // the earlier run, which left a stale frame
+  ASSERT_EQ(run(scenario, out), 0) << log();  // the earlier run
   std::ofstream(out / "frames" / "bodies_000099.vtp") << "stale";
   fs::last_write_time(out / "frames" / "bodies_000099.vtp",
                       fs::file_time_type::clock::now() - std::chrono::hours(2));
+  // Not the earlier run's (not in its manifest): the rerun neither removes it nor mixes it in.
+  EXPECT_EQ(run(scenario, out), 2) << log();
+  EXPECT_NE(log().find("frames/bodies_000099.vtp"), std::string::npos) << log();
+  EXPECT_TRUE(fs::exists(out / "frames" / "bodies_000099.vtp"));
+  fs::remove(out / "frames" / "bodies_000099.vtp");
   ASSERT_EQ(run(scenario, out), 0) << log();
   const Manifest m = read_manifest(out);
-  bool frames = false;
-  for (const auto& f : m.files) {
-    EXPECT_NE(f.path, "frames/bodies_000099.vtp");
-    frames = frames || f.path == "frames/bodies_000000.vtp";
-  }
-  EXPECT_TRUE(frames);
-  fs::remove(out / "frames" / "bodies_000099.vtp");
+  EXPECT_TRUE(std::any_of(m.files.begin(), m.files.end(),
+                          [](const auto& f) { return f.path == "frames/bodies_000000.vtp"; }));
   expect_files_hashed(out, m);
 }
 

@@ -49,8 +49,9 @@ from .results import Result, load_result  # noqa: F401
 from . import plot  # noqa: F401
 
 
-def run(scenario, out=None, overrides=None, quiet=True, max_steps=0):
-    """Runs a scenario file whole, as `cleave run` does; returns the report (a dict)."""
-    sim = Simulation(scenario, out=out, overrides=overrides, quiet=quiet, max_steps=max_steps)
+def run(scenario, out=None, overrides=None, quiet=True, max_steps=0, replace=False):
+    """Runs a scenario file whole, as `cleave run` does; returns the report (a dict).
+    replace=True is `cleave run --replace`."""
+    sim = Simulation(scenario, out=out, overrides=overrides, quiet=quiet, max_steps=max_steps, replace=replace)
     sim.start()
     return sim.finish()

@@ -21,7 +21,10 @@ class Result:
             with open(as_run, "rb") as f:
                 self.scenario = tomllib.load(f)
         self._tables = {}
-        self.table_names = sorted(n[:-4] for n in os.listdir(self.path) if n.endswith(".csv"))
+        # The run's own tables: those its manifest lists (a closed run), else the folder's.
+        listed = [f.get("path", "") for f in self.run.get("files", [])]
+        names = listed if listed else os.listdir(self.path)
+        self.table_names = sorted(n[:-4] for n in names if n.endswith(".csv") and "/" not in n)
 
     @property
     def status(self):
