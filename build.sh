@@ -26,6 +26,7 @@ packages=(
   clang libclang-rt-14-dev libomp-dev  # sanitizer/fuzz build: ASan, UBSan, libFuzzer, OpenMP
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib  # import cleave
   python3-vtk9 python3-meshio  # tests reading the outputs with VTK's and meshio's readers
+  strace  # tests/test_result_folders.cpp: no write outside the result folder
 )
 
 install_missing() {
