@@ -110,6 +110,8 @@ bool recorded_process_alive(const std::string& host, const std::string& pid,
   } catch (const std::exception&) {
     return false;
   }
+  // This very process: an earlier Simulation of it (Python) that was left unfinished.
+  if (n == static_cast<long>(::getpid())) return false;
   if (n <= 0 || (::kill(static_cast<pid_t>(n), 0) != 0 && errno == ESRCH)) return false;
   const std::string now = process_start(n);
   return pid_start.empty() || now.empty() || now == pid_start;
@@ -151,7 +153,14 @@ FolderPlan check_result_folder(const fs::path& out, const FolderClaim& claim) {
            "move the folder away or choose another one");
   }
   const bool running = earlier.status == run_status::running;
-  if (running && recorded_process_alive(earlier.host, earlier.pid, earlier.pid_start)) {
+  if (running && !earlier.pid.empty() && earlier.host != host_name()) {
+    // Another machine's process cannot be asked (a shared file system, or a container
+    // since replaced): the user says whether it is gone.
+    if (!claim.replace) {
+      refuse("a cleave process on host " + earlier.host + " (pid " + earlier.pid + ") may be writing it",
+             "if that run is gone, pass --replace (Python: replace=True), or choose another folder");
+    }
+  } else if (running && recorded_process_alive(earlier.host, earlier.pid, earlier.pid_start)) {
     refuse("a cleave process (pid " + earlier.pid + " on " + earlier.host + ") is writing it now",
            "wait for it to end or stop it, or choose another folder");
   }
@@ -174,7 +183,8 @@ FolderPlan check_result_folder(const fs::path& out, const FolderClaim& claim) {
   const std::string again = "continue it with `cleave restart " + out.string() + "`";
   const bool checkpoint = fs::is_regular_file(here / "checkpoint", ec);
   if (!claim.replace) {
-    const std::string replace = "pass --replace to replace it, or choose another folder";
+    const std::string replace =
+        "pass --replace (Python: replace=True) to replace it, or choose another folder";
     if (running) {
       refuse("holds a run that did not end (status running, its process gone)" +
                  std::string(checkpoint ? "; it has a checkpoint" : ""),

@@ -72,7 +72,8 @@ void clear_result_folder(const std::filesystem::path& out, const FolderPlan& pla
 void add_to_manifest(const std::filesystem::path& dir, const std::vector<std::string>& files);
 
 /// Whether a cleave process recorded in a `running` manifest (its host, pid and the pid's
-/// start time) is alive on this machine. Unknown hosts count as alive.
+/// start time) is alive on this machine. Another host's counts as alive; this very process
+/// (an earlier Simulation of it left unfinished) does not.
 bool recorded_process_alive(const std::string& host, const std::string& pid,
                             const std::string& pid_start);
 

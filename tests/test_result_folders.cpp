@@ -298,6 +298,17 @@ TEST_F(ResultFolders, AKilledRunsFolderIsRestartableOrANewRunSaysWhy) {
   // A copy of the killed folder (times kept) is replaced on request: only the new files.
   const fs::path copy = dir_ / "copy";
   ASSERT_EQ(std::system(("cp -a " + out.string() + " " + copy.string()).c_str()), 0);
+  // As if another host had written it (a shared file system): cleave cannot ask that host
+  // whether the run is alive, so only --replace says it is gone.
+  std::string text = bytes_of(copy / "run.toml");
+  const auto at = text.find("host = ");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, text.find('\n', at) - at, "host = 'another-host'");
+  std::ofstream(copy / "run.toml", std::ios::binary | std::ios::trunc) << text;
+  fs::last_write_time(copy / "run.toml", fs::last_write_time(out / "run.toml"));
+  const Outcome elsewhere = cleave({"run", scenario.string(), "--out", copy.string(), "--quiet"});
+  EXPECT_EQ(elsewhere.code, 2) << elsewhere.output;
+  EXPECT_NE(elsewhere.output.find("on host another-host"), std::string::npos) << elsewhere.output;
   const Outcome replaced =
       cleave({"run", scenario.string(), "--out", copy.string(), "--quiet", "--replace"});
   ASSERT_EQ(replaced.code, 0) << replaced.output;

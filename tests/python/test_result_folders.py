@@ -37,3 +37,14 @@ def test_a_file_cleave_did_not_write_is_never_removed(root, tmp_path, monkeypatc
     with pytest.raises(ValueError, match="bond_breaks.csv"):
         cleave.Simulation(DEMO, out=str(out), replace=True)
     assert (out / "bond_breaks.csv").read_text() == "a,b\n1,2\n"
+
+
+def test_an_unfinished_simulation_of_this_process_is_replaced_only_when_asked(root, tmp_path, monkeypatch):
+    monkeypatch.chdir(root)
+    out = str(tmp_path / "r")
+    first = cleave.Simulation(MESH_GRAINS, out=out)
+    first.advance(10)  # run.toml says "running", written by this very process
+    with pytest.raises(ValueError, match="did not end"):
+        cleave.Simulation(MESH_GRAINS, out=out)
+    second = cleave.Simulation(MESH_GRAINS, out=out, replace=True, max_steps=20)
+    assert second.finish()["status"] == "finished"
