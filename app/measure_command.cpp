@@ -108,10 +108,32 @@ int converge_command(sim::Test test, const MeasureOptions& options, const sim::S
                fmt::format("{} ({})", r.label, r.unit), "change", "KE / work", "wall s");
     std::fflush(stdout);
   }
+  // The study's folder is a result of its own: its run.toml lists every rate's folder and
+  // the table, so that a later study of the same scenario replaces exactly that.
+  std::optional<io::ResultRecord> record;
+  sim::SimulationOptions in_folder = so;
+  if (const auto code = failed([&] {
+        const io::Scenario s = io::load_scenario(options.scenario);
+        const std::filesystem::path root = so.out.empty() ? std::filesystem::path("results") / s.name : so.out;
+        const io::FolderPlan plan = io::check_result_folder(root, io::FolderClaim{"measure", s.name, false, false});
+        io::clear_result_folder(root, plan);
+        std::filesystem::create_directories(root);
+        record.emplace(root);
+        record->manifest.provenance["cleave_version"] = sim::version();
+        record->manifest.provenance["command"] = "measure";
+        record->manifest.facts["cleave_version"] = sim::version();
+        record->manifest.facts["scenario"] = options.scenario.string();
+        record->manifest.facts["scenario_name"] = s.name;
+        record->manifest.facts["test"] = options.test;
+        record->start();
+        in_folder.out = root;
+        in_folder.replace = true;  // its run.toml is this process's, written just now
+      }))
+    return *code;
   sim::RateStudy study;
   if (const auto code = failed([&] {
         study = sim::converge_loading_rate(
-            test, options.scenario, so, options.sets, options.tolerance, options.max_runs,
+            test, options.scenario, in_folder, options.sets, options.tolerance, options.max_runs,
             [&](const sim::RatePoint& p) {
               if (options.quiet) return;
               fmt::print("  {:>10g} {:>14.4g} {:>14.5g} {:>9} {:>12.2g} {:>8.1f}\n", p.rate_scale,
@@ -120,8 +142,12 @@ int converge_command(sim::Test test, const MeasureOptions& options, const sim::S
                          p.kinetic_ratio, p.wall_seconds);
               std::fflush(stdout);
             });
-      }))
+      })) {
+    record->close_quietly(stop_signal() != 0 ? io::run_status::interrupted : io::run_status::failed,
+                          stop_signal() != 0 ? fmt::format("stopped by {}", signal_name(stop_signal()))
+                                              : std::string("a run of the study failed"));
     return *code;
+  }
   const std::filesystem::path out = study.points.front().out.parent_path();
   std::string csv = fmt::format("rate_scale,wall_speed_m_per_s,{},change,kinetic_ratio,wall_seconds,folder\n",
                                 sim::judged_key(test));
@@ -153,6 +179,8 @@ int converge_command(sim::Test test, const MeasureOptions& options, const sim::S
                "{:+.2f} % (tolerance {:g} %); start slower or allow more runs (--max-runs)\n",
                study.points.size(), r.label, 100.0 * last.change, 100.0 * options.tolerance);
   }
+  record->manifest.facts["converged"] = study.converged ? "true" : "false";
+  record->close(io::run_status::finished);
   fmt::print("  -> {}/convergence.csv, convergence.svg\n", out.string());
   return study.converged ? 0 : 1;
 }

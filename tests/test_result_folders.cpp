@@ -513,3 +513,23 @@ TEST_F(ResultFolders, NoPathOutsideTheResultFolderIsEverWrittenWhateverTheNameOr
   }
   EXPECT_TRUE(fs::exists(outside / "frames" / "bodies_000001.vtp"));
 }
+
+TEST_F(ResultFolders, AMeasurementIsAResultItsNextRunReplaces) {
+  // `cleave measure` adds its tables to the run's manifest, and a loading-rate study's
+  // folder (one run per rate, the table) is a result of its own: both run again in place
+  // and hold only the new files.
+  const std::string elastic = (fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_elastic.toml").string();
+  for (const bool converge : {false, true}) {
+    SCOPED_TRACE(converge ? "--converge" : "one run");
+    const fs::path out = dir_ / (converge ? "study" : "one");
+    std::vector<std::string> args = {"measure", "elastic", elastic, "--out", out.string(), "--quiet"};
+    if (converge) args.insert(args.end(), {"--converge", "--max-runs", "2"});
+    for (int time = 0; time < 2; ++time) {
+      const Outcome run = cleave(args);
+      ASSERT_EQ(run.code, 0) << run.output;
+      EXPECT_EQ(read_manifest(out).status, "finished");
+      EXPECT_EQ(files_below(out), listed_with_manifest(out));
+    }
+    EXPECT_TRUE(fs::exists(out / (converge ? "convergence.csv" : "measure.toml")));
+  }
+}
