@@ -71,7 +71,9 @@ class Simulation {
   /// A scenario file, with `overrides` ("table.key=value", as `cleave sweep --set` takes
   /// them, one value each) applied and recorded in run.toml's provenance. Throws
   /// io::ScenarioError (file:line:col: key '...': message; at a key an override sets,
-  /// "--set KEY=VALUE: key '...': message") or io::SweepError (a malformed override).
+  /// "--set KEY=VALUE: key '...': message") or io::SweepError (a malformed override), and
+  /// std::invalid_argument when the result folder is not one it may write
+  /// (io::check_result_folder; nothing is written or removed then).
   static std::unique_ptr<Simulation> open(const std::filesystem::path& scenario,
                                           SimulationOptions options,
                                           const std::vector<std::string>& overrides = {});
@@ -92,7 +94,8 @@ class Simulation {
   [[nodiscard]] const io::Scenario& scenario() const;
   [[nodiscard]] const std::filesystem::path& out() const;
 
-  /// Clears the result folder of an earlier run's result, writes run.toml ("running") and
+  /// Removes the earlier run's files that open() found in the folder (io::check_result_folder:
+  /// only what its manifest lists, and unfinished writes), writes run.toml ("running") and
   /// the scenario, builds the specimen, cuts every grain into its cleavage slabs and writes
   /// the meshes and tables; then makes the dynamics (with [dynamics]). Throws
   /// io::ScenarioError when the time step is above the stable limit and std::exception on
