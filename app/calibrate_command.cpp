@@ -20,6 +20,7 @@
 #include "io/scenario.hpp"
 #include "io/toml_text.hpp"
 #include "sim/calibrate.hpp"
+#include "sim/simulation.hpp"
 
 namespace cleave::app {
 
@@ -88,7 +89,30 @@ int calibrate_command(const CalibrateOptions& options) {
   }
   setup.out = options.out.empty() ? std::filesystem::path("results") / (options.file.stem().string()) : options.out;
   setup.quiet = options.quiet;
-  std::filesystem::create_directories(setup.out);
+  // The calibration's folder is a result of its own (its trials' folders and tables, listed
+  // in its run.toml): checked and cleared as `cleave run` does before anything is written.
+  const std::string name = options.file.stem().string();
+  io::FolderPlan plan;
+  try {
+    plan = io::check_result_folder(setup.out, io::FolderClaim{"calibrate", name, false, false});
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "cleave calibrate: error: command line: {}\n", e.what());
+    return 2;
+  }
+  io::ResultRecord record(setup.out);
+  record.manifest.provenance["cleave_version"] = sim::version();
+  record.manifest.provenance["command"] = "calibrate";
+  record.manifest.facts["cleave_version"] = sim::version();
+  record.manifest.facts["scenario"] = options.file.string();
+  record.manifest.facts["scenario_name"] = name;
+  try {
+    io::clear_result_folder(setup.out, plan);
+    std::filesystem::create_directories(setup.out);
+    record.start();
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    return 1;
+  }
   if (!options.quiet) {
     std::vector<std::string> t;
     if (setup.targets.young) t.push_back(fmt::format("E = {:.4g} GPa", *setup.targets.young / 1e9));
@@ -115,12 +139,15 @@ int calibrate_command(const CalibrateOptions& options) {
     r = sim::calibrate(setup);
   } catch (const io::ScenarioError& e) {
     fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    record.close_quietly(io::run_status::failed, e.what());
     return 2;
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    record.close_quietly(io::run_status::failed, e.what());
     return 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cleave calibrate: error: {}\n", e.what());
+    record.close_quietly(io::run_status::failed, e.what());
     return 1;
   }
   io::write_file_atomically(setup.out / "calibration.csv", sim::calibration_csv(r));
@@ -173,6 +200,8 @@ int calibrate_command(const CalibrateOptions& options) {
   for (const auto& [key, value] : r.parameters) fmt::print(" {} = {:.5g}", key, value);
   fmt::print("\n");
   if (!r.advice.empty()) fmt::print("  {}\n", r.advice);
+  record.manifest.facts["converged"] = r.converged ? "true" : "false";
+  record.close_quietly(io::run_status::finished, {});
   fmt::print("  -> {}/calibration.toml, calibration.csv, calibration.svg\n", setup.out.string());
   return r.converged ? 0 : 1;
 }

@@ -55,6 +55,9 @@ Measurement trial(Shared& sh, Test test, const std::filesystem::path& scenario,
   SimulationOptions o;
   o.out = sh.setup.out / fmt::format("trial_{:03d}", t.number);
   o.quiet = true;
+  // The trial folders are the calibration's own: a trial of another test there (an earlier
+  // calibration that took other steps) is replaced; files cleave did not write still stop it.
+  o.replace = true;
   const auto start = Clock::now();
   Measurement m = measure(test, scenario, o, overrides);
   t.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -533,3 +533,18 @@ TEST_F(ResultFolders, AMeasurementIsAResultItsNextRunReplaces) {
     EXPECT_TRUE(fs::exists(out / (converge ? "convergence.csv" : "measure.toml")));
   }
 }
+
+TEST_F(ResultFolders, CalibrateWritesOnlyInAFolderItOwns) {
+  // `cleave calibrate` wrote its trials and tables into any --out, / included; its folder is
+  // now a result of its own, checked before anything runs.
+  const std::string file = (fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_calibration.toml").string();
+  const Outcome root = cleave({"calibrate", file, "--out", "/", "--quiet"});
+  EXPECT_EQ(root.code, 2) << root.output;
+  EXPECT_NE(root.output.find("is the file system's root"), std::string::npos) << root.output;
+  const fs::path foreign = dir_ / "foreign";
+  fs::create_directories(foreign);
+  std::ofstream(foreign / "notes.txt") << "mine";
+  const Outcome other = cleave({"calibrate", file, "--out", foreign.string(), "--quiet"});
+  EXPECT_EQ(other.code, 2) << other.output;
+  EXPECT_EQ(files_below(foreign), std::set<std::string>{"notes.txt"});
+}
