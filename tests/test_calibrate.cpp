@@ -25,6 +25,7 @@ sim::Measurement measured(sim::Test test, const char* file, const std::string& t
                           const std::vector<std::string>& overrides) {
   sim::SimulationOptions o;
   o.out = fs::temp_directory_path() / ("cleave_test_calibrate_" + tag);
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   o.quiet = true;
   std::vector<std::string> all = overrides;
   all.push_back("dynamics.threads=1");
@@ -66,6 +67,7 @@ TEST(MaterialTest, CalibrationRecoversKnownBondParametersFromTheirMeasuredValues
   setup.tolerance = 0.005;
   setup.quiet = true;
   setup.out = fs::temp_directory_path() / "cleave_test_calibrate_run";
+  fs::remove_all(setup.out);  // a fixed path: an earlier test run's folder is not this run's
   // Far from the truth: twice as stiff, the shear ratio 0.6 instead of 0.2, bonds 40 % strong.
   setup.start = {{"bond.kbn", 5e18}, {"bond.kbs", 3e18}, {"bond.tbn", 1.26e12}, {"bond.tbs", 1.26e12}};
   const sim::CalibrationResult r = sim::calibrate(setup);
@@ -90,8 +92,10 @@ TEST(MaterialTest, CalibrationFindsTheShearToNormalStrengthRatioThatGivesAFlexur
   sim::SimulationOptions o;
   o.quiet = true;
   o.out = fs::temp_directory_path() / "cleave_test_calibrate_truth_fb";
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   const sim::Measurement b = sim::measure(sim::Test::brazilian, disc, o, truth);
   o.out = fs::temp_directory_path() / "cleave_test_calibrate_truth_ff";
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   const sim::Measurement f = sim::measure(sim::Test::flexural, bar, o, truth);
   sim::CalibrationSetup setup;
   setup.brazilian = disc;
@@ -104,6 +108,7 @@ TEST(MaterialTest, CalibrationFindsTheShearToNormalStrengthRatioThatGivesAFlexur
   setup.tolerance = 0.02;
   setup.quiet = true;
   setup.out = fs::temp_directory_path() / "cleave_test_calibrate_flexural";
+  fs::remove_all(setup.out);  // a fixed path: an earlier test run's folder is not this run's
   // Equal strengths, 50 % and 25 % off.
   setup.start = {{"bond.tbn", 1.2e12}, {"bond.tbs", 1.2e12}};
   const sim::CalibrationResult r = sim::calibrate(setup);
@@ -156,6 +161,7 @@ TEST(MaterialTest, CalibrationFindsTheCrackLengthThatGivesANotchedBeamItsToughne
   setup.quiet = true;
   setup.start["fracture.crack_length"] = 0.04;
   setup.out = fs::temp_directory_path() / "cleave_test_calibrate_toughness";
+  fs::remove_all(setup.out);  // a fixed path: an earlier test run's folder is not this run's
   const sim::CalibrationResult r = sim::calibrate(setup);
   ASSERT_TRUE(r.converged) << r.trials.size() << " trials";
   EXPECT_LE(std::abs(r.trials.back().error), 0.02);
@@ -176,6 +182,7 @@ TEST(MaterialTest, CalibrationSaysWhatScaleFitsAToughnessTheGrainBoundariesCarry
   setup.tolerance = 0.02;
   setup.quiet = true;
   setup.out = fs::temp_directory_path() / "cleave_test_calibrate_toughness_bonds";
+  fs::remove_all(setup.out);  // a fixed path: an earlier test run's folder is not this run's
   const sim::CalibrationResult r = sim::calibrate(setup);
   EXPECT_FALSE(r.converged);
   ASSERT_EQ(r.trials.size(), 1u);

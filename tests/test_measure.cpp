@@ -30,6 +30,7 @@ sim::Measurement run(sim::Test test, const fs::path& scenario, const std::string
                      const std::vector<std::string>& overrides = {}) {
   sim::SimulationOptions o;
   o.out = fs::temp_directory_path() / ("cleave_test_measure_" + tag);
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   o.quiet = true;
   return sim::measure(test, scenario, o, overrides);
 }
@@ -169,6 +170,7 @@ double loading_travel(const std::vector<std::string>& overrides, const std::stri
                       double* dt = nullptr) {
   sim::SimulationOptions o;
   o.out = fs::temp_directory_path() / ("cleave_test_measure_" + tag);
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   o.quiet = true;
   auto sim = sim::Simulation::open(kElastic, o, overrides);
   sim->start();
@@ -204,6 +206,7 @@ TEST(QuasiStaticLoading, DensityScaleOfFourDoublesTheStableTimeStepAndQuadruples
   const io::Scenario plain = io::load_scenario(kElastic);
   sim::SimulationOptions o;
   o.out = fs::temp_directory_path() / "cleave_test_measure_density_bound";
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   o.quiet = true;
   auto scaled = sim::Simulation::open(kElastic, o, {"dynamics.density_scale=4"});
   scaled->start();  // builds the specimen
@@ -226,6 +229,7 @@ TEST(WallGap, PlatensPlacedByGapMeetADiscOfAnySizeAfterTheSameApproach) {
   for (const char* d : {"0.52", "1.04", "1.43"}) {
     sim::SimulationOptions o;
     o.out = fs::temp_directory_path() / (std::string("cleave_test_measure_gap_") + d);
+    fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
     o.quiet = true;
     auto sim = sim::Simulation::open(disc, o, {std::string("specimen.diameter=") + d});
     sim->start();
@@ -301,6 +305,7 @@ TEST(QuasiStaticLoading, InPlaneMotionIsRefusedForGrainsThatDoNotStandAlongZ) {
   // turn about x or y, so the scenario is refused, naming the key.
   sim::SimulationOptions o;
   o.out = fs::temp_directory_path() / "cleave_test_measure_plane_voronoi";
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   o.quiet = true;
   const fs::path voronoi = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/voronoi.toml";
   try {

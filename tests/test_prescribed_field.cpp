@@ -144,6 +144,7 @@ TEST(PrescribedField, EveryGrainFollowsAFieldOfAnyShapeInSpaceAndTime) {
   const std::string text = replace_once(thermal_scenario(), kCooling, "temperature_field = \"" + formula + "\"\n");
   sim::SimulationOptions o;
   o.out = fs::temp_directory_path() / "cleave_test_prescribed_field";
+  fs::remove_all(o.out);  // a fixed path: an earlier test run's folder is not this run's
   o.quiet = true;
   auto run = sim::Simulation::from_text(text, "field.toml", o);
   run->start();
