@@ -59,7 +59,7 @@ struct FolderPlan {
 /// earlier cleave result that its run did not write (not in its manifest, or changed since).
 /// Without `claim.replace` also an earlier result of another scenario or command, an
 /// interrupted run with a checkpoint (restart it) and a run that did not end. An earlier
-/// finished or failed run of the same command and scenario is replaced. Returns what
+/// finished, stopped or failed run of the same command and scenario is replaced. Returns what
 /// clear_result_folder() then removes.
 FolderPlan check_result_folder(const std::filesystem::path& out, const FolderClaim& claim);
 
