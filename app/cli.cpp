@@ -66,6 +66,11 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every,
                       "Write DIR/checkpoint every N steps (overrides [output] checkpoint_every; "
                       "one is always written on SIGINT/SIGTERM)")->check(steps);
+  // Checked by main(): io::parse_memory_size (this parser links no io).
+  const std::string memory_help =
+      "Refuse a specimen whose estimated memory is above SIZE (e.g. 4G, 512M; default: the "
+      "memory available now)";
+  run_cmd->add_option("--max-memory", run.max_memory, memory_help)->type_name("SIZE");
 
   restart_cmd = app.add_subcommand(
       "restart", "Continue an interrupted run from its checkpoint (same as run --restart)");
@@ -80,6 +85,7 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
                           "Total step limit (default: the interrupted run's --max-steps)")->check(steps);
   restart_cmd->add_option("--checkpoint-every", restart.checkpoint_every,
                           "Write a checkpoint every N steps (overrides the scenario)")->check(steps);
+  restart_cmd->add_option("--max-memory", restart.max_memory, memory_help)->type_name("SIZE");
 
   check_cmd = app.add_subcommand("check", "Check a result folder");
   check_cmd->require_subcommand(1);
@@ -121,6 +127,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "Print only errors");
   sweep_cmd->add_flag("--replace", sweep.replace,
                       "Replace an earlier cleave result in the folder, as run --replace does");
+  sweep_cmd->add_option("--max-memory", sweep.max_memory, memory_help + " (shared by --jobs)")
+      ->type_name("SIZE");
 
   validate_cmd = app.add_subcommand(
       "validate",
@@ -132,6 +140,7 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   validate_cmd->add_flag("--quiet,-q", validate.quiet, "Print only errors");
   validate_cmd->add_flag("--replace", validate.replace,
                          "Replace an earlier cleave result in the folder, as run --replace does");
+  validate_cmd->add_option("--max-memory", validate.max_memory, memory_help)->type_name("SIZE");
   validate_cmd->add_flag("--cohesive-beam-only", validate.cohesive_beam_only,
                          "Do not run the lattice: judge beam theory with the scenario's cohesive "
                          "zone against the closed forms (where LEFM holds for its sigma_c)");

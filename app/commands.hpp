@@ -30,6 +30,7 @@ struct RunOptions {
   int mpi_size = 0;
   bool timing = false;  ///< --timing: timing.csv, where each step's time goes
   bool replace = false;  ///< --replace: see sim::SimulationOptions::replace
+  std::string max_memory;  ///< --max-memory as given (empty: the memory available now)
 };
 
 /// Builds the specimen, splits every grain into its cleavage slabs and writes the result
@@ -57,6 +58,7 @@ struct ValidateOptions {
   /// in seconds, before a lattice run of hours. The lattice is not run.
   bool cohesive_beam_only = false;
   bool replace = false;  ///< --replace: an earlier result of another run in `out` is replaced
+  std::string max_memory;  ///< --max-memory as given (empty: the memory available now)
 };
 
 /// Runs a validation scenario (DCB, ENF or MMB on the cubic lattice, seed 002 sec. 7) and
@@ -74,6 +76,8 @@ struct SweepOptions {
   std::uint64_t max_steps = 0;    ///< passed to each run (0: none)
   bool quiet = false;
   bool replace = false;  ///< --replace: an earlier result of another run in `out` is replaced
+  /// --max-memory as given (empty: none); each run gets the limit shared by `jobs` runs.
+  std::string max_memory;
 };
 
 /// Runs the scenario once per combination of the --set values (io/sweep.hpp; the --zip

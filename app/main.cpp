@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "io/budget.hpp"
 #ifdef CLEAVE_HAVE_MPI
 #include "parallel/mpi_domain.hpp"
 #endif
@@ -60,6 +61,19 @@ int main(int argc, char** argv) {
   if (const std::string error = cli->usage_error(); !error.empty()) {
     fmt::print(stderr, "{}\n", error);
     return 2;
+  }
+  // --max-memory: the limit a specimen's estimate is checked against before it is built.
+  const std::string& max_memory = run_cmd->parsed()       ? run.max_memory
+                                  : restart_cmd->parsed() ? restart.max_memory
+                                  : sweep_cmd->parsed()   ? sweep.max_memory
+                                                          : validate.max_memory;
+  if (!max_memory.empty()) {
+    try {
+      cleave::io::set_memory_limit(cleave::io::parse_memory_size(max_memory), "--max-memory " + max_memory);
+    } catch (const std::invalid_argument& e) {
+      fmt::print(stderr, "cleave: error: command line: --max-memory: {}\n", e.what());
+      return 2;
+    }
   }
   if (run_cmd->parsed()) return run_command(run);
   if (restart_cmd->parsed()) return run_command(restart);

@@ -3,6 +3,7 @@
 // run a child `cleave run` in its own result folder; then one table of what each run gave, a plot,
 // and for a seed ensemble a Weibull fit of the strengths.
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -12,13 +13,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <fcntl.h>
 #include <map>
 #include <set>
 #include <thread>
 
 #include "cleave_version.hpp"
 #include "commands.hpp"
+#include "io/budget.hpp"
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
@@ -72,6 +73,11 @@ pid_t spawn_run(const Job& job, const SweepOptions& o, int threads) {
   if (o.max_steps > 0) {
     args.push_back("--max-steps");
     args.push_back(std::to_string(o.max_steps));
+  }
+  if (const io::MemoryLimit limit = io::memory_limit();
+      limit.bytes > 0 && (o.jobs > 1 || !o.max_memory.empty())) {
+    args.push_back("--max-memory");
+    args.push_back(std::to_string(limit.bytes));
   }
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -168,6 +174,13 @@ int sweep_command(const SweepOptions& o) {
       axes.back().zipped = true;
     }
     points = io::sweep_points(axes);
+    // Runs side by side share the memory: each point is checked against its part.
+    if (const io::MemoryLimit all = io::memory_limit(); all.bytes > 0 && o.jobs > 1)
+      io::set_memory_limit(all.bytes / static_cast<std::uint64_t>(o.jobs),
+                           fmt::format("{} shared by --jobs {}",
+                                       o.max_memory.empty() ? "the memory available now"
+                                                            : "--max-memory " + o.max_memory,
+                                       o.jobs));
     base = io::load_scenario(o.scenario);
     text = io::read_file(o.scenario);
   } catch (const io::ScenarioError& e) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/budget.hpp"
 #include "io/exact_store.hpp"
 #include "io/result_dir.hpp"
 #include "physics/dem/state_codec.hpp"
@@ -251,6 +252,10 @@ fs::path checkpoint_file(const fs::path& path) {
 
 Checkpoint read_checkpoint(const fs::path& path) {
   const fs::path file = checkpoint_file(path);
+  if (const std::string problem = input_file_problem(file);
+      !problem.empty() && problem != "does not exist")
+    throw CheckpointError(file.string() + ": cannot be read: it " + problem +
+                          "; cleave reads only regular files");
   std::ifstream in(file, std::ios::binary);
   if (!in)
     throw CheckpointError(file.string() +

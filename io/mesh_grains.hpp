@@ -34,4 +34,10 @@ class MeshGrainError : public std::runtime_error {
 /// or not convex without `convex_hull`.
 std::vector<geometry::CustomGrainDef> load_mesh_grains(const MeshGrainSpec& spec);
 
+/// How deep two convex meshes (outward faces, world coordinates) reach into each other: the
+/// least overlap of their projections over the separating axes of two convex polyhedra (each
+/// face normal, each cross product of an edge of one with an edge of the other), which is
+/// the distance that separates them. 0 or less: they are apart or only touch.
+double convex_overlap(const geometry::PolygonMesh& a, const geometry::PolygonMesh& b);
+
 }  // namespace cleave::io

@@ -1,10 +1,10 @@
 #include "io/mesh_io.hpp"
-#include "io/result_dir.hpp"
 
 #include <assimp/material.h>
 #include <assimp/mesh.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
@@ -15,15 +15,20 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <random>
 #include <set>
+#include <sstream>
 #include <string_view>
 #include <system_error>
 #include <utility>
+
+#include "io/budget.hpp"
+#include "io/result_dir.hpp"
 
 // What is written (checked by tests/test_mesh_io.cpp, and with meshio and VTK's readers by
 // tests/python/test_paraview_outputs.py):
@@ -454,17 +459,71 @@ namespace {
 /// assimp 5.2's PLY reader never returns on a header without its "end_header" line (it
 /// spins in its buffer; found by fuzz/fuzz_mesh, tests/test_fuzz_regressions.cpp), so a PLY
 /// file (".ply", or content starting "ply") without that line is refused before assimp sees it.
-void check_ply_header(const fs::path& file) {
+/// Its element counts are bounded by the file's size too: assimp reserves what the header
+/// claims, so a short file claiming 10^8 vertices would take gigabytes and minutes. Each
+/// element needs at least its properties' bytes (binary) or two characters per property
+/// (ASCII: a digit and a separator; a list at least its count).
+void check_ply_header(const fs::path& file, std::uintmax_t file_size) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   std::ifstream in(file, std::ios::binary);
   std::string line;
   if (!std::getline(in, line)) return;  // empty: assimp refuses it
   if (ext != ".ply" && !line.starts_with("ply")) return;
+  struct Element {
+    std::string name;
+    std::uint64_t count = 0;
+    std::uint64_t bytes = 0;  // the least one element takes
+  };
+  std::vector<Element> elements;
+  bool ascii = true;
+  const auto scalar_size = [](const std::string& type) -> std::uint64_t {
+    for (auto [names, size] : {std::pair<std::string_view, int>{" char int8 uchar uint8 ", 1},
+                               {" short int16 ushort uint16 ", 2},
+                               {" int int32 uint uint32 float float32 ", 4},
+                               {" double float64 ", 8}})
+      if (names.find(" " + type + " ") != std::string_view::npos)
+        return static_cast<std::uint64_t>(size);
+    return 1;  // an unknown type: assimp refuses it; count it small
+  };
   do {
-    const auto first = line.find_first_not_of(" \t\r");
-    const auto last = line.find_last_not_of(" \t\r");
-    if (first != std::string::npos && line.compare(first, last - first + 1, "end_header") == 0) return;
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    if (word == "end_header") {
+      const std::streamoff at = in.tellg();
+      const std::uintmax_t header = at < 0 ? file_size : static_cast<std::uintmax_t>(at);
+      const std::uintmax_t body = file_size > header ? file_size - header : 0;
+      double need = 0.0;
+      for (const Element& e : elements) {
+        need += static_cast<double>(e.count) * static_cast<double>(ascii ? 2 * e.bytes : e.bytes);
+        // ASCII's last value needs no separator after it.
+        if (need > static_cast<double>(body) + (ascii ? 1.0 : 0.0)) {
+          fail(file,
+               fmt::format("its PLY header claims {} '{}' elements, which take at least {:.0f} "
+                           "bytes, but the file holds {} bytes after its header",
+                           e.count, e.name, need - (ascii ? 1.0 : 0.0), body));
+        }
+      }
+      return;
+    }
+    if (word == "format") {
+      words >> word;
+      ascii = word == "ascii";
+    } else if (word == "element") {
+      Element e;
+      std::string count;
+      words >> e.name >> count;
+      const auto [ptr, ec] = std::from_chars(count.data(), count.data() + count.size(), e.count);
+      if (ec != std::errc() || ptr != count.data() + count.size())
+        fail(file, "PLY element '" + e.name + "' has no whole count ('" + count + "')");
+      elements.push_back(e);
+    } else if (word == "property" && !elements.empty()) {
+      std::string type;
+      words >> type;
+      if (type == "list") words >> type;  // the count's type: a list may be empty
+      elements.back().bytes += ascii ? 1 : scalar_size(type);
+    }
   } while (std::getline(in, line));
   fail(file, "PLY header has no 'end_header' line");
 }
@@ -472,10 +531,21 @@ void check_ply_header(const fs::path& file) {
 }  // namespace
 
 std::vector<PolygonMesh> read_meshes(const fs::path& file) {
+  if (const std::string problem = input_file_problem(file); !problem.empty())
+    fail(file, problem == "does not exist" ? "no such file"
+                                           : "it " + problem + "; cleave reads only regular files");
+  // Only the three formats cleave documents: assimp picks its reader by the extension, and
+  // the others' headers are not bounded here.
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".obj" && ext != ".stl" && ext != ".ply")
+    fail(file,
+         "cleave reads OBJ, STL and PLY meshes: the file name must end in .obj, .stl or .ply");
   std::error_code ec;
-  if (!fs::exists(file, ec)) fail(file, "no such file");
-  if (!fs::is_regular_file(file, ec)) fail(file, "not a regular file");
-  check_ply_header(file);
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec) fail(file, "its size cannot be read (" + ec.message() + ")");
+  check_ply_header(file, size);  // a binary STL's facet count assimp checks against the size
 
   // No aiProcess_JoinIdenticalVertices: assimp 5.2.5 also welds distinct vertices that lie
   // within about 1e-6 of each other (absolute, in file units, and only for some of them),

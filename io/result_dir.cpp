@@ -1,4 +1,5 @@
 #include "io/result_dir.hpp"
+#include "io/budget.hpp"
 
 #include <fcntl.h>
 #include <openssl/evp.h>
@@ -267,6 +268,7 @@ void clear_result_folder(const fs::path& out, const FolderPlan& plan) {
 }
 
 std::string read_file(const fs::path& path) {
+  require_input_file(path);  // a FIFO or a device would block or never end
   std::ifstream in(path, std::ios::binary);
   if (!in) throw io_error(path, "cannot be read", errno);
   std::ostringstream ss;
@@ -394,6 +396,7 @@ Manifest read_manifest(const fs::path& dir) {
     throw std::runtime_error(dir.string() + " is not a cleave result folder (no " +
                              std::string(kManifestName) + ")");
   }
+  require_input_file(path);
   toml::table root;
   try {
     root = toml::parse_file(path.string());

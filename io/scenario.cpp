@@ -146,15 +146,9 @@
 /// concerns no key (a TOML syntax error) leaves out the "key '...': " part.
 
 #include "io/scenario.hpp"
-#include "io/result_dir.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
-
-#include "io/field_expression.hpp"
-#include "io/material_library.hpp"
-#include "io/mesh_grains.hpp"
-#include "io/toml_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -167,6 +161,13 @@
 #include <tuple>
 #include <utility>
 #include <vector>
+
+#include "io/budget.hpp"
+#include "io/field_expression.hpp"
+#include "io/material_library.hpp"
+#include "io/mesh_grains.hpp"
+#include "io/result_dir.hpp"
+#include "io/toml_reader.hpp"
 
 namespace cleave::io {
 
@@ -397,6 +398,46 @@ std::string specimen_shape(const toml::table& root) {
   return shape != nullptr ? shape->get() : std::string();
 }
 
+/// Mesh grains placed into each other: their shapes themselves intersect, which no contact
+/// resolves (a first bond stage would even store the overlap as the rest state), so the later
+/// grain's [[mesh_grain]] position (or file) is refused, naming both grains and the depth.
+void check_mesh_grains_apart(const toml::table& root, const std::string& source,
+                             const UnitContext* units,
+                             const std::vector<geometry::CustomGrainDef>& grains,
+                             const std::vector<std::size_t>& owners) {
+  std::vector<geometry::PolygonMesh> meshes;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const auto& g : grains) {
+    meshes.push_back(g.shape.to_mesh(g.name));
+    boxes.emplace_back();
+    for (const auto& v : meshes.back().vertices) boxes.back().extend(v);
+  }
+  const std::string unit =
+      root["scenario"]["length_unit"].value_or(std::string(kDefaultUnit->name));
+  for (std::size_t j = 1; j < meshes.size(); ++j) {
+    for (std::size_t i = 0; i < j; ++i) {
+      if (!boxes[i].intersects(boxes[j])) continue;
+      // Faces that touch overlap by rounding only.
+      const double tolerance =
+          1e-9 * std::max(boxes[i].diagonal().norm(), boxes[j].diagonal().norm());
+      const double depth = convex_overlap(meshes[i], meshes[j]);
+      if (!(depth > tolerance)) continue;
+      const auto* tables = root.get_as<toml::array>("mesh_grain");
+      const std::size_t k = owners[j];
+      const TableReader t(source, fmt::format("mesh_grain[{}]", k + 1), tables->get(k)->as_table(),
+                          units);
+      const std::string where = fmt::format("mesh_grain[{}]", owners[i] + 1);
+      const std::string message = fmt::format(
+          "grain {} ({}) and grain {} ({}, {}) intersect: their shapes reach {:.4g} {} into each "
+          "other (the least distance that would part them), which no contact resolves; place the "
+          "grains apart (position, scale)",
+          j, grains[j].name, i, grains[i].name, where, depth / units->length_unit, unit);
+      if (const toml::node* position = t.find("position")) t.fail(*position, "position", message);
+      t.fail(*t.find("file"), "file", message);
+    }
+  }
+}
+
 /// For shape "voronoi" or "mesh": no [grain] table; for "mesh" every [[mesh_grain]] read,
 /// its file loaded and checked, and the outline set to the grains' bounding box.
 void read_own_grains(const toml::table& root, const std::string& source, const UnitContext* units,
@@ -415,6 +456,7 @@ void read_own_grains(const toml::table& root, const std::string& source, const U
     t.fail(*t.find("shape"), "shape", "shape \"mesh\" takes its grains from [[mesh_grain]] tables; give at least one");
   }
   const std::filesystem::path folder = std::filesystem::path(source).parent_path();
+  std::vector<std::size_t> owners;  // per grain: its [[mesh_grain]] table
   for (std::size_t i = 0; i < tables->size(); ++i) {
     const TableReader t(source, fmt::format("mesh_grain[{}]", i + 1), tables->get(i)->as_table(),
                         units);
@@ -436,7 +478,9 @@ void read_own_grains(const toml::table& root, const std::string& source, const U
     }
     spec.file = std::filesystem::absolute(spec.file);
     specs.push_back(spec);
+    owners.resize(def.custom_grains.size(), i);
   }
+  check_mesh_grains_apart(root, source, units, def.custom_grains, owners);
   Eigen::Vector3d hi = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
   for (const auto& g : def.custom_grains) {
     for (const auto& v : g.shape.vertices_approx()) hi = hi.cwiseMax(v);
@@ -1111,6 +1155,52 @@ ScenarioError ScenarioError::in_override(const std::string& override_text, std::
   return ScenarioError(std::move(what), std::move(file), std::move(key), std::move(message));
 }
 
+namespace {
+
+/// A value as the file writes it, arrays included ("[12, 12, 4]").
+std::string written_value(const toml::node& node) {
+  if (const auto* a = node.as_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < a->size(); ++i) out += (i ? ", " : "") + written_value(*a->get(i));
+    return out + "]";
+  }
+  return TableReader::written(node);
+}
+
+/// The keys that set how many grains the specimen holds, where the file has them: the
+/// outline's sizes and the lattice's r and t, a Voronoi box's cell count, the mesh files.
+std::vector<SizeKey> specimen_size_keys(const toml::table& root, const Scenario& s) {
+  std::vector<SizeKey> keys;
+  const auto add = [&](const toml::node* node, std::string key) {
+    if (node == nullptr) return;
+    keys.push_back({std::move(key),
+                    {line_of(node->source()), column_of(node->source())},
+                    written_value(*node)});
+  };
+  const auto* specimen = root.get_as<toml::table>("specimen");
+  const auto* grain = root.get_as<toml::table>("grain");
+  switch (s.specimen.kind) {
+    case geometry::SpecimenKind::lattice:
+      for (std::string_view key : {"size", "diameter", "length", "height", "thickness"})
+        add(specimen ? specimen->get(key) : nullptr, "specimen." + std::string(key));
+      for (std::string_view key : {"r", "t"})
+        add(grain ? grain->get(key) : nullptr, "grain." + std::string(key));
+      break;
+    case geometry::SpecimenKind::voronoi:
+      add(specimen ? specimen->get("grains") : nullptr, "specimen.grains");
+      break;
+    case geometry::SpecimenKind::meshes:
+      if (const auto* tables = root.get_as<toml::array>("mesh_grain"))
+        for (std::size_t i = 0; i < tables->size() && i < 3; ++i)
+          if (const auto* g = tables->get(i)->as_table())
+            add(g->get("file"), fmt::format("mesh_grain[{}].file", i + 1));
+      break;
+  }
+  return keys;
+}
+
+}  // namespace
+
 Scenario parse_scenario(std::string_view text, const std::string& source) {
   const toml::table root = parse_root(text, source, kTables, "a scenario");
   for (std::string_view name : kTables) {
@@ -1215,6 +1305,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
     throw ScenarioError(source, line_of(b.source()), column_of(b.source()), "bond",
                         "[bond] is given but no [[stage]] of kind \"bond\" initialises the bonds");
   }
+  // Before anything is built: a specimen that holds no grain, or more than memory allows.
+  check_specimen_budget(s, specimen_size_keys(root, s));
   return s;
 }
 

@@ -20,6 +20,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/budget.hpp"
 #include "io/scenario.hpp"
 #include "io/units.hpp"
 
@@ -119,11 +120,12 @@ Entry first_in_file(const toml::table& table, Pred pred) {
 /// naming it.
 inline std::string read_scenario_text(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::error_code ec;
-  const auto status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) throw ScenarioError(name, 0, 0, "", "file does not exist");
-  if (std::filesystem::is_directory(status))
-    throw ScenarioError(name, 0, 0, "", "cannot be read: it is a directory");
+  // Checked before opening: a FIFO or a device would block or never end.
+  if (const std::string problem = input_file_problem(file); !problem.empty())
+    throw ScenarioError(name, 0, 0, "",
+                        problem == "does not exist" ? "file does not exist"
+                                                    : "cannot be read: it " + problem +
+                                                          "; cleave reads only regular files");
   std::ifstream in(file, std::ios::binary);
   std::ostringstream text;
   if (in) text << in.rdbuf();

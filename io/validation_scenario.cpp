@@ -1,9 +1,10 @@
 #include "io/validation_scenario.hpp"
-#include "io/result_dir.hpp"
 
 #include <fstream>
 #include <sstream>
 
+#include "io/budget.hpp"
+#include "io/result_dir.hpp"
 #include "io/toml_reader.hpp"
 
 namespace cleave::io {
@@ -93,6 +94,19 @@ void read_specimen(const TableReader& t, double unit, ValidationScenario& v) {
       t.fail(*node, "intact_length",
              fmt::format("the lattice would hold more than {:g} bodies", kMaxBodies));
   }
+  // The memory the lattice takes, checked before it is built (io/budget.hpp).
+  const double total = bodies / std::round(rig.length / (2.0 * rig.radius)) *
+                       std::round((rig.length + rig.intact_length) / (2.0 * rig.radius));
+  if (const MemoryLimit limit = memory_limit();
+      limit.bytes > 0 && cubic_lattice_bytes(total) > static_cast<double>(limit.bytes))
+    t.fail(
+        *t.find("particle_radius"), "particle_radius",
+        fmt::format(
+            "specimen.length, breadth and height (and intact_length) in cubes of 2 particle_radius "
+            "make {:.3g} bodies, which need about {} with their links, more than the limit of {} "
+            "({}); use larger particles or a smaller specimen",
+            total, format_bytes(cubic_lattice_bytes(total)),
+            format_bytes(static_cast<double>(limit.bytes)), limit.what));
   rig.link_bending = t.number("bending_springs", Range::non_negative(), 1.0).value;
   rig.tiled_areas = t.choose<bool>("effective_areas", {{"tiled", true}, {"paper", false}}, true);
   if (rig.kind == physics::BeamTestKind::mmb) {

@@ -17,6 +17,7 @@
 
 #include "cli_helpers.hpp"
 #include "geometry/specimen.hpp"
+#include "io/mesh_grains.hpp"
 #include "io/scenario.hpp"
 #include "io/world_setup.hpp"
 
@@ -198,10 +199,15 @@ TEST(StartChecks, MeshGrainsWhoseShapesIntersectAreRefused) {
   text = replaced(text, "\"meshes/brick.obj\"", "\"" + meshes + "/brick.obj\"");
   text = replaced(text, "\"meshes/octahedron.obj\"", "\"" + meshes + "/octahedron.obj\"");
   EXPECT_EQ(refusal(text).key, "");
-  const Refusal e =
-      refusal(replaced(text, "position = [1.2, 0.1, 1.3]", "position = [0.3, 0.0, 1.0]"));
-  EXPECT_EQ(e.key, "contact.dilation_radius");
-  EXPECT_TRUE(has(e.what, "intersect") && has(e.what, "[[mesh_grain]]")) << e.what;
+  // Refused when the scenario is read, at the brick's position (below, the closed form).
+  try {
+    (void)parse_scenario(replaced(text, "position = [1.2, 0.1, 1.3]", "position = [0.3, 0.0, 1.0]"),
+                         "mem.toml");
+    ADD_FAILURE() << "the brick inside the octahedron was accepted";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.key(), "mesh_grain[2].position");
+    EXPECT_TRUE(has(e.what(), "intersect") && has(e.what(), "mesh_grain[1]")) << e.what();
+  }
 }
 
 TEST(StartChecks, ABondDistanceShorterThanTheGapBetweenNeighboursIsRefusedWithTheGapNeeded) {
@@ -337,6 +343,76 @@ TEST(StartChecksCli, EachRefusalIsExitCode2WithTheFileLineAndKeyBeforeAnythingIs
     EXPECT_FALSE(fs::exists(out / "meshes")) << cases[i].second;
   }
   fs::remove_all(dir);
+}
+
+// Two mesh grains placed into each other (here the 2 m cube of tests/data/meshes twice,
+// 1.5 m apart along x: their shapes overlap by 2 - 1.5 = 0.5 m, the distance that parts
+// them) were accepted, and a first bond stage stored the overlap as the rest state. They
+// are refused at the later grain's position, naming both grains and the depth.
+TEST(StartChecks, MeshGrainsPlacedIntoEachOtherAreRefusedNamingBothAndTheDepth) {
+  const fs::path meshes = fs::path(CLEAVE_SOURCE_DIR) / "tests" / "data" / "meshes";
+  const auto scenario = [&](const std::string& position, bool bonded) {
+    std::string text =
+        "[scenario]\nlength_unit = \"m\"\n[specimen]\nshape = \"mesh\"\n"
+        "[[mesh_grain]]\nfile = \"cube_triangulated.obj\"\n"
+        "[[mesh_grain]]\nfile = \"cube_triangulated.obj\"\nposition = " +
+        position + "\n";
+    if (bonded)
+      text +=
+          "[contact]\ndilation_radius = 0.02\n[contact.particle_particle]\nkn = 5000.0\n"
+          "[contact.particle_wall]\nkn = 5000.0\n[bond]\nkbn = 1e6\nkbs = 1e6\ntbn = 1e3\ntbs = "
+          "1e3\n"
+          "[dynamics]\ndt = 1e-6\ngravity = [0, 0, 0]\n[[stage]]\nname = \"bonding\"\nkind = "
+          "\"bond\"\n"
+          "distance = 0.05\n[[stage]]\nname = \"run\"\nsteps = 1\n";
+    return text;
+  };
+  for (const bool bonded : {false, true}) {
+    for (const auto& [position, depth] :
+         {std::pair{"[1.5, 0, 0]", "0.5 m"}, {"[0, 0, 0]", "2 m"}}) {
+      try {
+        (void)parse_scenario(scenario(position, bonded), (meshes / "inline.toml").string());
+        ADD_FAILURE() << "grains overlapping by " << depth << " were accepted";
+      } catch (const ScenarioError& e) {
+        EXPECT_EQ(e.key(), "mesh_grain[2].position") << e.what();
+        EXPECT_EQ(e.line(), 9) << e.what();
+        EXPECT_NE(
+            e.message().find("grain 1 (cube_triangulated.obj) and grain 0 (cube_triangulated.obj, "
+                             "mesh_grain[1]) intersect"),
+            std::string::npos)
+            << e.what();
+        EXPECT_NE(e.message().find("reach " + std::string(depth) + " into each other"),
+                  std::string::npos)
+            << e.what();
+      }
+    }
+  }
+  // Face to face, 2 m apart: they touch and are accepted.
+  EXPECT_NO_THROW(
+      (void)parse_scenario(scenario("[2, 0, 0]", true), (meshes / "inline.toml").string()));
+}
+
+// The overlap measure against closed forms: unit cubes shifted by (0.3, 0.2, 0) overlap by
+// 0.7 along x (the least axis); turned 45 degrees about z and shifted by 1.1 along x, a
+// cube's corner reaches 0.5 + sqrt(2)/2 - 1.1 into the other.
+TEST(StartChecks, ConvexOverlapIsTheDistanceThatPartsTwoCubes) {
+  const auto cube = [](const Eigen::Matrix3d& turn, const Eigen::Vector3d& shift) {
+    geometry::PolygonMesh m;
+    for (int k = 0; k < 8; ++k)
+      m.vertices.push_back(turn * (Eigen::Vector3d(k & 1, (k >> 1) & 1, (k >> 2) & 1) -
+                                   Eigen::Vector3d::Constant(0.5)) +
+                           shift);
+    m.faces = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    return m;
+  };
+  const Eigen::Matrix3d none = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d turned =
+      Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const geometry::PolygonMesh a = cube(none, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(convex_overlap(a, cube(none, {0.3, 0.2, 0.0})), 0.7, 1e-12);
+  EXPECT_NEAR(convex_overlap(a, cube(turned, {1.1, 0.0, 0.0})), 0.5 + std::sqrt(0.5) - 1.1, 1e-12);
+  EXPECT_LE(convex_overlap(a, cube(turned, {1.3, 0.0, 0.0})), 0.0);
+  EXPECT_LE(convex_overlap(a, cube(none, {1.0, 0.0, 0.0})), 1e-12);  // face to face
 }
 
 }  // namespace
