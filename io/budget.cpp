@@ -214,7 +214,12 @@ SpecimenEstimate estimate_specimen(const Scenario& s) {
       e.grains = lattice_grain_estimate(d);
       // Small lattices are counted exactly (no grain is built): an outline that holds none
       // is refused here rather than after the result folder is made.
-      if (e.grains < 1e5 && d.r > 0.0 && d.t > 0.0)
+      // Only where the lattice's candidate points are few: a thin outline of vast extent
+      // holds no grain but would take as long to search as a full one.
+      if (e.grains < 1e5 && d.r > 0.0 && d.t > 0.0 &&
+          (d.outline.size.x() / (kSqrt3 * d.r) + 2.0) * (d.outline.size.y() / (1.5 * d.r) + 2.0) *
+                  (d.outline.size.z() / d.t + 2.0) <
+              1e7)
         e.grains =
             static_cast<double>(geometry::honeycomb_sites(d.r, d.t, d.outline, d.keep).size());
       break;
@@ -249,8 +254,9 @@ std::string keys_text(const std::vector<SizeKey>& keys) {
   std::string out;
   for (std::size_t i = 0; i < keys.size(); ++i) {
     out += i == 0 ? "" : (i + 1 == keys.size() ? " and " : ", ");
+    // No line for each: after an override (--set) the text is rewritten and its lines move;
+    // the error's own position is the first key's.
     out += fmt::format("{} = {}", keys[i].key, keys[i].written);
-    if (keys[i].at.line > 0) out += fmt::format(" (line {})", keys[i].at.line);
   }
   return out;
 }
