@@ -456,9 +456,11 @@ std::vector<fs::path> write_meshes(const std::vector<PolygonMesh>& meshes, const
 
 namespace {
 
-/// assimp 5.2's PLY reader never returns on a header without its "end_header" line (it
-/// spins in its buffer; found by fuzz/fuzz_mesh, tests/test_fuzz_regressions.cpp), so a PLY
-/// file (".ply", or content starting "ply") without that line is refused before assimp sees it.
+/// assimp 5.2's PLY reader never returns on a header it cannot find the end of (it spins in
+/// its buffer; found by fuzz/fuzz_mesh, tests/test_fuzz_regressions.cpp): no "end_header"
+/// line, or one that a control character such as a vertical tab follows. So a PLY file
+/// (".ply", or content starting "ply") whose header is not printable text ending in a line
+/// "end_header" is refused before assimp sees it.
 /// Its element counts are bounded by the file's size too: assimp reserves what the header
 /// claims, so a short file claiming 10^8 vertices would take gigabytes and minutes. Each
 /// element needs at least its properties' bytes (binary) or two characters per property
@@ -487,6 +489,13 @@ void check_ply_header(const fs::path& file, std::uintmax_t file_size) {
     return 1;  // an unknown type: assimp refuses it; count it small
   };
   do {
+    // The header is text: spaces, tabs, a CR before the LF, and printable characters.
+    for (const char c : line) {
+      const auto u = static_cast<unsigned char>(c);
+      if ((u < 0x20 && c != '\t' && c != '\r') || u >= 0x7f)
+        fail(file, fmt::format("its PLY header holds the byte 0x{:02x}, which is not text (the "
+                               "header is lines of printable characters)", u));
+    }
     std::istringstream words(line);
     std::string word;
     words >> word;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -83,6 +84,31 @@ TEST(MeshImport, PlyWithoutEndHeaderIsRefusedNotAHang) {
   EXPECT_THROW((void)io::load_mesh_grains(spec), io::MeshGrainError);
   // The same file with its header line restored is read (and is the seed's quad cube).
   EXPECT_NO_THROW((void)io::read_meshes(std::string(CLEAVE_SOURCE_DIR) + "/tests/data/meshes/cube_quads.ply"));
+}
+
+// fuzz_mesh: a PLY whose "end_header" is followed by a vertical tab, not a line end (and
+// a mangled property line) made assimp 5.2's PLY reader spin forever; SIGTERM did not stop
+// cleave there. read_meshes refuses a header that is not text before assimp reads it.
+TEST(MeshImport, PlyHeaderWithAControlCharacterIsRefusedNotAHang) {
+  const std::string file =
+      std::string(CLEAVE_SOURCE_DIR) + "/tests/data/fuzz/ply_end_header_then_vertical_tab.ply";
+  try {
+    (void)io::read_meshes(file);
+    ADD_FAILURE() << "no MeshIoError";
+  } catch (const io::MeshIoError& e) {
+    EXPECT_TRUE(has(e.what(), "ply_end_header_then_vertical_tab.ply")) << e.what();
+    EXPECT_TRUE(has(e.what(), "0x0b")) << e.what();
+  }
+  // The same header as text, tabs and CR-LF line ends included, is read.
+  std::string text = read_text("tests/data/fuzz/ply_end_header_then_vertical_tab.ply");
+  text.replace(text.find("properNSt6locale5ty"), 19, "property");
+  text.replace(text.find("end_header\v"), 11, "end_header \t\r\n");
+  for (std::size_t at = text.find("\nproperty"); at != std::string::npos; at = text.find("\nproperty", at + 3))
+    text.replace(at, 1, "\r\n");
+  const std::filesystem::path copy = std::filesystem::temp_directory_path() / "cleave_ply_header_as_text.ply";
+  { std::ofstream(copy, std::ios::binary) << text; }
+  EXPECT_NO_THROW((void)io::read_meshes(copy));
+  std::filesystem::remove(copy);
 }
 
 // fuzz_checkpoint (UBSan): an empty vector of numbers was read with memcpy into its null
