@@ -48,4 +48,43 @@ inline std::vector<std::vector<std::string>> read_csv_cells(const std::filesyste
   return rows;
 }
 
+/// A few hexagonal prisms dropped onto a floor (scenarios/demo_drop.toml, smaller): a run of
+/// seconds at most. `name` and the [dynamics] lines (duration, frames, ...) are spliced in.
+inline std::string drop_scenario(const std::string& name, const std::string& dynamics) {
+  return "[scenario]\nname = \"" + name + R"("
+[specimen]
+shape = "box"
+size = [4.0, 4.0, 1.0]
+[grain]
+r = 1.0
+r_bar = 0.9
+t = 1.0
+t_bar = 0.85
+[orientation]
+seed = 7
+[contact]
+dilation_radius = 0.05
+[contact.particle_particle]
+kn = 5000.0
+ks = 2000.0
+c_res = 2.0
+mu_s = 0.3
+[contact.particle_wall]
+kn = 10000.0
+ks = 2000.0
+c_res = 10.0
+mu_s = 0.3
+[dynamics]
+dt = 1.2e-6
+lift = 20.0
+)" + dynamics +
+         R"(
+[[wall]]
+name = "floor"
+kind = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+)";
+}
+
 }  // namespace cleave::testing

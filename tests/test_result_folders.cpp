@@ -26,51 +26,14 @@
 #include <thread>
 #include <vector>
 
+#include "cli_helpers.hpp"
 #include "io/result_dir.hpp"
 
 namespace fs = std::filesystem;
 using cleave::io::read_manifest;
+using cleave::testing::drop_scenario;
 
 namespace {
-
-/// A few prisms dropped onto a floor (as tests/test_run_status.cpp's); `name` and the
-/// [dynamics] lines are spliced in.
-std::string drop_scenario(const std::string& name, const std::string& dynamics) {
-  return "[scenario]\nname = \"" + name + R"("
-[specimen]
-shape = "box"
-size = [4.0, 4.0, 1.0]
-[grain]
-r = 1.0
-r_bar = 0.9
-t = 1.0
-t_bar = 0.85
-[orientation]
-seed = 7
-[contact]
-dilation_radius = 0.05
-[contact.particle_particle]
-kn = 5000.0
-ks = 2000.0
-c_res = 2.0
-mu_s = 0.3
-[contact.particle_wall]
-kn = 10000.0
-ks = 2000.0
-c_res = 10.0
-mu_s = 0.3
-[dynamics]
-dt = 1.2e-6
-lift = 20.0
-)" + dynamics +
-         R"(
-[[wall]]
-name = "floor"
-kind = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-)";
-}
 
 /// A static specimen (no dynamics): a fraction of a second.
 std::string box_scenario(const std::string& name_line) {

@@ -20,6 +20,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli_helpers.hpp"
 #include "io/checkpoint.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
@@ -31,6 +32,7 @@ extern char** environ;
 namespace fs = std::filesystem;
 using cleave::io::Manifest;
 using cleave::io::read_manifest;
+using cleave::testing::drop_scenario;
 
 namespace {
 
@@ -50,45 +52,6 @@ std::string openssl_sha256(const fs::path& p) {
     hex += buf;
   }
   return hex;
-}
-
-/// A dropping specimen as in scenarios/demo_drop.toml, smaller: `dynamics` is spliced in.
-std::string drop_scenario(const std::string& dynamics) {
-  return R"(
-[scenario]
-name = "drop"
-[specimen]
-shape = "box"
-size = [4.0, 4.0, 1.0]
-[grain]
-r = 1.0
-r_bar = 0.9
-t = 1.0
-t_bar = 0.85
-[orientation]
-seed = 7
-[contact]
-dilation_radius = 0.05
-[contact.particle_particle]
-kn = 5000.0
-ks = 2000.0
-c_res = 2.0
-mu_s = 0.3
-[contact.particle_wall]
-kn = 10000.0
-ks = 2000.0
-c_res = 10.0
-mu_s = 0.3
-[dynamics]
-dt = 1.2e-6
-lift = 20.0
-)" + dynamics + R"(
-[[wall]]
-name = "floor"
-kind = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-)";
 }
 
 class RunStatus : public ::testing::Test {
@@ -162,7 +125,7 @@ class RunStatus : public ::testing::Test {
 }  // namespace
 
 TEST_F(RunStatus, AFinishedRunRecordsItsProvenanceAndHashesEveryFile) {
-  const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
+  const fs::path scenario = write("drop.toml", drop_scenario("drop", "duration = 6e-5\nframes = 2\n"));
   const fs::path out = dir_ / "out";
   ASSERT_EQ(run(scenario, out), 0) << log();
   const Manifest m = read_manifest(out);
@@ -195,7 +158,7 @@ TEST_F(RunStatus, AFinishedRunRecordsItsProvenanceAndHashesEveryFile) {
 }
 
 TEST_F(RunStatus, AFileTheEarlierRunDidNotWriteStopsTheRerunAndThenTheListIsTheFolder) {
-  const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
+  const fs::path scenario = write("drop.toml", drop_scenario("drop", "duration = 6e-5\nframes = 2\n"));
   const fs::path out = dir_ / "out";
   ASSERT_EQ(run(scenario, out), 0) << log();  // the earlier run
   std::ofstream(out / "frames" / "bodies_000099.vtp") << "stale";
@@ -215,7 +178,7 @@ TEST_F(RunStatus, AFileTheEarlierRunDidNotWriteStopsTheRerunAndThenTheListIsTheF
 
 TEST_F(RunStatus, SigtermStopsTheRunCleanlyWithStatusInterrupted) {
   // Long enough (millions of steps) that only the signal can end it within the test.
-  const fs::path scenario = write("long.toml", drop_scenario("duration = 10.0\nframes = 1000000\n"));
+  const fs::path scenario = write("long.toml", drop_scenario("drop", "duration = 10.0\nframes = 1000000\n"));
   const fs::path out = dir_ / "out";
   const pid_t pid = spawn_run(scenario, out);
   ASSERT_GT(pid, 0);
@@ -258,7 +221,7 @@ TEST_F(RunStatus, ABlowUpFailsWithStepBodyAndSuggestedTimeStep) {
   // falls g dt^2 / 2 (velocity Verlet), 0.72 mm, most of its own size.
   const double g = 1e9, dt = 1.2e-6;
   const fs::path scenario =
-      write("boom.toml", drop_scenario("duration = 1e-3\ngravity = [0.0, 0.0, -1e9]\n"));
+      write("boom.toml", drop_scenario("drop", "duration = 1e-3\ngravity = [0.0, 0.0, -1e9]\n"));
   const fs::path out = dir_ / "out";
   EXPECT_EQ(run(scenario, out), 1) << log();
   const Manifest m = read_manifest(out);
@@ -284,7 +247,7 @@ TEST_F(RunStatus, ABlowUpKeepsTheLastGoodCheckpointWhichReproducesIt) {
   // every 20 steps: the one of step 100 is the last good state, and the blow-up must not
   // overwrite it.
   const fs::path scenario =
-      write("late_boom.toml", drop_scenario("duration = 1e-2\ngravity = [0.0, 0.0, -7.2e5]\n"));
+      write("late_boom.toml", drop_scenario("drop", "duration = 1e-2\ngravity = [0.0, 0.0, -7.2e5]\n"));
   const fs::path out = dir_ / "out";
   const std::string run_cmd = std::string(CLEAVE_BINARY) + " run --quiet " + scenario.string() +
                               " --out " + out.string() + " --checkpoint-every 20 > " +
@@ -382,7 +345,7 @@ TEST_F(RunStatus, AStepLimitThatCutsTheStagesShortIsStoppedWithItsStepAndStage) 
 }
 
 TEST_F(RunStatus, AStepLimitAtTheRunsOwnLengthIsFinishedAndOneLessIsStopped) {
-  const fs::path scenario = write("drop.toml", drop_scenario("duration = 6e-5\nframes = 2\n"));
+  const fs::path scenario = write("drop.toml", drop_scenario("drop", "duration = 6e-5\nframes = 2\n"));
   const std::string run_cmd = std::string(CLEAVE_BINARY) + " run --quiet " + scenario.string();
   ASSERT_EQ(shell(run_cmd + " --out " + (dir_ / "whole").string(), dir_ / "log.txt"), 0) << log();
   const Manifest whole = read_manifest(dir_ / "whole");
@@ -416,7 +379,7 @@ TEST_F(RunStatus, ABlowUpToInfinityFailsAtItsStepAndWritesNoNonFiniteValue) {
   // energy overflows a double. The run fails at step 1 naming the body, and no table holds
   // the infinite row.
   const fs::path scenario =
-      write("inf.toml", drop_scenario("duration = 1e-3\ngravity = [0.0, 0.0, -1e300]\n"));
+      write("inf.toml", drop_scenario("drop", "duration = 1e-3\ngravity = [0.0, 0.0, -1e300]\n"));
   const fs::path out = dir_ / "out";
   EXPECT_EQ(run(scenario, out), 1) << log();
   const Manifest m = read_manifest(out);
@@ -431,7 +394,7 @@ TEST_F(RunStatus, ANonFiniteWallVelocitySetBetweenStepsFailsThereNamingTheWall) 
   // The library's own door (Python's sim.wall(...).velocity): a NaN velocity given to a
   // wall after step 5. The wall's place is NaN after step 6; nothing it touches need turn
   // NaN (no body is near it), so only the wall can tell.
-  const std::string text = drop_scenario("duration = 1e-4\nframes = 2\n") + R"(
+  const std::string text = drop_scenario("drop", "duration = 1e-4\nframes = 2\n") + R"(
 [[wall]]
 name = "lid"
 kind = "plane"
