@@ -5,6 +5,7 @@
 #   ./build.sh unit   install what is missing, build, run every test (the first part of `test`)
 #   ./build.sh sanitize  clang + AddressSanitizer + UBSan build in build-asan, run the tests there
 #   ./build.sh fuzz   the same build, then each libFuzzer target (fuzz/) on its corpus for a while
+#                     (CLEAVE_FUZZ_SECONDS each, 20; or CLEAVE_FUZZ_RUNS inputs each)
 #   ./build.sh bench  install what is missing, build, run the benchmarks
 #   ./build.sh deps   only install what is missing
 set -euo pipefail
@@ -121,8 +122,11 @@ run_fuzzers() {
     scratch="$asan_dir/fuzz/corpus/$t"
     artifacts="$asan_dir/fuzz/artifacts"
     mkdir -p "$scratch" "$artifacts"
-    echo "build.sh: fuzzing $t for ${fuzz_seconds} s"
-    "$asan_dir/fuzz/$t" -max_total_time="$fuzz_seconds" -timeout=30 -rss_limit_mb=4096 \
+    # CLEAVE_FUZZ_RUNS=N: N inputs each instead of a time (a deep run; DEVELOPMENT.md).
+    local budget=(-max_total_time="$fuzz_seconds") what="for ${fuzz_seconds} s"
+    if [ -n "${CLEAVE_FUZZ_RUNS:-}" ]; then budget=(-runs="$CLEAVE_FUZZ_RUNS"); what="for $CLEAVE_FUZZ_RUNS inputs"; fi
+    echo "build.sh: fuzzing $t $what"
+    "$asan_dir/fuzz/$t" "${budget[@]}" -timeout=30 -rss_limit_mb=4096 \
       -print_final_stats=1 -artifact_prefix="$artifacts/$t-" "$scratch" "fuzz/corpus/$t"
   done
 }
