@@ -516,22 +516,37 @@ void check_ply_header(const fs::path& file, std::uintmax_t file_size) {
       }
       return;
     }
+    std::vector<std::string> rest;
+    for (std::string w; words >> w;) rest.push_back(w);
+    // assimp 5.2 corrupts its heap or crashes on an element declared twice and misreads
+    // lines it does not know (fuzz/fuzz_mesh): only the PLY header's own lines pass.
+    const auto malformed = [&](const std::string& why) {
+      fail(file, "its PLY header line '" + line + "' " + why);
+    };
     if (word == "format") {
-      words >> word;
-      ascii = word == "ascii";
+      if (rest.size() != 2) malformed("is not 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+      ascii = rest[0] == "ascii";
     } else if (word == "element") {
+      if (rest.size() != 2) malformed("is not 'element NAME COUNT'");
       Element e;
-      std::string count;
-      words >> e.name >> count;
+      e.name = rest[0];
+      const std::string& count = rest[1];
       const auto [ptr, ec] = std::from_chars(count.data(), count.data() + count.size(), e.count);
       if (ec != std::errc() || ptr != count.data() + count.size())
         fail(file, "PLY element '" + e.name + "' has no whole count ('" + count + "')");
+      for (const Element& before : elements)
+        if (before.name == e.name) malformed("declares the element '" + e.name + "' a second time");
       elements.push_back(e);
-    } else if (word == "property" && !elements.empty()) {
-      std::string type;
-      words >> type;
-      if (type == "list") words >> type;  // the count's type: a list may be empty
-      elements.back().bytes += ascii ? 1 : scalar_size(type);
+    } else if (word == "property") {
+      if (elements.empty()) malformed("gives a property before any element");
+      const bool list = !rest.empty() && rest[0] == "list";
+      if (rest.size() != (list ? 4u : 2u))
+        malformed("is not 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
+      // The count's type: a list may be empty.
+      elements.back().bytes += ascii ? 1 : scalar_size(list ? rest[1] : rest[0]);
+    } else if (word != "ply" && word != "comment" && word != "obj_info" && !word.empty()) {
+      malformed("is not a PLY header line (ply, format, comment, obj_info, element, property, "
+                "end_header)");
     }
   } while (std::getline(in, line));
   fail(file, "PLY header has no 'end_header' line");
