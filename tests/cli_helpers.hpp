@@ -19,9 +19,8 @@ struct CliOutcome {
   std::string output;  ///< stdout and stderr
 };
 
-/// Runs `cleave ARGS` through the shell and waits for it.
-inline CliOutcome run_cleave(const std::string& args) {
-  const std::string cmd = std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
+/// Runs a shell command line and waits for it: its stdout and exit status.
+inline CliOutcome run_shell(const std::string& cmd) {
   CliOutcome o;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return o;
@@ -30,6 +29,11 @@ inline CliOutcome run_cleave(const std::string& args) {
   const int status = pclose(pipe);
   o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return o;
+}
+
+/// Runs `cleave ARGS` through the shell and waits for it.
+inline CliOutcome run_cleave(const std::string& args) {
+  return run_shell(std::string(CLEAVE_BINARY) + " " + args + " 2>&1");
 }
 
 /// The rows of a CSV file as text cells (header included; lines starting with # skipped).

@@ -75,16 +75,8 @@ class Budgets : public ::testing::Test {
 #else
     const std::string limit = "ulimit -v 2097152 && ";
 #endif
-    const std::string cmd = "cd " + dir.string() + " && " + limit + "timeout -s KILL 30 " +
-                            std::string(CLEAVE_BINARY) + " " + args + " 2>&1";
-    cleave::testing::CliOutcome o;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return o;
-    char buf[4096];
-    while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) o.output.append(buf, n);
-    const int status = pclose(pipe);
-    o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return o;
+    return cleave::testing::run_shell("cd " + dir.string() + " && " + limit + "timeout -s KILL 30 " +
+                                      std::string(CLEAVE_BINARY) + " " + args + " 2>&1");
   }
   fs::path dir_;
 };
