@@ -284,6 +284,7 @@ class Dynamics::Runner {
         walls_pvd_(out_ / "walls.pvd"),
         cracks_pvd_(out_ / "cracks.pvd") {
     fs::create_directories(out_ / "frames");
+    world_.add_listener(&sums_for_check_);
     for (const auto& w : world_.walls()) origin0_.push_back(w.origin);
     pe0_ = world_.potential_energy();
     energy_ = "time_s,kinetic_J,potential_J,contacts,max_overlap_m,stage\n";
@@ -615,9 +616,8 @@ class Dynamics::Runner {
     guard_.before_step(world_);
     bool completed = true;
     // A step whose end the transgranular check reads sums eq. 2.17's terms with its forces.
-    if (book_ && !stage.hold_cracks &&
-        (world_.steps() + 1) % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0)
-      world_.want_stress_sums();
+    sums_for_check_.on = book_ && !stage.hold_cracks &&
+                         (world_.steps() + 1) % static_cast<std::uint64_t>(scenario_.fracture.check_every) == 0;
     try {
       world_.step();
     } catch (const std::exception&) {
@@ -1479,6 +1479,11 @@ class Dynamics::Runner {
   std::size_t stage_index_ = 0;
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   physics::World world_;
+  /// Asks a step for eq. 2.17's sums when the transgranular check reads its end.
+  struct SumsForCheck final : physics::StepListener {
+    bool on = false;
+    [[nodiscard]] physics::StepNeeds needs(const physics::World&) const override { return {.stress_sums = on}; }
+  } sums_for_check_;
   double stable_dt_ = io::stable_time_step(scenario_, specimen_);  // for blow-up messages
   io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_, cell_pvd_, walls_pvd_, cracks_pvd_;
   std::vector<Eigen::Vector3d> origin0_;

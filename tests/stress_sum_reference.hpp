@@ -16,6 +16,8 @@ namespace cleave::test {
 using physics::Bond;
 using physics::ContactRecord;
 using physics::World;
+using physics::StepListener;
+using physics::StepNeeds;
 
 /// Eq. 2.17's sums as a walk over the contact records and the bonds (the reference the
 /// world's sums by body must give to the bit): B's lever from its image, A's force negated.
@@ -49,13 +51,18 @@ inline std::vector<World::AppliedForce> forces_from_records(const World& world, 
   return out;
 }
 
+/// Asks every step it is registered for to sum eq. 2.17's diagonals with the forces.
+struct SumsWithTheForces final : StepListener {
+  [[nodiscard]] StepNeeds needs(const World&) const override { return {.stress_sums = true}; }
+};
+
 inline bool same_bits(const Eigen::Matrix3d& p, const Eigen::Matrix3d& q) {
   return std::memcmp(p.data(), q.data(), sizeof(double) * 9) == 0;
 }
 
 /// Every slot's sums and forces from the world's lists against the records' walk.
 inline void expect_sums_match_the_records(const World& world, const char* when) {
-  // The diagonals first: after a want_stress_sums() step they are the ones summed with the
+  // The diagonals first: after a step a listener asked for the sums they are the ones summed with the
   // forces (stress_sums() does not touch them).
   const std::vector<Eigen::Vector3d> diagonals = world.stress_sum_diagonals();
   const std::vector<Eigen::Matrix3d> sums = world.stress_sums();

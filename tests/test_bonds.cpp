@@ -548,7 +548,7 @@ TEST(GrainStressSums, ByBodyGiveTheBitsOfAWalkOverTheContactRecordsAndBonds) {
   // A 30 x 20 bonded honeycomb block (600 prisms: the parallel paths run) pressed by a
   // platen from above and pulled on its right column until bonds break: contacts between
   // grains, with the platen, intact and broken bonds. World::stress_sums and forces_on,
-  // made from the step's lists by body or summed with the forces (want_stress_sums), must
+  // made from the step's lists by body or summed with the forces (a listener's StepNeeds), must
   // give every slot the bits of a walk over contacts() and bonds(), on 1 and 2 threads,
   // and after a wall is added (lists stale: the records themselves).
   for (const int threads : {1, 2}) {
@@ -565,8 +565,10 @@ TEST(GrainStressSums, ByBodyGiveTheBitsOfAWalkOverTheContactRecordsAndBonds) {
     for (const ContactRecord& c : world.contacts()) on_wall += c.wall;
     ASSERT_GT(on_wall, 0u);
     expect_sums_match_the_records(world, threads == 1 ? "1 thread, by body" : "2 threads, by body");
-    world.want_stress_sums();  // the next step sums them with the forces
+    SumsWithTheForces sums;  // the next step sums them with the forces
+    world.add_listener(&sums);
     world.step();
+    world.remove_listener(&sums);
     expect_sums_match_the_records(world, threads == 1 ? "1 thread, with the forces" : "2 threads, with the forces");
     world.add_wall(Wall::plane("far", {0, -1.0, 0}, {0, 1, 0}));  // lists stale until the next step
     expect_sums_match_the_records(world, "after add_wall");

@@ -1153,7 +1153,21 @@ const std::vector<ContactRecord>& World::contacts() const {
   return records_;
 }
 
+void World::add_listener(StepListener* listener) {
+  if (std::find(listeners_.begin(), listeners_.end(), listener) == listeners_.end()) listeners_.push_back(listener);
+}
+
+void World::remove_listener(StepListener* listener) {
+  listeners_.erase(std::remove(listeners_.begin(), listeners_.end(), listener), listeners_.end());
+}
+
 void World::step() {
+  StepNeeds needs;
+  for (StepListener* l : listeners_) {
+    l->before_step(*this);
+    needs |= l->needs(*this);
+  }
+  want_stress_sums_ = needs.stress_sums;
   const double h = settings_.dt;
   if (timing_) {
     in_step_ = true;
@@ -1257,6 +1271,7 @@ void World::step() {
   in_step_ = false;
   time_ += h;
   ++steps_;
+  for (StepListener* l : listeners_) l->after_step(*this);
 }
 
 bool World::by_body_current() const {

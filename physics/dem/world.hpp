@@ -21,6 +21,7 @@
 #include "physics/dem/neighbour_search.hpp"
 #include "physics/dem/periodic_cell.hpp"
 #include "physics/dem/rigid_shape.hpp"
+#include "physics/dem/step_listener.hpp"
 #include "physics/dem/wall.hpp"
 
 namespace cleave::parallel {
@@ -428,12 +429,12 @@ class World {
   [[nodiscard]] Eigen::Matrix3d stress_sum(std::uint32_t slot) const;
   /// The diagonals of stress_sums() (what a mean stress, the trace, reads), each the same
   /// bits: summed with the forces when the evaluation was asked for them
-  /// (want_stress_sums), otherwise by body. (Not for concurrent calls.)
+  /// (a listener's StepNeeds::stress_sums), otherwise by body. (Not for concurrent calls.)
   [[nodiscard]] const std::vector<Eigen::Vector3d>& stress_sum_diagonals() const;
-  /// The next force evaluation sums the diagonals of eq. 2.17's sums along with the forces
-  /// (stress_sum_diagonals), for the transgranular check's gate: it asks before the step
-  /// it reads. Once.
-  void want_stress_sums() { want_stress_sums_ = true; }
+  /// Registers `listener` (not owned; it must outlive its registration): each step calls
+  /// its before_step, asks its needs, and calls its after_step (step_listener.hpp).
+  void add_listener(StepListener* listener);
+  void remove_listener(StepListener* listener);
   /// The forces acting on body `slot`, in stress_sums' order (cleared first).
   void forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const;
   [[nodiscard]] double time() const { return time_; }
@@ -696,6 +697,7 @@ class World {
   mutable std::vector<Eigen::Vector3d> stress_diagonals_;
   mutable bool stress_sums_current_ = false, stress_diagonals_current_ = false;
   bool want_stress_sums_ = false, summing_stress_ = false;
+  std::vector<StepListener*> listeners_;
   /// Calls f(point, force) (plain doubles) for each force acting on `slot`, in the order of
   /// a walk over contacts() and bonds() (the lists by body current).
   template <class F>

@@ -2,6 +2,7 @@
 #include "physics/bonds/grain_stress.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <omp.h>
 #include <limits>
@@ -220,7 +221,7 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
   if (world.body_count() == 0) return events;
   // The gate reads a body's mean stress, the trace of eq. 2.17's: from the diagonals of the
   // sums (summed with the forces when this check asked for them at its last call,
-  // World::want_stress_sums). Past it, the body's whole sum and then its forces.
+  // StepNeeds::stress_sums). Past it, the body's whole sum and then its forces.
   const std::vector<Eigen::Vector3d>& diagonals = world.stress_sum_diagonals();
   // Decide on the state of this step for every body (each on its own, in parallel: the
   // world and the book are only read), then cut, in body order: each thread lists the
@@ -293,9 +294,18 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
     SplitEvent split = book.split(world, a.id, a.plane);
     if (!split.ids.empty()) events.push_back({std::move(split), a});
   }
-  // The next check reads the next evaluation's sums: they are summed with its forces (a
-  // caller that checks less often asks before the step it reads, as sim::Dynamics does).
-  world.want_stress_sums();
   return events;
+}
+
+StepNeeds TransgranularCheck::needs(const World& world) const {
+  return {.stress_sums = !held_ && (world.steps() + 1) % every_ == 0};
+}
+
+void TransgranularCheck::after_step(World& world) {
+  if (held_ || world.steps() % every_ != 0) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto found = transgranular_step(world, book_, params_);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (auto& e : found) events_.push_back(std::move(e));
 }
 }  // namespace cleave::physics

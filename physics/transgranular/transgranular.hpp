@@ -16,10 +16,13 @@
 /// - The fragment under study is the side the crack plane's normal points away from; the
 ///   other side gives the same section load with the opposite sign in equilibrium.
 
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "physics/transgranular/fracture_book.hpp"
 #include "physics/transgranular/fracture_criterion.hpp"
+#include "physics/dem/step_listener.hpp"
 #include "physics/dem/world.hpp"
 
 namespace cleave::physics {
@@ -54,5 +57,30 @@ struct TransgranularEvent {
 /// call; pieces are checked on the next call). Returns the splits, in body order.
 std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& book,
                                                    const FractureParams& params);
+
+/// transgranular_step as a step listener: every `every` steps (unless held), after the step;
+/// the steps it reads sum eq. 2.17's diagonals with their forces (StepNeeds::stress_sums).
+/// The splits accumulate in `events` until the owner takes them.
+class TransgranularCheck final : public StepListener {
+ public:
+  TransgranularCheck(FractureBook& book, FractureParams params, std::uint64_t every)
+      : book_(book), params_(params), every_(every < 1 ? 1 : every) {}
+  /// While held, no check runs (a stage's hold_cracks).
+  void hold(bool held) { held_ = held; }
+  [[nodiscard]] StepNeeds needs(const World& world) const override;
+  void after_step(World& world) override;
+  /// The splits since the last take, in the order they happened.
+  std::vector<TransgranularEvent> take_events() { return std::exchange(events_, {}); }
+  /// Wall-clock seconds spent in the checks.
+  [[nodiscard]] double seconds() const { return seconds_; }
+
+ private:
+  FractureBook& book_;
+  FractureParams params_;
+  std::uint64_t every_;
+  bool held_ = false;
+  std::vector<TransgranularEvent> events_;
+  double seconds_ = 0.0;
+};
 
 }  // namespace cleave::physics
