@@ -85,7 +85,7 @@ physics::WorldSettings bench_settings(const physics::RigidShape& shape) {
   ws.local_damping = 0.7;  // the poured pile's settling
   ws.feature_skin = g_feature_skin;
   ws.manifold_tolerance = g_manifold;
-  // The stable step as cleave's scenario check computes it (io/world_setup.cpp): 0.2 of
+  // The stable step as cleave's scenario check computes it (sim/world_assembly.cpp): 0.2 of
   // 2 sqrt(m/k) for translation and for rotation about the weakest axis, with the stiffest
   // spring C_res K_n acting at the bounding radius.
   const double k = ws.particle_particle.c_res * ws.particle_particle.kn;

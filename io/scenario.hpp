@@ -188,7 +188,7 @@ struct StageDef {
   double ramp_time = 0.0;
   double bond_distance = 0.0;  ///< bond: the bonding distance, m
   /// Where `distance` (bond), `steps` or `time` (motion) and each wall_velocity entry (in
-  /// its order) are in the file, for the start checks (io/world_setup.hpp).
+  /// its order) are in the file, for the start checks (sim/world_assembly.hpp).
   SourcePosition distance_position, length_position;
   std::vector<SourcePosition> wall_velocity_positions;
   /// motion, with [thermal]: K/s every grain's temperature changes by over the stage (a

@@ -16,7 +16,7 @@
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/vtk_output.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 #include "physics/transgranular/fracture_book.hpp"
 #include "physics/bonds/grain_stress.hpp"
 #include "physics/dem/state_codec.hpp"
@@ -276,7 +276,7 @@ class Dynamics::Runner {
         max_steps_(max_steps),
         hooks_(hooks),
         guard_(hooks.max_move_fraction),
-        world_(resume ? std::move(resume->world) : io::make_world(scenario, specimen)),
+        world_(resume ? std::move(resume->world) : sim::make_world(scenario, specimen)),
         bodies_pvd_(out_ / "bodies.pvd"),
         contacts_pvd_(out_ / "contacts.pvd"),
         bonds_pvd_(out_ / "bonds.pvd"),
@@ -316,7 +316,7 @@ class Dynamics::Runner {
       resuming_ = true;
     } else if (scenario_.fracture.enabled) {
       // Every grain may split along its cleavage planes (chapter 3): the book knows its
-      // exact shape (world shape k is specimen shape k, io::make_world) and orientation.
+      // exact shape (world shape k is specimen shape k, sim::make_world) and orientation.
       book_.emplace(scenario_.contact.dilation_radius, scenario_.split.min_fragment_fraction);
       for (std::size_t k = 0; k < specimen_.shapes.size(); ++k) {
         book_->add_shape(static_cast<std::uint32_t>(k),
@@ -915,7 +915,7 @@ class Dynamics::Runner {
       for (const physics::BodyId id : e.split.ids) {
         if (piece_warned_) break;
         const physics::BodyInfo& info = world_.info(id);
-        const double limit = io::stable_time_step(scenario_, info.mass, info.inertia.minCoeff(),
+        const double limit = sim::stable_time_step(scenario_, info.mass, info.inertia.minCoeff(),
                                                   world_.shape(info.shape).bounding_radius());
         if (scenario_.dynamics.dt > limit) {
           piece_warned_ = true;
@@ -1484,7 +1484,7 @@ class Dynamics::Runner {
     bool on = false;
     [[nodiscard]] physics::StepNeeds needs(const physics::World&) const override { return {.stress_sums = on}; }
   } sums_for_check_;
-  double stable_dt_ = io::stable_time_step(scenario_, specimen_);  // for blow-up messages
+  double stable_dt_ = sim::stable_time_step(scenario_, specimen_);  // for blow-up messages
   io::PvdSeries bodies_pvd_, contacts_pvd_, bonds_pvd_, cell_pvd_, walls_pvd_, cracks_pvd_;
   std::vector<Eigen::Vector3d> origin0_;
   double pe0_ = 0.0;

@@ -189,7 +189,7 @@ class Dynamics {
 };
 
 /// The whole run at once: Dynamics(...).finish(). The caller checks the time step first
-/// (io::check_time_step).
+/// (sim::check_time_step).
 DynamicsSummary run_dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                              const std::filesystem::path& out, bool quiet,
                              std::uint64_t max_steps = 0, const RunHooks& hooks = {},

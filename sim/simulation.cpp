@@ -19,7 +19,7 @@
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 #include "io/sweep.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 #include "sim/specimen_picture.hpp"
 
 namespace cleave::sim {
@@ -253,13 +253,13 @@ void Simulation::State::start() {
     say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
                     three_slab, specimen->grains.size() - three_slab, def.seed));
     if (specimen->grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
-    // The time step and, for a fresh run, its start (io::check_start) before the slabs and
+    // The time step and, for a fresh run, its start (sim::check_start) before the slabs and
     // meshes: a world made and dropped costs about one step.
-    if (scenario.dynamics.enabled && checkpoint) io::check_time_step(scenario, *specimen);
+    if (scenario.dynamics.enabled && checkpoint) sim::check_time_step(scenario, *specimen);
     if (scenario.dynamics.enabled && !checkpoint) {
-      (void)io::make_world(scenario, *specimen);
+      (void)sim::make_world(scenario, *specimen);
       if (writes_results()) {
-        for (const io::ScenarioError& w : io::start_warnings(scenario, *specimen)) {
+        for (const io::ScenarioError& w : sim::start_warnings(scenario, *specimen)) {
           // With overrides the scenario was parsed from a rewritten text: its lines are not
           // the file's, so a warning names the override (or lists them), as errors do.
           const io::ScenarioError shown =

@@ -23,7 +23,7 @@
 #include "io/mesh_io.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 
 namespace {
 
@@ -450,7 +450,7 @@ density = 2.0
   ASSERT_EQ(specimen.grains.size(), 2u);
   EXPECT_EQ(specimen.grains[0].site.centre, Eigen::Vector3d(2, 3, 0));
   EXPECT_EQ(specimen.grains[1].site.centre, Eigen::Vector3d(10.5, 0.75, 1));
-  const auto world = cleave::io::make_world(s, specimen);
+  const auto world = cleave::sim::make_world(s, specimen);
   const auto ids = world.body_ids();
   ASSERT_EQ(ids.size(), 2u);
   // Masses from the closed-form volumes: 2 kg/m^3 x 8 m^3 and x 4 m^3.

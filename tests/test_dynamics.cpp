@@ -8,7 +8,7 @@
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 #include "physics/dem/state_codec.hpp"
 #include "physics/dem/world.hpp"
 
@@ -173,7 +173,7 @@ TEST_P(DropSettles, GrainsFallBounceAndSettleAboveTheFloor) {
   scenario.dynamics.manifold_tolerance = GetParam();
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
   ASSERT_GE(specimen.grains.size(), 12u);
-  World world = io::make_world(scenario, specimen);
+  World world = sim::make_world(scenario, specimen);
   ASSERT_EQ(world.settings().manifold_tolerance, GetParam());
   const double pe0 = world.potential_energy();
   const double radius = scenario.contact.dilation_radius;
@@ -210,8 +210,8 @@ INSTANTIATE_TEST_SUITE_P(SearchModes, DropSettles, ::testing::Values(0.0, 0.05),
 TEST(DropTest, RepeatRunsAreBitIdentical) {
   const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  World a = io::make_world(scenario, specimen);
-  World b = io::make_world(scenario, specimen);
+  World a = sim::make_world(scenario, specimen);
+  World b = sim::make_world(scenario, specimen);
   for (int i = 0; i < 60000; ++i) {  // through the first impacts
     a.step();
     b.step();
@@ -225,8 +225,8 @@ TEST(DropTest, TheNearFeatureCacheChangesNoBit) {
   // features cached (narrow_phase.hpp), through the impacts and the bouncing.
   const io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  World full = io::make_world(scenario, specimen);
-  World cached = io::make_world(scenario, specimen);
+  World full = sim::make_world(scenario, specimen);
+  World cached = sim::make_world(scenario, specimen);
   full.set_feature_skin(0.0);
   cached.set_feature_skin(0.5);
   std::size_t touching_steps = 0;
@@ -256,8 +256,8 @@ TEST(DropTest, TheContactLawInLanesChangesNoBit) {
   const io::Scenario scenario = io::parse_scenario(text, "small_drop.toml");
   ASSERT_GT(scenario.contact.particle_particle.kr, 0.0);
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  World lanes = io::make_world(scenario, specimen);
-  World single = io::make_world(scenario, specimen);
+  World lanes = sim::make_world(scenario, specimen);
+  World single = sim::make_world(scenario, specimen);
   lanes.set_lanes(true);
   single.set_lanes(false);
   std::size_t most = 0;
@@ -295,7 +295,7 @@ std::pair<World, World> on_one_and_two_threads(io::Scenario scenario, int steps)
   scenario.dynamics.threads = 1;
   two.dynamics.threads = 2;
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  std::pair<World, World> worlds{io::make_world(scenario, specimen), io::make_world(two, specimen)};
+  std::pair<World, World> worlds{sim::make_world(scenario, specimen), sim::make_world(two, specimen)};
   for (int i = 0; i < steps; ++i) {
     worlds.first.step();
     worlds.second.step();
@@ -346,12 +346,12 @@ TEST(ContactManifolds, AWorldReadBackFromItsStateCarriesOnBitForBit) {
   io::Scenario scenario = io::parse_scenario(kSmallDrop, "small_drop.toml");
   scenario.dynamics.manifold_tolerance = 0.05;
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  World a = io::make_world(scenario, specimen);
+  World a = sim::make_world(scenario, specimen);
   for (int i = 0; i < 60000; ++i) a.step();
   ASSERT_FALSE(a.contacts().empty());
   StateWriter w;
   a.save_state(w);
-  World b = io::make_world(scenario, specimen);
+  World b = sim::make_world(scenario, specimen);
   StateReader r(w.bytes());
   b.load_state(r);
   for (int i = 0; i < 20000; ++i) {
@@ -366,11 +366,11 @@ TEST(DropTest, ATimeStepAboveTheStableLimitIsRefusedWithTheValueNeeded) {
   text.replace(text.find("dt = 1.2e-6"), 11, "dt = 0.001");
   const io::Scenario scenario = io::parse_scenario(text, "small_drop.toml");
   const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  const double limit = io::stable_time_step(scenario, specimen);
+  const double limit = sim::stable_time_step(scenario, specimen);
   EXPECT_GT(limit, 1.2e-6);
   EXPECT_LT(limit, 1e-3);
   try {
-    (void)io::make_world(scenario, specimen);
+    (void)sim::make_world(scenario, specimen);
     FAIL() << "no error for dt = 0.001";
   } catch (const io::ScenarioError& e) {
     EXPECT_EQ(e.key(), "dynamics.dt");

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "io/scenario.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 #include "physics/dem/world.hpp"
 #include "sim/dynamics.hpp"
 #include "sim/measure.hpp"
@@ -211,8 +211,8 @@ TEST(QuasiStaticLoading, DensityScaleOfFourDoublesTheStableTimeStepAndQuadruples
   auto scaled = sim::Simulation::open(kElastic, o, {"dynamics.density_scale=4"});
   scaled->start();  // builds the specimen
   const geometry::Specimen& specimen = scaled->specimen();
-  const double bound = io::stable_time_step(plain, specimen);
-  const double bound4 = io::stable_time_step(scaled->scenario(), specimen);
+  const double bound = sim::stable_time_step(plain, specimen);
+  const double bound4 = sim::stable_time_step(scaled->scenario(), specimen);
   EXPECT_NEAR(bound4 / bound, 2.0, 1e-12);
   const physics::World& world = scaled->dynamics()->world();
   const physics::BodyId first = world.body_ids().front();

@@ -14,7 +14,7 @@
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 #include "io/units.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 
 namespace cleave::io {
 namespace {
@@ -1192,7 +1192,7 @@ velocity = [0.0, 0.0, 30.0]
   set("velocity = [0.0, 0.0, 30.0]", "velocity = [\"0 mm/s\", \"0 mm/s\", \"30 mm/s\"]");
   const auto hash_after = [](const std::string& text, int steps) {
     const Scenario s = parse_scenario(text, "w.toml");
-    physics::World world = make_world(s, geometry::build_specimen(s.specimen));
+    physics::World world = sim::make_world(s, geometry::build_specimen(s.specimen));
     for (int i = 0; i < steps; ++i) world.step();
     return std::pair(world.body_count(), world.state_hash());
   };

@@ -1,5 +1,5 @@
 // A scenario cannot silently start wrong: the checks make_world runs before step 1
-// (io::check_start), the time step it advises, and walls placed by `gap`. Each refusal is
+// (sim::check_start), the time step it advises, and walls placed by `gap`. Each refusal is
 // checked for its file, line and key, and for a figure computed here from the geometry.
 
 #include <gtest/gtest.h>
@@ -19,12 +19,18 @@
 #include "geometry/specimen.hpp"
 #include "io/mesh_grains.hpp"
 #include "io/scenario.hpp"
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 
 namespace cleave::io {
 namespace {
 
 namespace fs = std::filesystem;
+using sim::advised_time_step;
+using sim::check_start;
+using sim::check_time_step;
+using sim::make_world;
+using sim::stable_time_step;
+using sim::start_warnings;
 
 std::string read_text(const fs::path& file) {
   std::ifstream in(file);

@@ -11,23 +11,23 @@
 #include "io/scenario.hpp"
 #include "physics/dem/world.hpp"
 
-namespace cleave::io {
+namespace cleave::sim {
 
 /// The largest stable time step: dt_safety x 2 sqrt(m/k) for the lightest body against the
 /// stiffest spring (C_res K_n on unloading), for translation and for rotation about the
 /// weakest axis with the spring at the body's bounding radius.
-double stable_time_step(const Scenario& scenario, const geometry::Specimen& specimen);
+double stable_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen);
 
-/// Throws ScenarioError at [dynamics] dt (file, line, key) when dt is above
+/// Throws io::ScenarioError at [dynamics] dt (file, line, key) when dt is above
 /// stable_time_step, saying which value is needed (advised_time_step).
-void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen);
+void check_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen);
 
 /// The time step the refusal advises for a stable `limit`: the largest decimal of three
 /// significant digits whose text, read back, is not above it (so that setting it passes).
 std::string advised_time_step(double limit);
 
 /// The start of a run, before step 1 (make_world calls it on the world it made): throws
-/// ScenarioError naming the file, line and keys when
+/// io::ScenarioError naming the file, line and keys when
 /// - neighbouring grains' dilated surfaces overlap by more than the dilation radius and no
 ///   bond stage comes first to store the overlap, or their shapes themselves intersect
 ///   (contact.dilation_radius, naming [grain] r and r_bar or the specimen's own keys);
@@ -39,34 +39,34 @@ std::string advised_time_step(double limit);
 /// Pairs across a periodic cell's faces are not searched.
 /// One broad phase on bounding spheres, the narrow phase on its pairs and one pass over the
 /// vertices per wall: the cost of about one step.
-void check_start(const Scenario& scenario, const physics::World& world);
+void check_start(const io::Scenario& scenario, const physics::World& world);
 
 /// What a run may start with but seldom means, as ScenarioErrors to print as warnings: a
 /// lattice bonded by a first bond stage whose neighbours' dilated faces overlap (side faces
 /// sqrt(3) (r - r_bar) or stacked end faces t - t_bar apart, under two dilation radii), so
 /// that every bonded pair also touches from the start (a grain size changed without
 /// scaling [contact] dilation_radius and the bond distance with it).
-std::vector<ScenarioError> start_warnings(const Scenario& scenario,
+std::vector<io::ScenarioError> start_warnings(const io::Scenario& scenario,
                                           const geometry::Specimen& specimen);
 
 /// The same stable step for one body of the given mass, smallest principal moment of
 /// inertia and bounding radius (e.g. a piece a transgranular split has just made), with
 /// the scenario's springs and dt_safety.
-double stable_time_step(const Scenario& scenario, double mass, double inertia, double bounding_radius);
+double stable_time_step(const io::Scenario& scenario, double mass, double inertia, double bounding_radius);
 
 /// The world of a [dynamics] run: grains become bodies at their lattice centres lifted so
 /// the specimen's lowest point is `dynamics.lift` above z = 0, at rest; walls are added in
 /// file order (a `gap` wall placed against the specimen). Checks the time step first and
 /// the start (check_start) last.
-physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen);
+physics::World make_world(const io::Scenario& scenario, const geometry::Specimen& specimen);
 
 /// A grain's c-axis under [thermal] c_axis: z (a honeycomb grain's prism axis) or a
 /// direction uniform on the sphere drawn from the seed and the grain's id.
-Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id);
+Eigen::Vector3d grain_c_axis(const io::ThermalDef& thermal, int grain_id);
 
 /// [thermal] on a world of grains (make_world calls it): every grain at the temperature (and
-/// the gradient's linear field; a field below 0 K is a ScenarioError at thermal.gradient), its
+/// the gradient's linear field; a field below 0 K is a io::ScenarioError at thermal.gradient), its
 /// expansion tensor alpha_a I + (alpha_c - alpha_a) c c^T about its c-axis, the conduction.
-void apply_thermal(const Scenario& scenario, physics::World& world);
+void apply_thermal(const io::Scenario& scenario, physics::World& world);
 
-}  // namespace cleave::io
+}  // namespace cleave::sim

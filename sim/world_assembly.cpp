@@ -1,4 +1,4 @@
-#include "io/world_setup.hpp"
+#include "sim/world_assembly.hpp"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,15 @@
 
 #include "geometry/rng.hpp"
 
-namespace cleave::io {
+namespace cleave::sim {
+
+using io::DynamicsDef;
+using io::length_unit_metres;
+using io::Scenario;
+using io::ScenarioError;
+using io::SourcePosition;
+using io::StageDef;
+using io::ThermalDef;
 
 namespace {
 /// One rigid shape per distinct grain shape, in Specimen::shapes order.
@@ -643,4 +651,4 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
   return world;
 }
 
-}  // namespace cleave::io
+}  // namespace cleave::sim
