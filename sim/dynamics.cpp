@@ -76,15 +76,22 @@ class Dynamics::Runner {
  public:
   Runner(const io::Scenario& scenario, const geometry::Specimen& specimen, fs::path out, bool quiet,
          std::uint64_t max_steps, const RunHooks& hooks, RunResume* resume)
+      : Runner(resume ? AssembledWorld{std::move(resume->world), resume->stable_dt}
+                      : assemble_world(scenario, specimen),
+               scenario, specimen, std::move(out), quiet, max_steps, hooks, resume) {}
+
+  /// `start`: the world the run begins with (assembled, or a checkpoint's).
+  Runner(AssembledWorld start, const io::Scenario& scenario, const geometry::Specimen& specimen,
+         fs::path out, bool quiet, std::uint64_t max_steps, const RunHooks& hooks,
+         RunResume* resume)
       : scenario_(scenario),
         specimen_(specimen),
         out_(std::move(out)),
         quiet_(quiet),
         max_steps_(max_steps),
         hooks_(hooks),
-        world_(resume ? std::move(resume->world) : make_world(scenario, specimen)),
-        checks_(hooks.max_move_fraction, stable_time_step(scenario, specimen),
-                hooks_.stop_requested),
+        world_(std::move(start.world)),
+        checks_(hooks.max_move_fraction, start.stable_dt, hooks_.stop_requested),
         history_(scenario, world_, out_),
         frames_(out_, scenario, specimen),
         checkpoints_(hooks_) {

@@ -77,6 +77,9 @@ struct RunResume {
   physics::World world;
   std::optional<physics::FractureBook> book;
   std::string run_state;  ///< RunPoint::run_state() at the checkpoint
+  /// The stable step of the scenario (check_time_step), for what a blow-up says; 0: not
+  /// compared.
+  double stable_dt = 0.0;
 };
 
 /// What the caller of a Dynamics plugs into its step loop. Every member may be empty.

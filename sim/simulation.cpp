@@ -114,6 +114,7 @@ struct Simulation::State {
   std::vector<std::string> overrides, overrides_shown;
   /// A restart: the checkpoint holds the scenario as run and the state to continue from.
   std::optional<io::Checkpoint> checkpoint;
+  double stable_dt = 0.0;  ///< a restart's stable step (check_time_step), for its messages
   fs::path restart_file;
   fs::path out;
   io::FolderPlan folder;  ///< what start() clears of an earlier run in `out`
@@ -255,7 +256,8 @@ void Simulation::State::start() {
     if (specimen->grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
     // The time step and, for a fresh run, its start (sim::check_start) before the slabs and
     // meshes: a world made and dropped costs about one step.
-    if (scenario.dynamics.enabled && checkpoint) sim::check_time_step(scenario, *specimen);
+    if (scenario.dynamics.enabled && checkpoint)
+      stable_dt = sim::check_time_step(scenario, *specimen);
     if (scenario.dynamics.enabled && !checkpoint) {
       (void)sim::make_world(scenario, *specimen);
       if (writes_results()) {
@@ -346,7 +348,7 @@ void Simulation::State::make_dynamics() {
   std::optional<RunResume> resume;
   if (checkpoint) {
     resume.emplace(RunResume{std::move(checkpoint->world), std::move(checkpoint->book),
-                             std::move(checkpoint->run_state)});
+                             std::move(checkpoint->run_state), stable_dt});
     say(fmt::format("  restart    from {} at step {}", restart_file.string(), resume->world.steps()));
   }
   dynamics = std::make_unique<Dynamics>(scenario, *specimen, out, options.quiet, max_steps, hooks,

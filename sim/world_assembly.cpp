@@ -112,7 +112,7 @@ std::string advised_time_step(double limit) {
 }
 
 namespace {
-void check_time_step(const Scenario& scenario, const std::vector<physics::RigidShape>& shapes) {
+double check_time_step(const Scenario& scenario, const std::vector<physics::RigidShape>& shapes) {
   const DynamicsDef& dyn = scenario.dynamics;
   const StableStep s = stable_step(scenario, shapes);
   if (dyn.dt > s.dt) {
@@ -124,11 +124,12 @@ void check_time_step(const Scenario& scenario, const std::vector<physics::RigidS
                     dyn.dt, advised_time_step(s.dt), dyn.dt_safety, s.mass, s.inertia,
                     s.stiffness));
   }
+  return s.dt;
 }
 }  // namespace
 
-void check_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
-  check_time_step(scenario, grain_shapes(scenario, specimen));
+double check_time_step(const Scenario& scenario, const geometry::Specimen& specimen) {
+  return check_time_step(scenario, grain_shapes(scenario, specimen));
 }
 
 Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id) {
@@ -569,8 +570,12 @@ void check_start(const Scenario& scenario, const physics::World& world) {
 }
 
 physics::World make_world(const Scenario& scenario, const geometry::Specimen& specimen) {
+  return assemble_world(scenario, specimen).world;
+}
+
+AssembledWorld assemble_world(const Scenario& scenario, const geometry::Specimen& specimen) {
   const std::vector<physics::RigidShape> shapes = grain_shapes(scenario, specimen);
-  check_time_step(scenario, shapes);
+  const double stable_dt = check_time_step(scenario, shapes);
   const DynamicsDef& dyn = scenario.dynamics;
   physics::WorldSettings ws;
   ws.gravity = dyn.gravity;
@@ -648,7 +653,7 @@ physics::World make_world(const Scenario& scenario, const geometry::Specimen& sp
     world.add_wall(w);
   }
   check_start(scenario, world);
-  return world;
+  return {std::move(world), stable_dt};
 }
 
 }  // namespace cleave::sim

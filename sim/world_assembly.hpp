@@ -19,8 +19,8 @@ namespace cleave::sim {
 double stable_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen);
 
 /// Throws io::ScenarioError at [dynamics] dt (file, line, key) when dt is above
-/// stable_time_step, saying which value is needed (advised_time_step).
-void check_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen);
+/// stable_time_step, saying which value is needed (advised_time_step). Returns the limit.
+double check_time_step(const io::Scenario& scenario, const geometry::Specimen& specimen);
 
 /// The time step the refusal advises for a stable `limit`: the largest decimal of three
 /// significant digits whose text, read back, is not above it (so that setting it passes).
@@ -59,6 +59,14 @@ double stable_time_step(const io::Scenario& scenario, double mass, double inerti
 /// file order (a `gap` wall placed against the specimen). Checks the time step first and
 /// the start (check_start) last.
 physics::World make_world(const io::Scenario& scenario, const geometry::Specimen& specimen);
+
+/// make_world's world and the stable step its check found: the World owns dt
+/// (WorldSettings::dt); the limit is kept for what a run says when it blows up.
+struct AssembledWorld {
+  physics::World world;
+  double stable_dt = 0.0;  ///< stable_time_step, s
+};
+AssembledWorld assemble_world(const io::Scenario& scenario, const geometry::Specimen& specimen);
 
 /// A grain's c-axis under [thermal] c_axis: z (a honeycomb grain's prism axis) or a
 /// direction uniform on the sphere drawn from the seed and the grain's id.
