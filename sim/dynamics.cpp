@@ -74,12 +74,6 @@ MachineReading machine_reading(const physics::World& world, const std::vector<st
 /// One dynamic run, stage after stage, and everything it writes.
 class Dynamics::Runner {
  public:
-  Runner(const io::Scenario& scenario, const geometry::Specimen& specimen, fs::path out, bool quiet,
-         std::uint64_t max_steps, const RunHooks& hooks, RunResume* resume)
-      : Runner(resume ? AssembledWorld{std::move(resume->world), resume->stable_dt}
-                      : assemble_world(scenario, specimen),
-               scenario, specimen, std::move(out), quiet, max_steps, hooks, resume) {}
-
   /// `start`: the world the run begins with (assembled, or a checkpoint's).
   Runner(AssembledWorld start, const io::Scenario& scenario, const geometry::Specimen& specimen,
          fs::path out, bool quiet, std::uint64_t max_steps, const RunHooks& hooks,
@@ -640,8 +634,12 @@ class Dynamics::Runner {
 
 Dynamics::Dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
                    const fs::path& out, bool quiet, std::uint64_t max_steps, const RunHooks& hooks,
-                   RunResume* resume)
-    : runner_(std::make_unique<Runner>(scenario, specimen, out, quiet, max_steps, hooks, resume)) {}
+                   RunResume* resume, AssembledWorld* assembled)
+    : runner_(std::make_unique<Runner>(
+          resume      ? AssembledWorld{std::move(resume->world), resume->stable_dt}
+          : assembled ? std::move(*assembled)
+                      : assemble_world(scenario, specimen),
+          scenario, specimen, out, quiet, max_steps, hooks, resume)) {}
 Dynamics::~Dynamics() = default;
 std::uint64_t Dynamics::advance(std::uint64_t steps) { return runner_->advance(steps); }
 std::optional<StageSummary> Dynamics::advance_stage() { return runner_->advance_stage(); }

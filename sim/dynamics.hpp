@@ -14,8 +14,9 @@
 
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
-#include "physics/transgranular/fracture_book.hpp"
 #include "physics/dem/world.hpp"
+#include "physics/transgranular/fracture_book.hpp"
+#include "sim/world_assembly.hpp"
 
 namespace cleave::sim {
 
@@ -152,12 +153,16 @@ struct DynamicsSummary {
 /// and specimen instead of starting: the world, the fracture book and the loop's state
 /// are those saved, and the outputs of `out` continue where the checkpoint left them.
 ///
+/// Without `resume`, the run starts from `assembled` (moved from) when given: the world
+/// assemble_world made of the same scenario and specimen; otherwise it assembles its own.
+///
 /// The scenario and the specimen must outlive the run.
 class Dynamics {
  public:
   Dynamics(const io::Scenario& scenario, const geometry::Specimen& specimen,
            const std::filesystem::path& out, bool quiet, std::uint64_t max_steps = 0,
-           const RunHooks& hooks = {}, RunResume* resume = nullptr);
+           const RunHooks& hooks = {}, RunResume* resume = nullptr,
+           AssembledWorld* assembled = nullptr);
   ~Dynamics();
   Dynamics(const Dynamics&) = delete;
   Dynamics& operator=(const Dynamics&) = delete;

@@ -115,6 +115,8 @@ struct Simulation::State {
   /// A restart: the checkpoint holds the scenario as run and the state to continue from.
   std::optional<io::Checkpoint> checkpoint;
   double stable_dt = 0.0;  ///< a restart's stable step (check_time_step), for its messages
+  /// A fresh run's world, made (and its start checked) before the slabs and meshes.
+  std::optional<AssembledWorld> assembled;
   fs::path restart_file;
   fs::path out;
   io::FolderPlan folder;  ///< what start() clears of an earlier run in `out`
@@ -255,11 +257,11 @@ void Simulation::State::start() {
                     three_slab, specimen->grains.size() - three_slab, def.seed));
     if (specimen->grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
     // The time step and, for a fresh run, its start (sim::check_start) before the slabs and
-    // meshes: a world made and dropped costs about one step.
+    // meshes; the world made for the check is the one the run starts from.
     if (scenario.dynamics.enabled && checkpoint)
       stable_dt = sim::check_time_step(scenario, *specimen);
     if (scenario.dynamics.enabled && !checkpoint) {
-      (void)sim::make_world(scenario, *specimen);
+      assembled.emplace(sim::assemble_world(scenario, *specimen));
       if (writes_results()) {
         for (const io::ScenarioError& w : sim::start_warnings(scenario, *specimen)) {
           // With overrides the scenario was parsed from a rewritten text: its lines are not
@@ -351,8 +353,10 @@ void Simulation::State::make_dynamics() {
                              std::move(checkpoint->run_state), stable_dt});
     say(fmt::format("  restart    from {} at step {}", restart_file.string(), resume->world.steps()));
   }
-  dynamics = std::make_unique<Dynamics>(scenario, *specimen, out, options.quiet, max_steps, hooks,
-                                        resume ? &*resume : nullptr);
+  dynamics =
+      std::make_unique<Dynamics>(scenario, *specimen, out, options.quiet, max_steps, hooks,
+                                 resume ? &*resume : nullptr, assembled ? &*assembled : nullptr);
+  assembled.reset();  // moved into the run
 }
 
 RunReport Simulation::State::finish() {
