@@ -18,6 +18,7 @@
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 #include "io/units.hpp"
+#include "io/validation_scenario.hpp"
 #include "io/world_setup.hpp"
 
 namespace cleave::io {
@@ -329,6 +330,34 @@ TEST(ScenarioReference, ListsEveryKeyTheReaderAccepts) {
         "fracture", "thermal", "periodic", "stage"}) {
     EXPECT_TRUE(accepted.count(std::string(t))) << "no scenario reaches [" << t << "]";
   }
+}
+
+TEST(ScenarioReference, TheFormatPageListsEveryValidationKey) {
+  // The validation files have a format of their own, listed in SCENARIO_FORMAT.md's last
+  // section: every table and key the validation reader accepts is written there in backticks.
+  std::ifstream in(CLEAVE_SOURCE_DIR "/docs/SCENARIO_FORMAT.md");
+  const std::string page((std::istreambuf_iterator<char>(in)), {});
+  const auto start = page.find("## Validation scenarios");
+  ASSERT_NE(start, std::string::npos);
+  const std::string section = page.substr(start, page.find("\n## ", start + 1) - start);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(CLEAVE_SOURCE_DIR "/scenarios/validation")) {
+    if (entry.path().extension() != ".toml") continue;
+    ++files;
+    KeyCatalogue catalogue;
+    EXPECT_NO_THROW((void)load_validation_scenario(entry.path())) << entry.path();
+    for (const AcceptedKeys& t : catalogue.tables()) {
+      if (t.source != entry.path().string()) continue;
+      const std::string table = t.table.substr(0, t.table.find('.'));
+      if (table == t.table) {
+        EXPECT_TRUE(has(section, "`[" + table + "]`")) << "no [" << table << "]";
+      }
+      for (const std::string& k : t.keys) {
+        EXPECT_TRUE(has(section, "`" + k + "`")) << "[" << t.table << "] " << k << " is not listed";
+      }
+    }
+  }
+  EXPECT_GT(files, 5u);
 }
 
 // ---- errors -------------------------------------------------------------------------------
