@@ -56,8 +56,8 @@ MemoryLimit memory_limit();
 /// At most this many grains in a specimen, whatever the memory (grain ids are 32-bit ints).
 inline constexpr double kMaxGrains = 1e8;
 
-/// From peak RSS measured at two sizes each (cleave run, /usr/bin/time -v; see
-/// docs/SCENARIO_FORMAT.md): the process itself; a grain of a run without [dynamics] (its
+/// Upper figures from peak RSS at two sizes each (cleave run, /usr/bin/time -v), so that a
+/// run the estimate admits fits: the process itself; a grain of a run without [dynamics] (its
 /// grain, slabs, meshes, tables); a grain of a dynamic run without contacts or bonds (the
 /// same and its body); a contact point; a bond; a Voronoi or mesh grain's own exact cell and
 /// slabs; a body of the validation's cubic lattice with its links.

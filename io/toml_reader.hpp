@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "io/budget.hpp"
+#include "io/key_catalogue.hpp"
 #include "io/scenario.hpp"
 #include "io/units.hpp"
 
@@ -239,7 +240,16 @@ class TableReader {
   }
 
   /// Rejects the first key (in file order) not among `accepted`, listing the accepted keys.
+  /// Every table's list passes here, so a KeyCatalogue alive on the thread records it.
   void reject_unknown(std::span<const std::string_view> accepted) const {
+    if (KeyCatalogue* catalogue = KeyCatalogue::current())
+      catalogue->record(
+          {source_, name_, std::vector<std::string>(accepted.begin(), accepted.end())});
+    reject_unknown_keys(accepted);
+  }
+
+ private:
+  void reject_unknown_keys(std::span<const std::string_view> accepted) const {
     if (table_ == nullptr) return;
     const Entry bad = first_in_file(
         *table_, [&](std::string_view key, const toml::node&) { return !contains(accepted, key); });
@@ -248,6 +258,7 @@ class TableReader {
          fmt::format("unknown key in [{}]; accepted keys: {}", name_, quoted_list(accepted)));
   }
 
+ public:
   [[nodiscard]] const toml::node* find(std::string_view key) const {
     return table_ != nullptr ? table_->get(key) : nullptr;
   }
@@ -446,7 +457,7 @@ class TableReader {
     if (units_ == nullptr || find_key_dimension(units_->keys, name_, key) == nullptr) {
       fail(table, key, fmt::format("expected a number, found {}", type_name(table)));
     }
-    t.reject_unknown(kValueUnit);
+    t.reject_unknown_keys(kValueUnit);  // a { value, unit } pair, not a table of the format
     if (table.get("value") == nullptr)
       t.fail_absent("value", "missing required key: the number(s)");
     return t.string("unit");

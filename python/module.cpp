@@ -445,7 +445,7 @@ PYBIND11_MODULE(_cleave, m) {
               throw std::runtime_error(fmt::format(
                   "set_temperatures: {} has no [thermal] section: without it a temperature moves nothing (no "
                   "thermal expansion, no conduction); add [thermal] with the grains' expansion coefficients "
-                  "(docs/SCENARIO_FORMAT.md) to prescribe temperatures",
+                  "(scenarios/reference.toml) to prescribe temperatures",
                   s.scenario().source));
             const auto n = static_cast<py::ssize_t>(w.slot_thermal().size());
             if (kelvin.ndim() != 1 || kelvin.shape(0) != n)

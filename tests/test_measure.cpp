@@ -290,7 +290,7 @@ TEST(QuasiStaticLoading, TheSicDiscHeldInItsPlaneReadsTheSameStrengthAtAQuarterO
   // strength it reads at its 40 mm/s is the quasi-static one, so loading four times slower
   // moves it by less than the convergence check's 2 %. (Left free to leave the plane, the
   // disc buckled out of it at 2.5-10 mm/s under loads of 67-160 N, a third to two thirds of
-  // its strength, with no bond broken: USER_GUIDE, "Quasi-static loading".)
+  // its strength, with no bond broken: USER_GUIDE, "Why the SiC model is as it is".)
   const fs::path disc = fs::path(CLEAVE_SOURCE_DIR) / "scenarios/materials/sic_brazilian.toml";
   const sim::Measurement fast = run(sim::Test::brazilian, disc, "plane_fast");
   const sim::Measurement slow = run(sim::Test::brazilian, disc, "plane_slow", {"stage[3].rate_scale=0.25"});

@@ -62,7 +62,7 @@ TEST(FieldExpression, TheDocumentsExamplesReadAndGiveWhatTheySay) {
       for (double y = -12; y <= 12; y += h) heat += (spot(x, y, 0, t) - 293) * h * h;
     EXPECT_NEAR(heat, 740 * M_PI, 1e-3 * 740 * M_PI) << t;
   }
-  // docs/SCENARIO_FORMAT.md's example.
+  // A ripple on a cooling ramp: sin of x over a length.
   const io::FieldExpression ripple("1773 - 2e9*t*(1 + 0.1*sin(x/0.075))");
   EXPECT_NEAR(ripple(0.075 * M_PI / 2, 0, 0, 1e-7), 1773 - 200 * 1.1, 1e-9);
 }

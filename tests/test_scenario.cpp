@@ -7,13 +7,18 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "io/key_catalogue.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 #include "io/units.hpp"
+#include "io/validation_scenario.hpp"
 #include "sim/world_assembly.hpp"
 
 namespace cleave::io {
@@ -247,6 +252,112 @@ TEST(Scenario, ReferenceFileLoads) {
   EXPECT_TRUE(s.dynamics.enabled);
   EXPECT_EQ(s.walls.size(), 1u);
   EXPECT_EQ(s.contact.particle_particle.kn, 5000.0);
+}
+
+/// The keys scenarios/reference.toml writes under each table header, as `key = ...` or
+/// commented out as `# key = ...` (alternatives); headers count commented out too, and a
+/// sub-table's header [a.b] counts as the key b of [a].
+std::map<std::string, std::set<std::string>> reference_keys(const fs::path& file) {
+  static const std::regex header(R"(^\s*(?:#\s*)?\[\[?\s*([A-Za-z0-9_.]+)\s*\]\]?)");
+  static const std::regex key(R"(^\s*(?:#\s*)?([A-Za-z_][A-Za-z0-9_]*)\s*=)");
+  std::map<std::string, std::set<std::string>> keys;
+  std::ifstream in(file);
+  std::string table;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, header)) {
+      table = m[1];
+      keys[table];
+      if (const auto dot = table.rfind('.'); dot != std::string::npos)
+        keys[table.substr(0, dot)].insert(table.substr(dot + 1));
+    } else if (!table.empty() && std::regex_search(line, m, key)) {
+      keys[table].insert(m[1]);
+    }
+  }
+  return keys;
+}
+
+/// "wall[2]" -> "wall": the array tables' entries share one header.
+std::string table_header(const std::string& name) {
+  return std::regex_replace(name, std::regex(R"(\[[0-9]+\])"), "");
+}
+
+TEST(ScenarioReference, ListsEveryKeyTheReaderAccepts) {
+  const fs::path reference = CLEAVE_SOURCE_DIR "/scenarios/reference.toml";
+  const auto documented = reference_keys(reference);
+  // The reference itself, and every committed scenario (they reach the tables the reference
+  // can show only commented out: [[mesh_grain]], each kind of [[stage]]). The validation
+  // specimens and the calibration file have formats of their own.
+  std::vector<fs::path> files = {reference};
+  for (const auto& entry : fs::recursive_directory_iterator(CLEAVE_SOURCE_DIR "/scenarios")) {
+    if (entry.path().extension() != ".toml" || entry.path() == reference) continue;
+    if (entry.path().parent_path().filename() == "validation") continue;
+    std::ifstream in(entry.path());
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    if (text.find("\n[specimen]") != std::string::npos) files.push_back(entry.path());
+  }
+  ASSERT_GT(files.size(), 10u);
+  std::set<std::pair<std::string, std::string>> missing;
+  std::map<std::string, std::set<std::string>> accepted;
+  for (const fs::path& file : files) {
+    KeyCatalogue catalogue;
+    EXPECT_NO_THROW((void)load_scenario(file)) << file;
+    for (const AcceptedKeys& t : catalogue.tables()) {
+      if (t.source != file.string()) continue;  // a material preset's own file
+      const std::string name = table_header(t.table);
+      const auto it = documented.find(name);
+      for (const std::string& k : t.keys) {
+        accepted[name].insert(k);
+        if (it == documented.end() || it->second.count(k) == 0) missing.insert({name, k});
+      }
+    }
+  }
+  for (const auto& [table, k] : missing) {
+    ADD_FAILURE() << "scenarios/reference.toml does not list [" << table << "] " << k;
+  }
+  // Nor does it list a key the reader would refuse (a stale or misspelt one).
+  for (const auto& [table, ks] : documented) {
+    for (const std::string& k : ks) {
+      EXPECT_TRUE(accepted.count(table) && accepted[table].count(k))
+          << "scenarios/reference.toml lists [" << table << "] " << k
+          << ", which no reader accepts";
+    }
+  }
+  // Each table of the format was reached at least once, so none escaped the check.
+  for (std::string_view t :
+       {"scenario", "specimen", "grain", "mesh_grain", "orientation", "split", "output", "material",
+        "contact", "contact.particle_particle", "contact.particle_wall", "dynamics", "wall", "bond",
+        "fracture", "thermal", "periodic", "stage"}) {
+    EXPECT_TRUE(accepted.count(std::string(t))) << "no scenario reaches [" << t << "]";
+  }
+}
+
+TEST(ScenarioReference, TheFormatPageListsEveryValidationKey) {
+  // The validation files have a format of their own, listed in SCENARIO_FORMAT.md's last
+  // section: every table and key the validation reader accepts is written there in backticks.
+  std::ifstream in(CLEAVE_SOURCE_DIR "/docs/SCENARIO_FORMAT.md");
+  const std::string page((std::istreambuf_iterator<char>(in)), {});
+  const auto start = page.find("## Validation scenarios");
+  ASSERT_NE(start, std::string::npos);
+  const std::string section = page.substr(start, page.find("\n## ", start + 1) - start);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(CLEAVE_SOURCE_DIR "/scenarios/validation")) {
+    if (entry.path().extension() != ".toml") continue;
+    ++files;
+    KeyCatalogue catalogue;
+    EXPECT_NO_THROW((void)load_validation_scenario(entry.path())) << entry.path();
+    for (const AcceptedKeys& t : catalogue.tables()) {
+      if (t.source != entry.path().string()) continue;
+      const std::string table = t.table.substr(0, t.table.find('.'));
+      if (table == t.table) {
+        EXPECT_TRUE(has(section, "`[" + table + "]`")) << "no [" << table << "]";
+      }
+      for (const std::string& k : t.keys) {
+        EXPECT_TRUE(has(section, "`" + k + "`")) << "[" << t.table << "] " << k << " is not listed";
+      }
+    }
+  }
+  EXPECT_GT(files, 5u);
 }
 
 // ---- errors -------------------------------------------------------------------------------

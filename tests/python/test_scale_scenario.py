@@ -112,7 +112,7 @@ def test_notched_beam_through_its_bonds_is_sics_toughness_and_starts_cracking_at
     # so K_Ic = P S / (B W^1.5) Y at crack initiation (k_ic_Pa_sqrt_m_at_first_crack) is
     # 1/sqrt(2) of it. (The peak itself need not follow: the notch tip's two bonds are loaded
     # alike, and where rounding breaks only one of them the crack kinks and stops before the
-    # peak, USER_GUIDE "Real materials".)
+    # peak.)
     scale(MATERIALS / "sic_senb.toml", 0.5, tmp_path / "half.toml")
     p1 = measure(cleave_binary, "senb", MATERIALS / "sic_senb.toml", tmp_path / "one")
     p2 = measure(cleave_binary, "senb", tmp_path / "half.toml", tmp_path / "two")
