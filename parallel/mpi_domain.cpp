@@ -1,7 +1,5 @@
 #include "parallel/mpi_domain.hpp"
 
-#include "physics/dem/exchange.hpp"
-
 #include <mpi.h>
 
 #include <algorithm>
@@ -12,6 +10,8 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "physics/dem/exchange.hpp"
+
 namespace cleave::parallel {
 
 namespace {
@@ -20,8 +20,8 @@ using physics::BodyState;
 using physics::BondDynamic;
 using physics::Exchange;
 using physics::HistoryEntry;
-using physics::WallForceAt;
 using physics::Role;
+using physics::WallForceAt;
 using physics::World;
 
 /// Plain bytes in and out of a buffer: states, histories and bonds are plain data (doubles,
@@ -252,7 +252,8 @@ void MpiDomain::repartition(World& world, bool first) {
   if (first) {
     // Every process knows every body: the same cuts everywhere, no messages.
     std::vector<Bisection::Point> points;
-    for (const physics::BodyId id : world.body_ids()) points.push_back({ex.state(id.index).x, id.index});
+    for (const physics::BodyId id : world.body_ids())
+      points.push_back({ex.state(id.index).x, id.index});
     cuts_ = Bisection(std::move(points), size_);
     for (const physics::BodyId id : world.body_ids()) {
       if (cuts_.owner(ex.state(id.index).x) == rank_) roles[id.index] = Role::owned;
@@ -273,7 +274,8 @@ void MpiDomain::repartition(World& world, bool first) {
   ++stats_.repartitions;
   if (rebalanced) {
     ++stats_.rebalances;
-    stats_.rebalance_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats_.rebalance_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 }
 
@@ -289,7 +291,8 @@ bool MpiDomain::recut(const Exchange& ex) {
     MPI_Allreduce(&mine, &most, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
     MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   }
-  if (!(total > 0 && static_cast<double>(most) > rebalance_ * static_cast<double>(total) / static_cast<double>(n)))
+  if (!(total > 0 && static_cast<double>(most) >
+                         rebalance_ * static_cast<double>(total) / static_cast<double>(n)))
     return false;
   std::vector<char> buf;
   Packer pk{buf};
@@ -301,7 +304,8 @@ bool MpiDomain::recut(const Exchange& ex) {
     Unpacker up{part};
     while (up.more()) points.push_back(up.get<Bisection::Point>());
   }
-  std::sort(points.begin(), points.end(), [](const auto& p, const auto& q) { return p.slot < q.slot; });
+  std::sort(points.begin(), points.end(),
+            [](const auto& p, const auto& q) { return p.slot < q.slot; });
   cuts_ = Bisection(std::move(points), size_);
   return true;
 }

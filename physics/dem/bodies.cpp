@@ -15,9 +15,11 @@ std::uint32_t Bodies::add_shape(RigidShape shape) {
   return static_cast<std::uint32_t>(shapes_.size() - 1);
 }
 
-BodyId Bodies::add(std::uint32_t shape, double rho, const Eigen::Vector3d& x, const Eigen::Quaterniond& q,
-                   const Eigen::Vector3d& v, const Eigen::Vector3d& w, int grain_id) {
-  if (shape >= shapes_.size()) throw std::out_of_range("add_body: no shape " + std::to_string(shape));
+BodyId Bodies::add(std::uint32_t shape, double rho, const Eigen::Vector3d& x,
+                   const Eigen::Quaterniond& q, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                   int grain_id) {
+  if (shape >= shapes_.size())
+    throw std::out_of_range("add_body: no shape " + std::to_string(shape));
   if (!(rho > 0.0)) throw std::invalid_argument("add_body: density must be positive");
   std::uint32_t slot;
   if (!free_slots_.empty()) {
@@ -97,8 +99,8 @@ namespace {
 /// in (acting on it alone first, if need be), `run(batch, infos, n)` acts on a batch (the
 /// batch drift and kick: the same bits as one body at a time).
 template <class Take, class Run>
-void in_batches(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos, int nt, Take&& take,
-                Run&& run) {
+void in_batches(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos, int nt,
+                Take&& take, Run&& run) {
   const auto slots = static_cast<std::ptrdiff_t>(states.size());
 #pragma omp parallel num_threads(nt) if (slots >= kParallelMin)
   {
@@ -139,9 +141,7 @@ void Bodies::closing_kick(double h, int nt, bool lanes) {
       [&](std::size_t i) {
         return infos_[i].alive && !infos_[i].fixed && owns(static_cast<std::uint32_t>(i));
       },
-      [&](BodyState* const* s, const BodyInfo* const* b, int n) {
-        kick(s, b, n, 0.5 * h, lanes);
-      });
+      [&](BodyState* const* s, const BodyInfo* const* b, int n) { kick(s, b, n, 0.5 * h, lanes); });
 }
 
 void Bodies::hold_in_plane(const std::vector<std::uint32_t>& live) {
@@ -160,7 +160,8 @@ void Bodies::hold_in_plane(const std::vector<std::uint32_t>& live) {
   }
 }
 
-void Bodies::apply_local_damping(double alpha, const std::vector<std::uint32_t>& live_slots, int nt) {
+void Bodies::apply_local_damping(double alpha, const std::vector<std::uint32_t>& live_slots,
+                                 int nt) {
   const auto live = static_cast<std::ptrdiff_t>(live_slots.size());
   if (live < kParallelMin) nt = 1;
   // f_c -= alpha |f_c| sgn(v_c) where v_c is not zero; without branches (a settling body's
@@ -188,8 +189,12 @@ void Bodies::apply_local_damping(double alpha, const std::vector<std::uint32_t>&
 }
 
 namespace {
-double kinetic(const BodyState& s, const BodyInfo& b) { return 0.5 * b.mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L); }
-double potential(const BodyState& s, const BodyInfo& b, const Eigen::Vector3d& g) { return -b.mass * g.dot(s.x); }
+double kinetic(const BodyState& s, const BodyInfo& b) {
+  return 0.5 * b.mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.L);
+}
+double potential(const BodyState& s, const BodyInfo& b, const Eigen::Vector3d& g) {
+  return -b.mass * g.dot(s.x);
+}
 }  // namespace
 
 double Bodies::kinetic_energy() const {
@@ -241,8 +246,9 @@ Eigen::Vector3d Bodies::angular_momentum() const {
   return l;
 }
 
-void Bodies::restore(std::vector<RigidShape> shapes, std::vector<BodyState> states, std::vector<BodyInfo> infos,
-                     std::vector<std::uint32_t> free_slots, std::size_t live) {
+void Bodies::restore(std::vector<RigidShape> shapes, std::vector<BodyState> states,
+                     std::vector<BodyInfo> infos, std::vector<std::uint32_t> free_slots,
+                     std::size_t live) {
   shapes_ = std::move(shapes);
   states_ = std::move(states);
   infos_ = std::move(infos);
@@ -250,7 +256,8 @@ void Bodies::restore(std::vector<RigidShape> shapes, std::vector<BodyState> stat
   live_ = live;
 }
 
-Fragment fragment_placement(const RigidShape& parent, const RigidShape& piece, std::uint32_t shape) {
+Fragment fragment_placement(const RigidShape& parent, const RigidShape& piece,
+                            std::uint32_t shape) {
   Fragment f;
   f.shape = shape;
   // Both principal frames are given in the same shape coordinates.

@@ -20,8 +20,8 @@ namespace cleave::physics {
 /// One piece a body breaks into (chapter 3): a registered shape placed in the parent's
 /// principal frame. `fragment_placement` computes the placement from the two shapes.
 struct Fragment {
-  std::uint32_t shape = 0;                               ///< World shape index
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();      ///< its centroid, parent's frame
+  std::uint32_t shape = 0;                                   ///< World shape index
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();          ///< its centroid, parent's frame
   Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();  ///< its frame -> parent's frame
 };
 
@@ -39,7 +39,9 @@ class Bodies {
   [[nodiscard]] std::size_t shape_count() const { return shapes_.size(); }
   [[nodiscard]] const std::vector<RigidShape>& shapes() const { return shapes_; }
   /// The shape of the body in `slot`.
-  [[nodiscard]] const RigidShape& shape_of(std::uint32_t slot) const { return shapes_[infos_[slot].shape]; }
+  [[nodiscard]] const RigidShape& shape_of(std::uint32_t slot) const {
+    return shapes_[infos_[slot].shape];
+  }
 
   /// A new body in a free slot (or a new one); see World::add_body.
   BodyId add(std::uint32_t shape, double rho, const Eigen::Vector3d& x, const Eigen::Quaterniond& q,
@@ -47,7 +49,8 @@ class Bodies {
   /// Frees the body's slot (its id must be valid).
   void remove(BodyId id);
   [[nodiscard]] bool contains(BodyId id) const {
-    return id.index < infos_.size() && infos_[id.index].alive && infos_[id.index].generation == id.generation;
+    return id.index < infos_.size() && infos_[id.index].alive &&
+           infos_[id.index].generation == id.generation;
   }
   /// The slot of `id`; throws std::out_of_range naming `what` when stale or invalid.
   std::uint32_t slot_of(BodyId id, const char* what) const {
@@ -68,7 +71,9 @@ class Bodies {
   [[nodiscard]] const std::vector<std::uint32_t>& free_slots() const { return free_slots_; }
 
   /// One process of a domain: the role of each slot (empty: all owned).
-  [[nodiscard]] Role role(std::uint32_t slot) const { return roles_.empty() ? Role::owned : roles_[slot]; }
+  [[nodiscard]] Role role(std::uint32_t slot) const {
+    return roles_.empty() ? Role::owned : roles_[slot];
+  }
   [[nodiscard]] bool owns(std::uint32_t slot) const { return role(slot) == Role::owned; }
   [[nodiscard]] const std::vector<Role>& roles() const { return roles_; }
   void set_roles(std::vector<Role> roles);
@@ -99,8 +104,9 @@ class Bodies {
   [[nodiscard]] Eigen::Vector3d angular_momentum() const;
 
   /// A checkpoint's bodies (world_state.cpp checks them before).
-  void restore(std::vector<RigidShape> shapes, std::vector<BodyState> states, std::vector<BodyInfo> infos,
-               std::vector<std::uint32_t> free_slots, std::size_t live);
+  void restore(std::vector<RigidShape> shapes, std::vector<BodyState> states,
+               std::vector<BodyInfo> infos, std::vector<std::uint32_t> free_slots,
+               std::size_t live);
 
  private:
   std::vector<RigidShape> shapes_;

@@ -26,7 +26,14 @@ struct Bonds::LawPass {
   LawPass(Bonds& bonds, const std::vector<BodyState>& states, const std::vector<Role>& roles,
           const ThermalField& thermal, const CellControl& cell, const BondParams& base, double dt,
           std::vector<FailureAt>& failed)
-      : bonds(bonds), states(states), roles(roles), thermal(thermal), cell(cell), base(base), dt(dt), failed(failed) {}
+      : bonds(bonds),
+        states(states),
+        roles(roles),
+        thermal(thermal),
+        cell(cell),
+        base(base),
+        dt(dt),
+        failed(failed) {}
   Bonds& bonds;
   const std::vector<BodyState>& states;
   const std::vector<Role>& roles;
@@ -48,12 +55,14 @@ struct Bonds::LawPass {
   /// dT_A; the bond deforms by their difference on top of the rigid motions. Its normal
   /// part is the gap the grains' thermal strain opens at the bond (negative: they grow into
   /// each other), kept for the pair's contacts (a broken bond's too).
-  [[nodiscard]] Eigen::Vector3d thermal_free(const Bond& bd, const BodyState& sa, const BodyState& sb) const {
+  [[nodiscard]] Eigen::Vector3d thermal_free(const Bond& bd, const BodyState& sa,
+                                             const BodyState& sb) const {
     const BodyThermal& ta = thermal[bd.a];
     const BodyThermal& tb = thermal[bd.b];
     const double dta = ta.temperature - ta.bonded_at, dtb = tb.temperature - tb.bonded_at;
     if (dta == 0.0 && dtb == 0.0) return Eigen::Vector3d::Zero();
-    return rotated(sb.q, tb.alpha * (bd.arm_b - tb.centre)) * dtb - rotated(sa.q, ta.alpha * (bd.arm_a - ta.centre)) * dta;
+    return rotated(sb.q, tb.alpha * (bd.arm_b - tb.centre)) * dtb -
+           rotated(sa.q, ta.alpha * (bd.arm_a - ta.centre)) * dta;
   }
   /// What the bond adds to each body, for the sum (the same arithmetic the sum did from the
   /// bond itself): a small record read by body, instead of the large bond.
@@ -148,7 +157,8 @@ struct Bonds::LawPass {
   }
 
   /// BondLaw::beam: bond k's beam (bond_law.hpp, beam_force) from its bodies' poses.
-  void beam(Bond& bd, const BodyState& sa, const BodyState& sb, const BondParams& params, std::size_t k);
+  void beam(Bond& bd, const BodyState& sa, const BodyState& sb, const BondParams& params,
+            std::size_t k);
   /// Bond k alone: the general law (thermal, moving cell, beams, a decomposition's roles).
   void one(std::size_t k);
   /// The block [begin, end).
@@ -191,7 +201,8 @@ void Bonds::LawPass::one(std::size_t k) {
   const BodyState& sb = states[bd.b];
   if (!bd.intact()) {
     if (thermal_on) {
-      const Eigen::Vector3d n = (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
+      const Eigen::Vector3d n =
+          (rotated(sa.q, bd.normal_a) + rotated(sb.q, bd.normal_b)).normalized();
       bd.thermal_gap += n.dot(thermal_free(bd, sa, sb));
     }
     bonds.push_[k].live = false;
@@ -222,7 +233,8 @@ void Bonds::LawPass::one(std::size_t k) {
       const Eigen::Vector3d growth =
           rotated(sa.q, ta.alpha * (bd.arm_a - bd.beam.end_a)) * (ta.temperature - ta.bonded_at) +
           rotated(sb.q, tb.alpha * (bd.beam.end_b - bd.arm_b)) * (tb.temperature - tb.bonded_at);
-      const Eigen::Vector3d chord = xb + rotated(sb.q, bd.beam.end_b) - sa.x - rotated(sa.q, bd.beam.end_a);
+      const Eigen::Vector3d chord =
+          xb + rotated(sb.q, bd.beam.end_b) - sa.x - rotated(sa.q, bd.beam.end_a);
       bd.beam.rest_length += chord.normalized().dot(growth);
     }
   }
@@ -237,8 +249,8 @@ void Bonds::LawPass::one(std::size_t k) {
     push(k);
     return;
   }
-  const BondResult r =
-      bond_force(*params, constants_of(bd), bd.section, bd.normal, velocity, sb.w - sa.w, bd.state, dt);
+  const BondResult r = bond_force(*params, constants_of(bd), bd.section, bd.normal, velocity,
+                                  sb.w - sa.w, bd.state, dt);
   bd.force = r.force;
   bd.moment = r.moment;
   if (r.failure != BondFailure::none) failed.push_back({k, r.failure, r.at_failure});
@@ -248,8 +260,8 @@ void Bonds::LawPass::one(std::size_t k) {
   if (out.live) fill(out, point, v3(r.force), v3(r.moment));
 }
 
-void Bonds::LawPass::beam(Bond& bd, const BodyState& sa, const BodyState& sb, const BondParams& params,
-                          std::size_t k) {
+void Bonds::LawPass::beam(Bond& bd, const BodyState& sa, const BodyState& sb,
+                          const BondParams& params, std::size_t k) {
   BeamPose pose;
   pose.end_a = sa.x + rotated(sa.q, bd.beam.end_a);
   pose.end_b = sb.x + bd.shift + rotated(sb.q, bd.beam.end_b);
@@ -269,7 +281,8 @@ void Bonds::LawPass::beam(Bond& bd, const BodyState& sa, const BodyState& sb, co
   if (r.peak_stress > params.sigma_f * bd.strength) {
     // Named by the larger part of that stress: the pull or the bending.
     const double pull = r.axial / BondSection{params.beam_radius}.area();
-    const BondFailure mode = pull >= r.peak_stress - pull ? BondFailure::tension : BondFailure::bending;
+    const BondFailure mode =
+        pull >= r.peak_stress - pull ? BondFailure::tension : BondFailure::bending;
     BondState at = bd.state;
     bd.state = BondState{};
     bd.state.broken = true;
@@ -281,8 +294,8 @@ void Bonds::LawPass::beam(Bond& bd, const BodyState& sa, const BodyState& sb, co
   bd.moment = r.moment_b + (pose.end_b - bd.point).cross(r.force_b);
 }
 
-void Bonds::apply_law(const Bodies& bodies, const ThermalField& thermal, const CellControl& cell, double dt,
-                      bool lanes, int nt, double time, std::uint64_t step) {
+void Bonds::apply_law(const Bodies& bodies, const ThermalField& thermal, const CellControl& cell,
+                      double dt, bool lanes, int nt, double time, std::uint64_t step) {
   const std::size_t n = bonds_.size();
   if (n == 0) return;
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
@@ -298,12 +311,13 @@ void Bonds::apply_law(const Bodies& bodies, const ThermalField& thermal, const C
     if (base.law == BondLaw::beam) base.sigma_f = std::numeric_limits<double>::infinity();
   }
   push_.resize(n);
-  const bool plain = base.law == BondLaw::bonded_particle && !thermal.on() && !(cell.on() && cell.moving()) &&
-                     bodies.roles().empty() && lanes && has_avx();
+  const bool plain = base.law == BondLaw::bonded_particle && !thermal.on() &&
+                     !(cell.on() && cell.moving()) && bodies.roles().empty() && lanes && has_avx();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const threads::Block block = threads::thread_block(n);
-    LawPass pass(*this, bodies.states(), bodies.roles(), thermal, cell, base, dt, failures_[block.thread]);
+    LawPass pass(*this, bodies.states(), bodies.roles(), thermal, cell, base, dt,
+                 failures_[block.thread]);
     pass.run(block.begin, block.end, plain);
   }
   log_breaks(bodies.infos(), time, step);
@@ -319,8 +333,8 @@ void Bonds::log_breaks(const std::vector<BodyInfo>& infos, double time, std::uin
       bd.broken_at = time;
       bd.force.setZero();
       bd.moment.setZero();
-      breaks_.push_back({time, step, f.bond, bd.a, bd.b, infos[bd.a].grain_id, infos[bd.b].grain_id, bd.point,
-                         bd.normal, f.failure, f.at});
+      breaks_.push_back({time, step, f.bond, bd.a, bd.b, infos[bd.a].grain_id, infos[bd.b].grain_id,
+                         bd.point, bd.normal, f.failure, f.at});
     }
   }
 }
@@ -331,7 +345,8 @@ void Bonds::sum(Bodies& bodies, bool cell_on, std::vector<Eigen::Vector3d>* diag
   // Onto the bodies in bond order, whatever the number of threads: each thread takes a
   // block of bodies and walks each body's bonds (body_bonds_), summing in registers.
   std::vector<BodyState>& states = bodies.states();
-  if (body_bonds_stale_ || body_bond_start_.size() != states.size() + 1) list_body_bonds(states.size());
+  if (body_bonds_stale_ || body_bond_start_.size() != states.size() + 1)
+    list_body_bonds(states.size());
   const std::size_t slots = states.size();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {

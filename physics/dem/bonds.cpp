@@ -15,16 +15,20 @@ namespace cleave::physics {
 namespace {
 /// The area of the polygon the contact points of two touching faces span (their overlap's
 /// corners), seen along `normal`; 0 when they span no area (an edge or corner contact).
-double contact_polygon_area(const std::vector<FeatureContact>& features, const Eigen::Vector3d& normal) {
+double contact_polygon_area(const std::vector<FeatureContact>& features,
+                            const Eigen::Vector3d& normal) {
   if (features.size() < 3) return 0.0;
   const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   std::vector<Eigen::Vector2d> corners;
-  for (const FeatureContact& fc : features) corners.emplace_back(fc.contact.point.dot(u), fc.contact.point.dot(v));
+  for (const FeatureContact& fc : features)
+    corners.emplace_back(fc.contact.point.dot(u), fc.contact.point.dot(v));
   for (const auto& c : corners) centre += c / static_cast<double>(corners.size());
-  std::sort(corners.begin(), corners.end(), [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-    return std::atan2(p.y() - centre.y(), p.x() - centre.x()) < std::atan2(q.y() - centre.y(), q.x() - centre.x());
-  });
+  std::sort(corners.begin(), corners.end(),
+            [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+              return std::atan2(p.y() - centre.y(), p.x() - centre.x()) <
+                     std::atan2(q.y() - centre.y(), q.x() - centre.x());
+            });
   double twice = 0.0;  // shoelace
   for (std::size_t i = 0; i < corners.size(); ++i) {
     const Eigen::Vector2d& p = corners[i];
@@ -35,11 +39,13 @@ double contact_polygon_area(const std::vector<FeatureContact>& features, const E
 }
 }  // namespace
 
-void Bonds::make(const BondParams& params, double distance, const Bodies& bodies, const std::vector<PosedShape>& posed,
-                 const std::vector<std::uint32_t>& live, const CellControl& cell, SearchMethod method) {
+void Bonds::make(const BondParams& params, double distance, const Bodies& bodies,
+                 const std::vector<PosedShape>& posed, const std::vector<std::uint32_t>& live,
+                 const CellControl& cell, SearchMethod method) {
   const std::vector<BodyState>& states = bodies.states();
   std::vector<BoundingSphere> spheres;
-  for (std::uint32_t slot : live) spheres.push_back({states[slot].x, bodies.shape_of(slot).bounding_radius()});
+  for (std::uint32_t slot : live)
+    spheres.push_back({states[slot].x, bodies.shape_of(slot).bounding_radius()});
   std::vector<BodyPair> pairs;
   NeighbourSearch search(method);
   cell.find_pairs(search, spheres, distance, pairs);
@@ -71,7 +77,8 @@ void Bonds::make(const BondParams& params, double distance, const Bodies& bodies
     touching.clear();
     polyhedron_contacts(posed[a], n.isZero() ? posed[b] : image, 0.0, touching);
     for (const FeatureContact& fc : touching) {
-      if (fc.contact.penetration > 0.0) bd.initial.push_back({fc.feature_a, fc.feature_b, fc.contact.penetration});
+      if (fc.contact.penetration > 0.0)
+        bd.initial.push_back({fc.feature_a, fc.feature_b, fc.contact.penetration});
     }
     point /= static_cast<double>(features.size());
     if (normal.norm() < 1e-12) continue;  // opposed normals: no well-defined bond
@@ -112,18 +119,29 @@ BondCounts Bonds::counts() const {
   BondCounts c;
   for (const Bond& bd : bonds_) {
     switch (bd.failure) {
-      case BondFailure::none: ++c.intact; break;
-      case BondFailure::tension: ++c.tension; break;
-      case BondFailure::shear: ++c.shear; break;
-      case BondFailure::bending: ++c.bending; break;
-      case BondFailure::torsion: ++c.torsion; break;
+      case BondFailure::none:
+        ++c.intact;
+        break;
+      case BondFailure::tension:
+        ++c.tension;
+        break;
+      case BondFailure::shear:
+        ++c.shear;
+        break;
+      case BondFailure::bending:
+        ++c.bending;
+        break;
+      case BondFailure::torsion:
+        ++c.torsion;
+        break;
     }
   }
   return c;
 }
 
-std::size_t Bonds::break_by_stress(const std::vector<Eigen::Matrix3d>& stress, const std::vector<BodyInfo>& infos,
-                                   double time, std::uint64_t step) {
+std::size_t Bonds::break_by_stress(const std::vector<Eigen::Matrix3d>& stress,
+                                   const std::vector<BodyInfo>& infos, double time,
+                                   std::uint64_t step) {
   std::size_t broke = 0;
   for (std::size_t k = 0; k < bonds_.size(); ++k) {
     Bond& bd = bonds_[k];
@@ -145,15 +163,19 @@ std::size_t Bonds::break_by_stress(const std::vector<Eigen::Matrix3d>& stress, c
     bd.moment.setZero();
     if (k < push_.size()) push_[k].live = false;
     ++broke;
-    breaks_.push_back({time, step, k, bd.a, bd.b, infos[bd.a].grain_id, infos[bd.b].grain_id, bd.point,
-                       bd.normal, BondFailure::tension, at});
+    breaks_.push_back({time, step, k, bd.a, bd.b, infos[bd.a].grain_id, infos[bd.b].grain_id,
+                       bd.point, bd.normal, BondFailure::tension, at});
   }
   return broke;
 }
 
 void Bonds::list_body_bonds(std::size_t slots) {
-  threads::list_by_body(slots, bonds_.size(), [&](std::size_t k) { return std::pair{bonds_[k].a, bonds_[k].b}; },
-                        body_bond_start_, body_bonds_);
+  threads::list_by_body(
+      slots, bonds_.size(),
+      [&](std::size_t k) {
+        return std::pair{bonds_[k].a, bonds_[k].b};
+      },
+      body_bond_start_, body_bonds_);
   body_bonds_stale_ = false;
 }
 
@@ -186,7 +208,8 @@ Bonds::Parted Bonds::part(std::uint32_t old_slot) const {
 namespace {
 /// The piece (index into `ids`) that holds `point` (world): the one whose shape it is
 /// deepest inside (the least largest signed distance to a face plane).
-std::size_t piece_holding(const Eigen::Vector3d& point, const std::vector<BodyId>& ids, const Bodies& bodies) {
+std::size_t piece_holding(const Eigen::Vector3d& point, const std::vector<BodyId>& ids,
+                          const Bodies& bodies) {
   std::size_t best = 0;
   double best_depth = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < ids.size(); ++k) {
@@ -229,8 +252,8 @@ void swap_ends(Bond& bd) {
 }
 }  // namespace
 
-void Bonds::follow_split(Parted parted, std::uint32_t old_slot, const BodyState& ps, const std::vector<BodyId>& ids,
-                         const Bodies& bodies) {
+void Bonds::follow_split(Parted parted, std::uint32_t old_slot, const BodyState& ps,
+                         const std::vector<BodyId>& ids, const Bodies& bodies) {
   // Each bond follows its material point to the piece that holds it.
   for (Bond bd : parted.moved) {
     const bool parent_is_a = bd.a == old_slot;
@@ -244,7 +267,9 @@ void Bonds::follow_split(Parted parted, std::uint32_t old_slot, const BodyState&
     const Eigen::Vector3d new_normal = s.q.conjugate() * (ps.q * normal);
     // A beam's end stays the material point it was (the parent's centroid at bonding),
     // now of the piece; its directions turn into the piece's frame.
-    auto into_piece = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d { return s.q.conjugate() * (ps.q * v); };
+    auto into_piece = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
+      return s.q.conjugate() * (ps.q * v);
+    };
     Bond::Beam& beam = bd.beam;
     if (parent_is_a) {
       bd.a = slot;
@@ -311,8 +336,8 @@ void Bonds::follow_wrap(const std::vector<Eigen::Vector3i>& moved, const Periodi
 
 BondDynamic Bonds::dynamic(std::size_t k) const {
   const Bond& b = bonds_[k];
-  return {k, b.state, b.failure, b.broken_at, b.thermal_gap, b.beam.rest_length,
-          b.point, b.normal, b.force, b.moment, b.shift};
+  return {k,       b.state,  b.failure, b.broken_at, b.thermal_gap, b.beam.rest_length,
+          b.point, b.normal, b.force,   b.moment,    b.shift};
 }
 
 void Bonds::apply(const BondDynamic& d) {
@@ -329,8 +354,8 @@ void Bonds::apply(const BondDynamic& d) {
   b.shift = d.shift;
 }
 
-void Bonds::restore(std::vector<Bond> bonds, std::vector<PairOffset> offsets, const BondParams& params,
-                    std::vector<BondBreak> breaks) {
+void Bonds::restore(std::vector<Bond> bonds, std::vector<PairOffset> offsets,
+                    const BondParams& params, std::vector<BondBreak> breaks) {
   bonds_ = std::move(bonds);
   body_bonds_stale_ = true;
   offsets_ = std::move(offsets);

@@ -31,10 +31,10 @@ struct alignas(64) Bond {
   // What the bond law reads every step fills the first two cache lines, what it writes the
   // next three (the bond law walks 30,000 of them a step in a 10,000-grain disc, at
   // the machine's memory bandwidth: its bytes set its pace); the rest after.
-  std::uint32_t a = 0, b = 0;                       ///< body slots, a < b
-  BondSection section;   ///< eq. 2.10: radius = dilation radius of the smaller body
-  Eigen::Vector3d arm_a = Eigen::Vector3d::Zero();  ///< bond point from A's centroid, A's frame
-  Eigen::Vector3d arm_b = Eigen::Vector3d::Zero();  ///< bond point from B's centroid, B's frame
+  std::uint32_t a = 0, b = 0;  ///< body slots, a < b
+  BondSection section;         ///< eq. 2.10: radius = dilation radius of the smaller body
+  Eigen::Vector3d arm_a = Eigen::Vector3d::Zero();      ///< bond point from A's centroid, A's frame
+  Eigen::Vector3d arm_b = Eigen::Vector3d::Zero();      ///< bond point from B's centroid, B's frame
   Eigen::Vector3d normal_a = Eigen::Vector3d::UnitZ();  ///< normal (A towards B), A's frame
   Eigen::Vector3d normal_b = Eigen::Vector3d::UnitZ();  ///< the same in B's frame
   /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
@@ -53,8 +53,8 @@ struct alignas(64) Bond {
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   // Read on a break, a split, a periodic image's change, or by the other laws.
   Eigen::Vector3i image = Eigen::Vector3i::Zero();  ///< B's image (see `shift`)
-  BondFailure failure = BondFailure::none;  ///< the mode it broke in
-  double broken_at = -1.0;                   ///< simulated time of the break, s
+  BondFailure failure = BondFailure::none;          ///< the mode it broke in
+  double broken_at = -1.0;                          ///< simulated time of the break, s
   /// The physical overlap of each touching feature pair at bonding (end of 2.3.3): later
   /// overlaps of the same features count from it, so the bonded assembly starts stress-free.
   /// Kept after the bond breaks, so a broken bond does not spring apart.
@@ -131,16 +131,17 @@ class Bonds {
 
   /// Bonds every pair of `live` bodies (posed as `posed`) whose dilated surfaces are within
   /// `distance` (World::initialise_bonds, which poses them and resets the motion after).
-  void make(const BondParams& params, double distance, const Bodies& bodies, const std::vector<PosedShape>& posed,
-            const std::vector<std::uint32_t>& live, const CellControl& cell, SearchMethod search);
+  void make(const BondParams& params, double distance, const Bodies& bodies,
+            const std::vector<PosedShape>& posed, const std::vector<std::uint32_t>& live,
+            const CellControl& cell, SearchMethod search);
 
   // The step's stages.
   /// A force evaluation starts: the breaks from here on are this step's.
   void begin_evaluation() { breaks_at_step_ = breaks_.size(); }
   /// Eqs 2.9-2.16 on every bond whose bodies this process owns; the breaks logged at `time`,
   /// `step` (World::step's bond_law).
-  void apply_law(const Bodies& bodies, const ThermalField& thermal, const CellControl& cell, double dt, bool lanes,
-                 int threads, double time, std::uint64_t step);
+  void apply_law(const Bodies& bodies, const ThermalField& thermal, const CellControl& cell,
+                 double dt, bool lanes, int threads, double time, std::uint64_t step);
   /// The intact bonds' forces and torques summed onto the bodies in bond order (bond_sums);
   /// with `diagonals`, eq. 2.17's diagonal terms onto them too.
   void sum(Bodies& bodies, bool cell, std::vector<Eigen::Vector3d>* diagonals, int threads);
@@ -151,8 +152,8 @@ class Bonds {
   }
   /// Breaks the intact bonds whose grains' mean stress (`stress` by slot, eq. 2.17) passes
   /// sigma_f (times the bond's strength factor); returns how many broke.
-  std::size_t break_by_stress(const std::vector<Eigen::Matrix3d>& stress, const std::vector<BodyInfo>& infos,
-                              double time, std::uint64_t step);
+  std::size_t break_by_stress(const std::vector<Eigen::Matrix3d>& stress,
+                              const std::vector<BodyInfo>& infos, double time, std::uint64_t step);
 
   /// The overlap stored at bonding for features (fa, fb) of bonded pair (a, b), or 0;
   /// `cursor` walks forward through the bonds (sorted by pair) as keys ascend.
@@ -193,8 +194,8 @@ class Bonds {
   /// After the split of the body in `slot` (state `ps`) into `pieces`: each bond follows its
   /// material point to the piece that holds it; the pieces' overlaps with each other and with
   /// the parent's neighbours count as zero.
-  void follow_split(Parted parted, std::uint32_t slot, const BodyState& ps, const std::vector<BodyId>& pieces,
-                    const Bodies& bodies);
+  void follow_split(Parted parted, std::uint32_t slot, const BodyState& ps,
+                    const std::vector<BodyId>& pieces, const Bodies& bodies);
   /// Periodic cell: after the bodies wrapped by `moved` cells, each bond re-joins the same images.
   void follow_wrap(const std::vector<Eigen::Vector3i>& moved, const PeriodicCell& cell);
 
@@ -248,8 +249,8 @@ class Bonds {
   bool body_bonds_stale_ = true;
 };
 
-inline double Bonds::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa, std::uint32_t fb,
-                                     std::size_t& cursor) const {
+inline double Bonds::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint32_t fa,
+                                     std::uint32_t fb, std::size_t& cursor) const {
   auto before = [&](const Bond& bd) { return bd.a < a || (bd.a == a && bd.b < b); };
   if (cursor > 0 && cursor <= bonds_.size() && !before(bonds_[cursor - 1])) {
     // Out of order (a new thread block starts mid-pair): search again.
@@ -277,10 +278,11 @@ inline double Bonds::initial_overlap(std::uint32_t a, std::uint32_t b, std::uint
 }
 
 inline double Bonds::pair_offset(std::uint32_t a, std::uint32_t b) const {
-  const auto it = std::lower_bound(offsets_.begin(), offsets_.end(), std::pair{a, b},
-                                   [](const PairOffset& o, std::pair<std::uint32_t, std::uint32_t> k) {
-                                     return std::pair{o.a, o.b} < k;
-                                   });
+  const auto it =
+      std::lower_bound(offsets_.begin(), offsets_.end(), std::pair{a, b},
+                       [](const PairOffset& o, std::pair<std::uint32_t, std::uint32_t> k) {
+                         return std::pair{o.a, o.b} < k;
+                       });
   return it != offsets_.end() && it->a == a && it->b == b ? it->overlap : 0.0;
 }
 

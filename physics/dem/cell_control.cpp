@@ -25,13 +25,15 @@ void CellControl::begin_step(const Eigen::Matrix3d& gradient, const Eigen::Matri
     // shrinks, one in compression grows).
     const Eigen::Matrix3d set = cell_.velocity_gradient();
     for (int k = 0; k < 3; ++k) {
-      if (cell_.periodic(k) && set(k, k) == 0.0) gradient_(k, k) -= (*sigma)(k, k) / (stress_modulus_ * stress_tau_);
+      if (cell_.periodic(k) && set(k, k) == 0.0)
+        gradient_(k, k) -= (*sigma)(k, k) / (stress_modulus_ * stress_tau_);
     }
   }
   moving_ = !gradient_.isZero(0.0);
 }
 
-void CellControl::deform(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos, double h) {
+void CellControl::deform(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos,
+                         double h) {
   if (!moving_) return;
   const Eigen::Matrix3d step = h * gradient_;
   const auto slots = static_cast<std::ptrdiff_t>(states.size());
@@ -41,7 +43,8 @@ void CellControl::deform(std::vector<BodyState>& states, const std::vector<BodyI
   cell_.deform(step);
 }
 
-std::vector<Eigen::Vector3i> CellControl::wrap(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos) const {
+std::vector<Eigen::Vector3i> CellControl::wrap(std::vector<BodyState>& states,
+                                               const std::vector<BodyInfo>& infos) const {
   // Which bodies leave, by how many cells.
   std::vector<Eigen::Vector3i> moved;
   bool any = false;
@@ -57,8 +60,8 @@ std::vector<Eigen::Vector3i> CellControl::wrap(std::vector<BodyState>& states, c
   return moved;
 }
 
-void CellControl::find_pairs(NeighbourSearch& search, const std::vector<BoundingSphere>& spheres, double margin,
-                             std::vector<BodyPair>& pairs) const {
+void CellControl::find_pairs(NeighbourSearch& search, const std::vector<BoundingSphere>& spheres,
+                             double margin, std::vector<BodyPair>& pairs) const {
   if (!on_) {
     search.find_pairs(spheres, margin, pairs);
     return;
@@ -70,15 +73,17 @@ void CellControl::find_pairs(NeighbourSearch& search, const std::vector<Bounding
   const double reach = 2.0 * largest + margin;
   for (int k = 0; k < 3; ++k) {
     if (cell_.periodic(k) && !(cell_.width(k) > 2.0 * reach)) {
-      throw std::runtime_error("periodic cell too small: " + std::to_string(cell_.width(k)) + " m across axis " +
-                               std::to_string(k) + ", a pair reaches " + std::to_string(reach) +
-                               " m (2 x the largest bounding radius + the skin); the cell must be over twice that");
+      throw std::runtime_error(
+          "periodic cell too small: " + std::to_string(cell_.width(k)) + " m across axis " +
+          std::to_string(k) + ", a pair reaches " + std::to_string(reach) +
+          " m (2 x the largest bounding radius + the skin); the cell must be over twice that");
     }
   }
   std::vector<BoundingSphere> all(spheres.begin(), spheres.end());
   std::vector<std::uint32_t> owner(spheres.size());
   for (std::uint32_t i = 0; i < owner.size(); ++i) owner[i] = i;
-  const Eigen::Vector3i lo(cell_.periodic(0) ? -1 : 0, cell_.periodic(1) ? -1 : 0, cell_.periodic(2) ? -1 : 0);
+  const Eigen::Vector3i lo(cell_.periodic(0) ? -1 : 0, cell_.periodic(1) ? -1 : 0,
+                           cell_.periodic(2) ? -1 : 0);
   const Eigen::Vector3i hi = -lo;
   for (std::uint32_t i = 0; i < spheres.size(); ++i) {
     const Eigen::Vector3d home = spheres[i].centre - cell_.shift(cell_.outside(spheres[i].centre));
@@ -112,14 +117,16 @@ void CellControl::find_pairs(NeighbourSearch& search, const std::vector<Bounding
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
-void CellControl::shifted_copy(const PosedShape& posed, const Eigen::Vector3d& shift, PosedShape& out) {
+void CellControl::shifted_copy(const PosedShape& posed, const Eigen::Vector3d& shift,
+                               PosedShape& out) {
   out = posed;
   out.centre += shift;
   for (Eigen::Vector3d& v : out.vertices) v += shift;
   out.lo += shift;
   out.hi += shift;
   const std::size_t stride = out.plane_stride();
-  for (std::size_t f = 0; f < out.faces; ++f) out.planes[3 * stride + f] += out.face_normal(f).dot(shift);
+  for (std::size_t f = 0; f < out.faces; ++f)
+    out.planes[3 * stride + f] += out.face_normal(f).dot(shift);
 }
 
 }  // namespace cleave::physics

@@ -48,12 +48,13 @@ class CellControl {
   void deform(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos, double h);
   /// The centroids that left the cell go back in by a cell vector; returns by how many cells
   /// each moved (empty when none did), for the bonds to follow (Bonds::follow_wrap).
-  std::vector<Eigen::Vector3i> wrap(std::vector<BodyState>& states, const std::vector<BodyInfo>& infos) const;
+  std::vector<Eigen::Vector3i> wrap(std::vector<BodyState>& states,
+                                    const std::vector<BodyInfo>& infos) const;
 
   /// Every pair of `spheres` within `margin` of each other, as NeighbourSearch::find_pairs
   /// gives them; in a periodic cell through the faces too (each pair once, whichever image).
-  void find_pairs(NeighbourSearch& search, const std::vector<BoundingSphere>& spheres, double margin,
-                  std::vector<BodyPair>& pairs) const;
+  void find_pairs(NeighbourSearch& search, const std::vector<BoundingSphere>& spheres,
+                  double margin, std::vector<BodyPair>& pairs) const;
   /// `posed` moved by `shift` (B's image in a periodic cell).
   static void shifted_copy(const PosedShape& posed, const Eigen::Vector3d& shift, PosedShape& out);
 
@@ -71,9 +72,10 @@ class CellControl {
  private:
   PeriodicCell cell_;
   bool on_ = false;
-  Eigen::Matrix3d gradient_ = Eigen::Matrix3d::Zero();  // this step's: the cell's L plus its thermal rate
-  bool moving_ = false;                                 // gradient_ is not zero
-  double stress_modulus_ = 0.0, stress_tau_ = 0.0;      // set_stress_control
+  Eigen::Matrix3d gradient_ =
+      Eigen::Matrix3d::Zero();  // this step's: the cell's L plus its thermal rate
+  bool moving_ = false;         // gradient_ is not zero
+  double stress_modulus_ = 0.0, stress_tau_ = 0.0;       // set_stress_control
   Eigen::Matrix3d at_search_ = Eigen::Matrix3d::Zero();  // the cell vectors at the last search
 };
 

@@ -30,8 +30,8 @@ const ContactHistory* Contacts::previous_history(const ContactKey& key) const {
 }
 
 void Contacts::apply_law(const Bodies& bodies, const std::vector<Wall>& walls, const Bonds& bonds,
-                         const ThermalField& thermal, const CellControl& cell, const WorldSettings& settings,
-                         int nt) {
+                         const ThermalField& thermal, const CellControl& cell,
+                         const WorldSettings& settings, int nt) {
   const LawInputs in{bodies, walls, bonds, thermal, cell};
   const std::vector<Bond>& bond_list = bonds.list();
   const std::size_t n = pending_count();
@@ -58,7 +58,8 @@ void Contacts::apply_law(const Bodies& bodies, const std::vector<Wall>& walls, c
     std::size_t lane_k[4];
     const ContactParams* lane_params = nullptr;
     int filled = 0;
-    const ContactKinematics* const lane_in[4] = {&lane_kin[0], &lane_kin[1], &lane_kin[2], &lane_kin[3]};
+    const ContactKinematics* const lane_in[4] = {&lane_kin[0], &lane_kin[1], &lane_kin[2],
+                                                 &lane_kin[3]};
     const ContactDamping* const lane_d[4] = {&lane_damping[0], &lane_damping[1], &lane_damping[2],
                                              &lane_damping[3]};
     auto one_at_a_time = [&] {
@@ -105,9 +106,9 @@ void Contacts::apply_law(const Bodies& bodies, const std::vector<Wall>& walls, c
   }
 }
 
-void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t k, const ContactParams& params,
-                              std::size_t& cursor, std::size_t& bond_cursor, PairDamping& pair,
-                              ContactKinematics& kin) {
+void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t k,
+                              const ContactParams& params, std::size_t& cursor,
+                              std::size_t& bond_cursor, PairDamping& pair, ContactKinematics& kin) {
   const std::vector<BodyState>& states = in.bodies.states();
   const bool wall = (p.key.a & kWallFlag) != 0;
   const std::uint32_t a = p.key.a & ~kWallFlag, b = p.key.b;
@@ -143,8 +144,10 @@ void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t
   pair_damping(in, p, params, pair);
 }
 
-[[gnu::always_inline]] inline void Contacts::discount_overlap(const LawInputs& in, const Pending& p, const V3& xb,
-                                                              std::size_t& bond_cursor, double& overlap) const {
+[[gnu::always_inline]] inline void Contacts::discount_overlap(const LawInputs& in, const Pending& p,
+                                                              const V3& xb,
+                                                              std::size_t& bond_cursor,
+                                                              double& overlap) const {
   const std::vector<BodyState>& states = in.bodies.states();
   const std::vector<Bond>& bonds = in.bonds.list();
   const bool thermal_on = in.thermal.on();
@@ -154,11 +157,13 @@ void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t
   bool bonded = false;
   if (!wall && (!bonds.empty() || in.bonds.has_offsets())) {
     // Overlaps count from the one stored at bonding (end of sec. 2.3.3) or at a split.
-    double stored = bonds.empty() ? 0.0 : in.bonds.initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
+    double stored =
+        bonds.empty() ? 0.0 : in.bonds.initial_overlap(a, b, p.key.fa, p.key.fb, bond_cursor);
     if (in.bonds.has_offsets()) stored = std::max(stored, in.bonds.pair_offset(a, b));
     overlap -= stored;
     // A bonded pair's grains have grown or shrunk with temperature; their shapes have not.
-    if (thermal_on && bond_cursor < bonds.size() && bonds[bond_cursor].a == a && bonds[bond_cursor].b == b) {
+    if (thermal_on && bond_cursor < bonds.size() && bonds[bond_cursor].a == a &&
+        bonds[bond_cursor].b == b) {
       overlap -= bonds[bond_cursor].thermal_gap;
       bonded = true;
     }
@@ -172,7 +177,8 @@ void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t
   }
 }
 
-[[gnu::always_inline]] inline void Contacts::carry_history(const ContactKey& key, std::size_t& cursor,
+[[gnu::always_inline]] inline void Contacts::carry_history(const ContactKey& key,
+                                                           std::size_t& cursor,
                                                            ContactHistory& h) const {
   if (cursor > 0 && cursor <= history_.size() && key < history_[cursor - 1].key) {
     if (const ContactHistory* old = previous_history(key)) h = *old;  // out of order
@@ -183,7 +189,8 @@ void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t
 }
 
 [[gnu::always_inline]] inline void Contacts::pair_damping(const LawInputs& in, const Pending& p,
-                                                          const ContactParams& params, PairDamping& pair) {
+                                                          const ContactParams& params,
+                                                          PairDamping& pair) {
   // The damping coefficients (four square roots and three divisions) are the same for all
   // of a pair's contact points, which come one after another: made once per pair, and
   // kept for the next pair whose bodies have the same masses and moments (a specimen's
@@ -195,8 +202,8 @@ void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t
   const BodyInfo& ib = infos[b];
   const double mb = ib.mass, i2 = ib.inertia.minCoeff();
   const double ma = wall ? 0.0 : infos[a].mass, i1 = wall ? 0.0 : infos[a].inertia.minCoeff();
-  if (!(pair.valid && pair.wall == wall && pair.mass_a == ma && pair.mass_b == mb && pair.moment_a == i1 &&
-        pair.moment_b == i2)) {
+  if (!(pair.valid && pair.wall == wall && pair.mass_a == ma && pair.mass_b == mb &&
+        pair.moment_a == i1 && pair.moment_b == i2)) {
     // The reduced mass and the reduced least principal moment (B's alone against a wall).
     double m_crit = mb, i_crit = i2;
     if (!wall) {
@@ -218,12 +225,15 @@ void Contacts::contact_inputs(const LawInputs& in, const Pending& p, std::size_t
 void Contacts::list_body_pairs(std::size_t slots) {
   threads::list_by_body(
       slots, pairs_.size(),
-      [&](std::size_t p) { return std::pair{live_slots_[pairs_[p].first], live_slots_[pairs_[p].second]}; },
+      [&](std::size_t p) {
+        return std::pair{live_slots_[pairs_[p].first], live_slots_[pairs_[p].second]};
+      },
       body_pair_start_, body_pairs_);
   body_pairs_stale_ = false;
 }
 
-void Contacts::sum(Bodies& bodies, std::vector<Wall>& walls, std::vector<Eigen::Vector3d>* diagonals, int nt) {
+void Contacts::sum(Bodies& bodies, std::vector<Wall>& walls,
+                   std::vector<Eigen::Vector3d>* diagonals, int nt) {
   // Every body's force and torque are summed in contact order, the same for any number of
   // threads. A body's contacts with other bodies come first in the list, pair by pair in the
   // pairs' order: each thread takes a block of bodies and walks each body's pairs
@@ -233,7 +243,8 @@ void Contacts::sum(Bodies& bodies, std::vector<Wall>& walls, std::vector<Eigen::
   std::vector<BodyState>& states = bodies.states();
   const std::size_t n = pending_count();
   records_current_ = false;  // records() makes them from this evaluation when asked
-  if (body_pairs_stale_ || body_pair_start_.size() != states.size() + 1) list_body_pairs(states.size());
+  if (body_pairs_stale_ || body_pair_start_.size() != states.size() + 1)
+    list_body_pairs(states.size());
   const std::size_t slots = states.size();
   // By body: a loaded disc's few hundred contacts still leave all its bodies to sum.
   if (static_cast<std::ptrdiff_t>(slots) < kParallelMin) nt = 1;
@@ -241,7 +252,8 @@ void Contacts::sum(Bodies& bodies, std::vector<Wall>& walls, std::vector<Eigen::
   const bool summing_stress = diagonals != nullptr;
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
-    const threads::Block block = threads::thread_block(slots);  // captured below: not a structured binding
+    const threads::Block block =
+        threads::thread_block(slots);  // captured below: not a structured binding
     const std::size_t t = block.thread, lo = block.begin, hi = block.end;
     // Plain doubles (vec3.hpp), with Eigen's bits. With the diagonals, eq. 2.17's terms
     // too (stress_sums: B's lever from its image, A's force negated).
@@ -305,13 +317,19 @@ const std::vector<ContactRecord>& Contacts::records(int wanted) const {
     // Each thread fills its own block of the records, in contact order.
     const std::size_t n = pending_count();
     records_.resize(n);
-    const int nt = static_cast<std::ptrdiff_t>(n) < kParallelMin ? 1 : threads::thread_count(wanted);
+    const int nt =
+        static_cast<std::ptrdiff_t>(n) < kParallelMin ? 1 : threads::thread_count(wanted);
 #pragma omp parallel num_threads(nt) if (nt > 1)
     {
       const threads::Block block = threads::thread_block(n);
       for_pending(block.begin, block.end, [&](std::size_t k, const Pending& p) {
         const bool wall = (p.key.a & kWallFlag) != 0;
-        records_[k] = {p.key.a & ~kWallFlag, p.key.b, wall, p.contact.point, p.contact.normal, overlaps_[k],
+        records_[k] = {p.key.a & ~kWallFlag,
+                       p.key.b,
+                       wall,
+                       p.contact.point,
+                       p.contact.normal,
+                       overlaps_[k],
                        forces_[k].force,
                        contact_shift_.empty() ? Eigen::Vector3d::Zero() : contact_shift_[k]};
       });

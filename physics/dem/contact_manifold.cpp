@@ -9,8 +9,8 @@
 
 namespace cleave::physics {
 
-void capture_manifold(const PosedShape& a, const PosedShape& b, const std::vector<FeatureContact>& found,
-                      double margin, ContactManifold& m) {
+void capture_manifold(const PosedShape& a, const PosedShape& b,
+                      const std::vector<FeatureContact>& found, double margin, ContactManifold& m) {
   const Eigen::Matrix3d at = a.rotation.transpose(), bt = b.rotation.transpose();
   m.entries.clear();
   for (const FeatureContact& fc : found) {

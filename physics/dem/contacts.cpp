@@ -27,7 +27,9 @@ bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double r
 }
 
 /// Bit of wall w in a body's wall_reach_ word: walls from 31 on share the last bit.
-std::uint32_t wall_bit(std::size_t w) { return 1u << std::min<std::size_t>(w, 31); }
+std::uint32_t wall_bit(std::size_t w) {
+  return 1u << std::min<std::size_t>(w, 31);
+}
 
 /// Ascending feature order within a pair keeps the keys ascending (see ContactKey).
 void sort_by_features(std::vector<FeatureContact>& features) {
@@ -93,7 +95,8 @@ bool Contacts::pose(Bodies& bodies, const std::vector<Wall>& walls, const CellCo
   return !searched || moved > 0 || !(limit > 0.0);
 }
 
-void Contacts::search(const Bodies& bodies, const CellControl& cell, const WorldSettings& settings) {
+void Contacts::search(const Bodies& bodies, const CellControl& cell,
+                      const WorldSettings& settings) {
   // Neighbour search with a Verlet skin (see pose).
   const std::vector<BodyState>& states = bodies.states();
   const bool cell_on = cell.on();
@@ -138,9 +141,11 @@ void Contacts::search(const Bodies& bodies, const CellControl& cell, const World
       b_lo += t;
       b_hi += t;
     }
-    if (((a.lo.array() - reach > b_hi.array()) || (b_lo.array() - reach > a.hi.array())).any()) continue;
+    if (((a.lo.array() - reach > b_hi.array()) || (b_lo.array() - reach > a.hi.array())).any())
+      continue;
     // One process of a decomposition: the pairs of two ghosts are their owners' to evaluate.
-    if (decomposed && !bodies.owns(live_slots_[pairs_[p].first]) && !bodies.owns(live_slots_[pairs_[p].second]))
+    if (decomposed && !bodies.owns(live_slots_[pairs_[p].first]) &&
+        !bodies.owns(live_slots_[pairs_[p].second]))
       continue;
     if (cell_on) pair_image_[kept] = pair_image_[p];
     pairs_[kept++] = pairs_[p];
@@ -154,7 +159,8 @@ void Contacts::search(const Bodies& bodies, const CellControl& cell, const World
     std::size_t j = 0;
     for (std::size_t i = 0; i < pairs_.size() && j < old_pairs.size(); ++i) {
       while (j < old_pairs.size() && old_pairs[j] < pairs_[i]) ++j;
-      if (j < old_pairs.size() && old_pairs[j] == pairs_[i]) manifolds_[i] = std::move(old_manifolds[j]);
+      if (j < old_pairs.size() && old_pairs[j] == pairs_[i])
+        manifolds_[i] = std::move(old_manifolds[j]);
     }
     manifold_slots_ = live_slots_;
   }
@@ -178,7 +184,8 @@ void Contacts::plan(const CellControl& cell, const WorldSettings& settings, int 
   if (chunk_pending_.size() < chunks) chunk_pending_.resize(chunks);
   if (cell.on() && chunk_shift_.size() < chunks) chunk_shift_.resize(chunks);
   parts_.clear();
-  for (std::size_t chunk = 0; chunk < chunks; ++chunk) parts_.push_back(&chunk_pending_[chunk].list);
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk)
+    parts_.push_back(&chunk_pending_[chunk].list);
   // Each pair's near features (narrow_phase.hpp), kept with the pair list: the search over
   // them gives what the full search would, bit for bit, and skips what cannot touch.
   if (settings.feature_skin > 0.0) near_.resize(n);
@@ -265,7 +272,8 @@ void Contacts::narrow(const CellControl& cell, const WorldSettings& settings, in
 }
 
 [[gnu::always_inline]] inline void Contacts::narrow_pair(std::size_t p, std::size_t end,
-                                                         const WorldSettings& settings, std::vector<Pending>& out,
+                                                         const WorldSettings& settings,
+                                                         std::vector<Pending>& out,
                                                          NarrowScratch& scratch) {
   const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
   std::vector<FeatureContact>& features = scratch.features;
@@ -292,12 +300,14 @@ void Contacts::narrow(const CellControl& cell, const WorldSettings& settings, in
     // A pair that touches keeps its contacts from here on; one that does not is left to
     // the search (apart, it costs next to nothing).
     if (manifolds) {
-      const bool touching = std::any_of(features.begin(), features.end(),
-                                        [](const FeatureContact& f) { return f.contact.penetration > 0.0; });
+      const bool touching =
+          std::any_of(features.begin(), features.end(),
+                      [](const FeatureContact& f) { return f.contact.penetration > 0.0; });
       if (!touching && held_[p]) manifolds_[p].margin = 0.0;  // held_ follows it (restarts)
       held_[p] = touching;
       if (touching)
-        capture_manifold(posed_[a], posed_[b], features, settings.manifold_tolerance * radii, manifolds_[p]);
+        capture_manifold(posed_[a], posed_[b], features, settings.manifold_tolerance * radii,
+                         manifolds_[p]);
     }
   }
   // Ascending feature order within the pair keeps the keys ascending (see ContactKey).
@@ -309,9 +319,9 @@ void Contacts::narrow(const CellControl& cell, const WorldSettings& settings, in
   }
 }
 
-void Contacts::narrow_periodic_pair(std::size_t p, const CellControl& cell, const WorldSettings& settings,
-                                    std::vector<Pending>& out, std::vector<Eigen::Vector3d>& shifts,
-                                    NarrowScratch& scratch) {
+void Contacts::narrow_periodic_pair(std::size_t p, const CellControl& cell,
+                                    const WorldSettings& settings, std::vector<Pending>& out,
+                                    std::vector<Eigen::Vector3d>& shifts, NarrowScratch& scratch) {
   // Every contact of the pair, in the pair's order, against B's image (searched in full:
   // the feature cache follows B itself, not its image; no manifolds).
   const std::uint32_t a = live_slots_[pairs_[p].first], b = live_slots_[pairs_[p].second];
@@ -322,8 +332,9 @@ void Contacts::narrow_periodic_pair(std::size_t p, const CellControl& cell, cons
     CellControl::shifted_copy(posed_[b], t, scratch.image);
     polyhedron_contacts(posed_[a], scratch.image, 0.0, features);
   } else if (settings.feature_skin > 0.0) {
-    polyhedron_contacts(posed_[a], posed_[b], settings.feature_skin * (posed_[a].radius + posed_[b].radius),
-                        near_[p], features);
+    polyhedron_contacts(posed_[a], posed_[b],
+                        settings.feature_skin * (posed_[a].radius + posed_[b].radius), near_[p],
+                        features);
   } else {
     polyhedron_contacts(posed_[a], posed_[b], 0.0, features);
   }
@@ -363,7 +374,8 @@ void Contacts::walls(const Bodies& bodies, const std::vector<Wall>& walls, bool 
         const Wall& wall = walls[w];
         const std::uint32_t a = w | kWallFlag;
         if ((reach & wall_bit(w)) == 0) continue;
-        if (w >= 31 && !wall_within_reach(wall, p.centre, bodies.shape_of(slot).bounding_radius())) continue;
+        if (w >= 31 && !wall_within_reach(wall, p.centre, bodies.shape_of(slot).bounding_radius()))
+          continue;
         for (std::uint32_t v = 0; v < p.vertices.size(); ++v) {
           if (auto c = wall.sphere_contact(p.vertices[v], p.radius); c && c->penetration > 0.0) {
             out.push_back({{a, slot, 0, feature_code(FeatureKind::vertex, v)}, *c});
@@ -387,7 +399,8 @@ void Contacts::walls(const Bodies& bodies, const std::vector<Wall>& walls, bool 
 
 void Contacts::join_pending(bool cell) {
   part_start_.assign(parts_.size() + 1, 0);
-  for (std::size_t k = 0; k < parts_.size(); ++k) part_start_[k + 1] = part_start_[k] + parts_[k]->size();
+  for (std::size_t k = 0; k < parts_.size(); ++k)
+    part_start_[k + 1] = part_start_[k] + parts_[k]->size();
   contact_shift_.clear();
   if (cell) {
     // The pairs' chunks come first, in order, then the walls' lists (no shift).
@@ -407,7 +420,8 @@ std::size_t Contacts::wall_contacts_begin() const {
 std::vector<WallForceAt> Contacts::wall_forces() const {
   std::vector<WallForceAt> out;
   for_pending(wall_contacts_begin(), pending_count(), [&](std::size_t k, const Pending& p) {
-    if ((p.key.a & kWallFlag) != 0) out.push_back({p.key.a & ~kWallFlag, p.key.b, k, forces_[k].force});
+    if ((p.key.a & kWallFlag) != 0)
+      out.push_back({p.key.a & ~kWallFlag, p.key.b, k, forces_[k].force});
   });
   return out;
 }

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/dem/body.hpp"
 #include "physics/bonds/vec3.hpp"
+#include "physics/dem/body.hpp"
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/narrow_phase.hpp"
 #include "physics/dem/neighbour_search.hpp"
@@ -26,13 +26,13 @@ class ThermalField;
 
 /// One contact of the last step, for output and tests.
 struct ContactRecord {
-  std::uint32_t a = 0;          ///< body slot of A, or wall index when `wall` is set
-  std::uint32_t b = 0;          ///< body slot of B
+  std::uint32_t a = 0;  ///< body slot of A, or wall index when `wall` is set
+  std::uint32_t b = 0;  ///< body slot of B
   bool wall = false;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< from A towards B
   double overlap = 0.0;  ///< beyond the overlap stored at bonding or a split (raw otherwise)
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< on B
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  ///< on B
   /// In a periodic cell, where B's image sits: B acts from x_B + shift, so its lever arm is
   /// point - shift - x_B (zero without a cell, and for walls).
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
@@ -94,11 +94,13 @@ class Contacts {
   /// Eqs 2.3-2.8 on every contact: each reads the bodies' states and the previous step's
   /// history, and writes its own slot.
   void apply_law(const Bodies& bodies, const std::vector<Wall>& walls, const Bonds& bonds,
-                 const ThermalField& thermal, const CellControl& cell, const WorldSettings& settings, int threads);
+                 const ThermalField& thermal, const CellControl& cell,
+                 const WorldSettings& settings, int threads);
   /// The contact forces and torques summed onto the bodies in contact order, the walls'
   /// reactions too; with `diagonals`, eq. 2.17's diagonal terms by body. This step's
   /// histories become the ones the next step reads.
-  void sum(Bodies& bodies, std::vector<Wall>& walls, std::vector<Eigen::Vector3d>* diagonals, int threads);
+  void sum(Bodies& bodies, std::vector<Wall>& walls, std::vector<Eigen::Vector3d>* diagonals,
+           int threads);
 
   /// Contacts of the last force evaluation (made on the first call after it).
   [[nodiscard]] const std::vector<ContactRecord>& records(int threads) const;
@@ -107,7 +109,9 @@ class Contacts {
   [[nodiscard]] std::size_t owned_count(const Bodies& bodies) const;
 
   // What the step keeps by body (the stress sums read it).
-  [[nodiscard]] std::size_t pending_count() const { return part_start_.empty() ? 0 : part_start_.back(); }
+  [[nodiscard]] std::size_t pending_count() const {
+    return part_start_.empty() ? 0 : part_start_.back();
+  }
   /// Where the walls' contacts start in the contact list (they follow every pair's).
   [[nodiscard]] std::size_t wall_contacts_begin() const;
   /// Calls f(k, contact k) for k in [begin, end), in order.
@@ -209,38 +213,40 @@ class Contacts {
   /// next_history_[k] (walking `history_cursor` forward through history_), the pair's
   /// coefficients into `pair` (kept from the pair before when the same). Reads the bodies'
   /// states, writes only slot k.
-  void contact_inputs(const LawInputs& in, const Pending& p, std::size_t k, const ContactParams& params,
-                      std::size_t& history_cursor, std::size_t& bond_cursor, PairDamping& pair,
-                      ContactKinematics& kin);
+  void contact_inputs(const LawInputs& in, const Pending& p, std::size_t k,
+                      const ContactParams& params, std::size_t& history_cursor,
+                      std::size_t& bond_cursor, PairDamping& pair, ContactKinematics& kin);
   /// Subtracts from contact p's `overlap` what counts as zero: the overlap stored at bonding
   /// or a split, and the gap the grains' thermal expansion has opened (B's centroid at `xb`).
-  void discount_overlap(const LawInputs& in, const Pending& p, const V3& xb, std::size_t& bond_cursor,
-                        double& overlap) const;
+  void discount_overlap(const LawInputs& in, const Pending& p, const V3& xb,
+                        std::size_t& bond_cursor, double& overlap) const;
   /// The previous step's history of `key` into `h` (walking `cursor` forward).
   void carry_history(const ContactKey& key, std::size_t& cursor, ContactHistory& h) const;
   /// The pair's damping coefficients into `pair` (kept when its bodies are as the last's).
-  static void pair_damping(const LawInputs& in, const Pending& p, const ContactParams& params, PairDamping& pair);
+  static void pair_damping(const LawInputs& in, const Pending& p, const ContactParams& params,
+                           PairDamping& pair);
   const ContactHistory* previous_history(const ContactKey& key) const;
   /// Index of the first entry of history_ whose key is not below `key`.
   std::size_t history_index(const ContactKey& key) const;
   /// Pair p's contacts into `out` (a periodic cell's pair with B's shifts into `shifts`).
   struct NarrowScratch;
-  void narrow_pair(std::size_t p, std::size_t end, const WorldSettings& settings, std::vector<Pending>& out,
-                   NarrowScratch& scratch);
+  void narrow_pair(std::size_t p, std::size_t end, const WorldSettings& settings,
+                   std::vector<Pending>& out, NarrowScratch& scratch);
   void narrow_periodic_pair(std::size_t p, const CellControl& cell, const WorldSettings& settings,
                             std::vector<Pending>& out, std::vector<Eigen::Vector3d>& shifts,
                             NarrowScratch& scratch);
   void join_pending(bool cell);
   void list_body_pairs(std::size_t slots);
 
-  std::vector<PosedShape> posed_;         // by slot, refreshed each force evaluation
+  std::vector<PosedShape> posed_;  // by slot, refreshed each force evaluation
   std::vector<std::uint32_t> live_slots_;
   /// By slot, from the poses' loop: bit w set when wall w may touch the body (walls from 31
   /// on share bit 31, and are tested again one by one).
   std::vector<std::uint32_t> wall_reach_;
   std::vector<BoundingSphere> spheres_;
   std::vector<BodyPair> pairs_;
-  std::vector<Eigen::Vector3i> pair_image_;  // by pair, in a cell: B's nearest image (fixed between searches)
+  std::vector<Eigen::Vector3i>
+      pair_image_;  // by pair, in a cell: B's nearest image (fixed between searches)
   /// A list on cache lines of its own: lists that threads fill side by side shared the
   /// line holding their ends (false sharing: the wall contacts on two threads took longer
   /// than on one).
@@ -248,19 +254,20 @@ class Contacts {
   struct alignas(64) OwnLines {
     std::vector<T> list;
   };
-  std::vector<OwnLines<Eigen::Vector3d>> chunk_shift_;  // in a cell: per chunk_pending_ entry, B's shift
-  std::vector<Eigen::Vector3d> contact_shift_;             // in a cell: per pending contact (walls: zero)
-  std::vector<NearFeatures> near_;  // by pair; cleared with each new pair list and on load
+  std::vector<OwnLines<Eigen::Vector3d>>
+      chunk_shift_;                             // in a cell: per chunk_pending_ entry, B's shift
+  std::vector<Eigen::Vector3d> contact_shift_;  // in a cell: per pending contact (walls: zero)
+  std::vector<NearFeatures> near_;          // by pair; cleared with each new pair list and on load
   std::vector<ContactManifold> manifolds_;  // by pair (manifold_tolerance > 0); follow the pairs
   std::vector<std::uint32_t> manifold_slots_;  // live slots when the pairs were listed
-  std::vector<unsigned char> held_;             // by pair: its manifold holds contacts
+  std::vector<unsigned char> held_;            // by pair: its manifold holds contacts
   enum : unsigned char { kCarried, kApart, kSearch };
   std::vector<unsigned char> plan_;           // by pair, with manifolds: what narrow does
   std::vector<unsigned char> need_geometry_;  // by slot: a search reads its vertices and planes
   void plan_pairs(int nt, std::size_t slots, bool cached);
-  std::vector<Eigen::Vector3d> searched_at_;  // centres at the last search, by live index
+  std::vector<Eigen::Vector3d> searched_at_;    // centres at the last search, by live index
   std::vector<Eigen::Quaterniond> searched_q_;  // orientations at the last search, by live index
-  double skin_ = 0.0;                         // margin of the last search
+  double skin_ = 0.0;                           // margin of the last search
   bool pairs_current_ = false;
   NeighbourSearch search_;
   std::vector<HistoryEntry> history_, next_history_;  // sorted by key
@@ -269,7 +276,7 @@ class Contacts {
   /// piece), read in place rather than copied into one list.
   std::vector<OwnLines<Pending>> chunk_pending_, wall_pending_;
   std::vector<const std::vector<Pending>*> parts_;  // the lists in order
-  std::vector<std::size_t> part_start_;             // index of each list's first contact; back(): all
+  std::vector<std::size_t> part_start_;  // index of each list's first contact; back(): all
   std::vector<ContactForce> forces_;
   /// By pair: the index of its first contact in its chunk's list (narrow), so that a
   /// pair's contacts are [part_start_[chunk] + pair_first_[p], the next pair's or the chunk's end).
@@ -279,7 +286,7 @@ class Contacts {
   /// each new pair list (body_pairs_stale_).
   std::vector<std::uint32_t> body_pair_start_, body_pairs_;
   bool body_pairs_stale_ = true;
-  std::vector<double> overlaps_;  // per pending contact: the overlap the law saw
+  std::vector<double> overlaps_;                // per pending contact: the overlap the law saw
   mutable std::vector<ContactRecord> records_;  // records(), made when first asked for
   mutable bool records_current_ = true;
 };
@@ -288,8 +295,10 @@ template <class F>
 void Contacts::for_pending(std::size_t begin, std::size_t end, F&& f) const {
   if (begin >= end) return;
   // The list holding contact `begin`: the last one starting at or before it.
-  auto part = static_cast<std::size_t>(std::upper_bound(part_start_.begin(), part_start_.end(), begin) -
-                                       part_start_.begin()) - 1;
+  auto part =
+      static_cast<std::size_t>(std::upper_bound(part_start_.begin(), part_start_.end(), begin) -
+                               part_start_.begin()) -
+      1;
   for (std::size_t k = begin; k < end; ++part) {
     const std::vector<Pending>& list = *parts_[part];
     const std::size_t stop = std::min(end, part_start_[part + 1]);
@@ -306,7 +315,8 @@ template <class F>
     const bool is_b = (body_pairs_[e] & 1u) != 0;
     const std::size_t chunk = p / kPairChunk;
     const std::vector<Pending>& list = chunk_pending_[chunk].list;
-    const std::size_t stop = (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
+    const std::size_t stop =
+        (p + 1) % kPairChunk != 0 && p + 1 < pairs_.size() ? pair_first_[p + 1] : list.size();
     const std::size_t base = part_start_[chunk];
     for (std::size_t j = pair_first_[p]; j < stop; ++j) f(is_b, list[j], base + j);
   }

@@ -6,7 +6,9 @@
 namespace cleave::physics {
 
 namespace {
-bool key_less(const HistoryEntry& p, const HistoryEntry& q) { return p.key < q.key; }
+bool key_less(const HistoryEntry& p, const HistoryEntry& q) {
+  return p.key < q.key;
+}
 }  // namespace
 
 void Exchange::pack_state(std::uint32_t slot, char* out) const {

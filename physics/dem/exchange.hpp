@@ -66,7 +66,9 @@ class Exchange {
   /// Replaces the histories by the whole world's (any order).
   void set_histories(std::vector<HistoryEntry> history);
   /// Replaces the contact records by the whole world's, in one process's order.
-  void set_records(std::vector<ContactRecord> records) { contacts_.set_records(std::move(records)); }
+  void set_records(std::vector<ContactRecord> records) {
+    contacts_.set_records(std::move(records));
+  }
 
  private:
   Bodies& bodies_;

@@ -30,10 +30,10 @@ void PosedShape::update_vertices() {
   // centre + R v and the box in scalars, each operation Eigen's (its 3x3 product sums rows
   // 0 and 1 left to right, in one SSE pair, and row 2 as (a + (b + c)); cwiseMin/Max are
   // std::min/max by component): the same bits, without Eigen reading each vertex and the box
-  // back as 16-byte pairs just stored as 8-byte halves (perf: a third of this function).
+  // back as 16-byte pairs just stored as 8-byte halves.
   const Eigen::Matrix3d& R = rotation;
-  const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2),
-               r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
+  const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1),
+               r12 = R(1, 2), r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
   const double cx = centre.x(), cy = centre.y(), cz = centre.z();
   const auto& p = *primitives;
   vertices.resize(p.vertices.size());

@@ -6,15 +6,16 @@ namespace cleave::physics {
 
 namespace {
 std::int64_t clock_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
 }  // namespace
 
 const char* to_string(StepPhase phase) {
-  static constexpr const char* kNames[kStepPhases] = {"kick_drift", "poses", "pair_search", "plan",
-                                                      "narrow", "walls", "contact_law", "contact_sums",
-                                                      "bond_law", "bond_sums", "damping", "closing_kick"};
+  static constexpr const char* kNames[kStepPhases] = {
+      "kick_drift",  "poses",        "pair_search", "plan",      "narrow",  "walls",
+      "contact_law", "contact_sums", "bond_law",    "bond_sums", "damping", "closing_kick"};
   const auto k = static_cast<std::size_t>(phase);
   return k < kStepPhases ? kNames[k] : "unknown";
 }

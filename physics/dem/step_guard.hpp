@@ -45,8 +45,8 @@ struct BlowUp {
 /// Watches a World step by step. Call before_step() before World::step() (or register it
 /// with World::add_listener, which calls it) and check() after it. A body's movement in a
 /// step is bounded by |dx| + angle(dq) x its bounding radius (no point of a rigid body moves
-/// more); it must stay below `fraction` x the bounding radius (default 0.1: a tenth of the body's size per step, far above any sane
-/// run: a 1 mm grain at dt = 1e-7 s would need 1000 m/s).
+/// more); it must stay below `fraction` x the bounding radius (default 0.1: a tenth of the body's
+/// size per step, far above any sane run: a 1 mm grain at dt = 1e-7 s would need 1000 m/s).
 class StepGuard : public StepListener {
  public:
   static constexpr double kDefaultFraction = 0.1;

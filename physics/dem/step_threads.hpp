@@ -47,8 +47,8 @@ inline int thread_count(int wanted) {
 /// entries are list[start[i] .. start[i + 1]), each (k << 1) | (1 if it is the item's B), in
 /// ascending k (a counting sort taking the items in order).
 template <class Ends>
-void list_by_body(std::size_t slots, std::size_t items, Ends&& ends, std::vector<std::uint32_t>& start,
-                  std::vector<std::uint32_t>& list) {
+void list_by_body(std::size_t slots, std::size_t items, Ends&& ends,
+                  std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& list) {
   start.assign(slots + 1, 0);
   for (std::size_t k = 0; k < items; ++k) {
     const auto [a, b] = ends(k);

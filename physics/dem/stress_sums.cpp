@@ -81,14 +81,16 @@ void sum_by_body(const StressSums::View& view, std::vector<Out>& out) {
   const std::vector<BodyState>& states = view.bodies.states();
   const std::vector<BodyInfo>& infos = view.bodies.infos();
   const std::size_t slots = states.size();
-  const int nt =
-      static_cast<std::ptrdiff_t>(slots) < threads::kParallelMin ? 1 : threads::thread_count(view.threads);
+  const int nt = static_cast<std::ptrdiff_t>(slots) < threads::kParallelMin
+                     ? 1
+                     : threads::thread_count(view.threads);
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
   for (std::size_t i = 0; i < slots; ++i) {
     if (!infos[i].alive) continue;
     const V3 x = v3(states[i].x);
     Sum m;
-    for_forces_on(view, static_cast<std::uint32_t>(i), [&](const V3& point, const V3& force) { m.add(point - x, force); });
+    for_forces_on(view, static_cast<std::uint32_t>(i),
+                  [&](const V3& point, const V3& force) { m.add(point - x, force); });
     m.store(out[i]);
   }
 }
@@ -121,7 +123,8 @@ const std::vector<Eigen::Matrix3d>& StressSums::sums(const View& view) const {
 }
 
 Eigen::Matrix3d StressSums::sum(const View& view, std::uint32_t slot) const {
-  if (slot >= view.bodies.slots() || !view.bodies.infos()[slot].alive) return Eigen::Matrix3d::Zero();
+  if (slot >= view.bodies.slots() || !view.bodies.infos()[slot].alive)
+    return Eigen::Matrix3d::Zero();
   if (!view.by_body_current) return sums(view)[slot];
   const V3 x = v3(view.bodies.states()[slot].x);
   StressSum m;
@@ -144,7 +147,8 @@ const std::vector<Eigen::Vector3d>& StressSums::diagonals(const View& view) cons
   return diagonals_;
 }
 
-void StressSums::forces_on(const View& view, std::uint32_t slot, std::vector<AppliedForce>& out) const {
+void StressSums::forces_on(const View& view, std::uint32_t slot,
+                           std::vector<AppliedForce>& out) const {
   out.clear();
   if (slot >= view.bodies.slots() || !view.bodies.infos()[slot].alive) return;
   if (!view.by_body_current) {
@@ -159,7 +163,9 @@ void StressSums::forces_on(const View& view, std::uint32_t slot, std::vector<App
     }
     return;
   }
-  for_forces_on(view, slot, [&](const V3& point, const V3& force) { out.push_back({eigen(point), eigen(force)}); });
+  for_forces_on(view, slot, [&](const V3& point, const V3& force) {
+    out.push_back({eigen(point), eigen(force)});
+  });
 }
 
 std::vector<Eigen::Matrix3d> StressSums::body_stresses(const View& view) const {
@@ -168,7 +174,8 @@ std::vector<Eigen::Matrix3d> StressSums::body_stresses(const View& view) const {
   std::vector<Eigen::Matrix3d> out(all.size(), Eigen::Matrix3d::Zero());
   const std::vector<BodyInfo>& infos = view.bodies.infos();
   for (std::size_t i = 0; i < all.size(); ++i) {
-    if (infos[i].alive) out[i] = stress_from_sum(all[i], view.bodies.shape_of(static_cast<std::uint32_t>(i)).volume);
+    if (infos[i].alive)
+      out[i] = stress_from_sum(all[i], view.bodies.shape_of(static_cast<std::uint32_t>(i)).volume);
   }
   return out;
 }

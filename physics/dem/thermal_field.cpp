@@ -10,7 +10,8 @@
 namespace cleave::physics {
 
 void ThermalField::inherit(std::uint32_t slot, const BodyThermal& pt, const Eigen::Matrix3d& turn,
-                           const BodyState& ps, const Eigen::Quaterniond& q, const Eigen::Vector3d& x) {
+                           const BodyState& ps, const Eigen::Quaterniond& q,
+                           const Eigen::Vector3d& x) {
   thermal_[slot] = pt;
   thermal_[slot].alpha = turn.transpose() * pt.alpha * turn;
   thermal_[slot].held = false;
@@ -20,8 +21,10 @@ void ThermalField::inherit(std::uint32_t slot, const BodyThermal& pt, const Eige
   thermal_[slot].centre = q.conjugate() * (ps.x + ps.q * pt.centre - x);
 }
 
-void ThermalField::set_expansion(std::uint32_t slot, const Eigen::Quaterniond& q, const Eigen::Matrix3d& alpha_world) {
-  if (!alpha_world.allFinite()) throw std::invalid_argument("set_expansion: the tensor must be finite");
+void ThermalField::set_expansion(std::uint32_t slot, const Eigen::Quaterniond& q,
+                                 const Eigen::Matrix3d& alpha_world) {
+  if (!alpha_world.allFinite())
+    throw std::invalid_argument("set_expansion: the tensor must be finite");
   if ((alpha_world - alpha_world.transpose()).norm() > 1e-9 * alpha_world.norm())
     throw std::invalid_argument("set_expansion: the tensor must be symmetric");
   const Eigen::Matrix3d r = q.toRotationMatrix();
@@ -35,25 +38,30 @@ Eigen::Matrix3d ThermalField::expansion(std::uint32_t slot, const Eigen::Quatern
   return r * thermal_[slot].alpha * r.transpose();
 }
 
-Eigen::Matrix3d ThermalField::crystal_expansion(const Eigen::Vector3d& c_axis, double alpha_a, double alpha_c) {
-  if (!(c_axis.norm() > 0.0)) throw std::invalid_argument("crystal_expansion: the c-axis must not be zero");
+Eigen::Matrix3d ThermalField::crystal_expansion(const Eigen::Vector3d& c_axis, double alpha_a,
+                                                double alpha_c) {
+  if (!(c_axis.norm() > 0.0))
+    throw std::invalid_argument("crystal_expansion: the c-axis must not be zero");
   const Eigen::Vector3d c = c_axis.normalized();
   return alpha_a * Eigen::Matrix3d::Identity() + (alpha_c - alpha_a) * c * c.transpose();
 }
 
 void ThermalField::set_temperature(std::uint32_t slot, double kelvin) {
-  if (!std::isfinite(kelvin)) throw std::invalid_argument("set_temperature: not a finite temperature");
+  if (!std::isfinite(kelvin))
+    throw std::invalid_argument("set_temperature: not a finite temperature");
   thermal_[slot].temperature = kelvin;
 }
 
 void ThermalField::set_temperature(const std::vector<BodyInfo>& infos, double kelvin) {
-  if (!std::isfinite(kelvin)) throw std::invalid_argument("set_temperature: not a finite temperature");
+  if (!std::isfinite(kelvin))
+    throw std::invalid_argument("set_temperature: not a finite temperature");
   for (std::size_t i = 0; i < thermal_.size(); ++i) {
     if (infos[i].alive) thermal_[i].temperature = kelvin;
   }
 }
 
-void ThermalField::ramp_temperature(const std::vector<BodyInfo>& infos, double change, double target) {
+void ThermalField::ramp_temperature(const std::vector<BodyInfo>& infos, double change,
+                                    double target) {
   if (!std::isfinite(change) || !std::isfinite(target))
     throw std::invalid_argument("ramp_temperature: not a finite change or target");
   for (std::size_t i = 0; i < thermal_.size(); ++i) {
@@ -74,7 +82,8 @@ void ThermalField::set_conduction(double conductivity, double heat_capacity) {
   heat_capacity_ = heat_capacity;
 }
 
-void ThermalField::add_mean_strain_rate(const std::vector<BodyState>& states, const std::vector<BodyInfo>& infos,
+void ThermalField::add_mean_strain_rate(const std::vector<BodyState>& states,
+                                        const std::vector<BodyInfo>& infos,
                                         const std::vector<RigidShape>& shapes, double h,
                                         Eigen::Matrix3d& gradient) const {
   Eigen::Matrix3d strain = Eigen::Matrix3d::Zero();
@@ -99,7 +108,8 @@ void ThermalField::conduct(const std::vector<BodyState>& states, const std::vect
   for (const Bond& bd : bonds) {
     if (!bd.intact()) continue;
     const double d = (states[bd.b].x + bd.shift - states[bd.a].x).norm();
-    const double q = conductivity_ * bd.transmission * (thermal_[bd.b].temperature - thermal_[bd.a].temperature) / d * h;
+    const double q = conductivity_ * bd.transmission *
+                     (thermal_[bd.b].temperature - thermal_[bd.a].temperature) / d * h;
     heat_[bd.a] += q;
     heat_[bd.b] -= q;
   }

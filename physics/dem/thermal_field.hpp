@@ -24,14 +24,15 @@ class ThermalField {
   /// A split's piece in `slot`, of its parent's material (`parent`, the parent's record; its
   /// state `ps`): its temperature, its expansion tensor turned into the piece's frame by
   /// `turn` (piece -> parent), expanding about the parent's centre (piece at `x`, turned `q`).
-  void inherit(std::uint32_t slot, const BodyThermal& parent, const Eigen::Matrix3d& turn, const BodyState& ps,
-               const Eigen::Quaterniond& q, const Eigen::Vector3d& x);
+  void inherit(std::uint32_t slot, const BodyThermal& parent, const Eigen::Matrix3d& turn,
+               const BodyState& ps, const Eigen::Quaterniond& q, const Eigen::Vector3d& x);
 
   /// World::set_expansion for the body in `slot`, turned `q`.
-  void set_expansion(std::uint32_t slot, const Eigen::Quaterniond& q, const Eigen::Matrix3d& alpha_world);
+  void set_expansion(std::uint32_t slot, const Eigen::Quaterniond& q,
+                     const Eigen::Matrix3d& alpha_world);
   [[nodiscard]] Eigen::Matrix3d expansion(std::uint32_t slot, const Eigen::Quaterniond& q) const;
-  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Vector3d& c_axis, double alpha_a,
-                                                         double alpha_c);
+  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Vector3d& c_axis,
+                                                         double alpha_a, double alpha_c);
   void set_temperature(std::uint32_t slot, double kelvin);
   /// Every live body's.
   void set_temperature(const std::vector<BodyInfo>& infos, double kelvin);
@@ -52,8 +53,10 @@ class ThermalField {
   }
   /// Adds to `gradient` the volume-mean thermal strain of the live bodies since the last
   /// force evaluation, over the step h (a free periodic cell follows it).
-  void add_mean_strain_rate(const std::vector<BodyState>& states, const std::vector<BodyInfo>& infos,
-                            const std::vector<RigidShape>& shapes, double h, Eigen::Matrix3d& gradient) const;
+  void add_mean_strain_rate(const std::vector<BodyState>& states,
+                            const std::vector<BodyInfo>& infos,
+                            const std::vector<RigidShape>& shapes, double h,
+                            Eigen::Matrix3d& gradient) const;
   /// Explicit conduction over the step h through the intact bonds (World::set_conduction).
   void conduct(const std::vector<BodyState>& states, const std::vector<BodyInfo>& infos,
                const std::vector<Bond>& bonds, double h);
@@ -69,7 +72,8 @@ class ThermalField {
   }
 
   /// A checkpoint's field.
-  void restore(std::vector<BodyThermal> thermal, bool on, double conductivity, double heat_capacity) {
+  void restore(std::vector<BodyThermal> thermal, bool on, double conductivity,
+               double heat_capacity) {
     thermal_ = std::move(thermal);
     on_ = on;
     conductivity_ = conductivity;

@@ -81,7 +81,8 @@ void World::begin_step() {
     // free polycrystal follows its mean thermal strain; the grains' mismatch stays in them).
     Eigen::Matrix3d gradient = cell_.cell().velocity_gradient();
     if (thermal_.on())
-      thermal_.add_mean_strain_rate(bodies_.states(), bodies_.infos(), bodies_.shapes(), settings_.dt, gradient);
+      thermal_.add_mean_strain_rate(bodies_.states(), bodies_.infos(), bodies_.shapes(),
+                                    settings_.dt, gradient);
     const bool control = cell_.stress_controlled() && forces_current_;
     const Eigen::Matrix3d sigma = control ? cell_stress() : Eigen::Matrix3d::Zero();
     cell_.begin_step(gradient, control ? &sigma : nullptr);
@@ -104,17 +105,20 @@ void World::kick_drift(double h) {
 
 void World::damping(int nt) {
   if (bonds_.stress_criterion()) {
-    if (bonds_.break_by_stress(stress_.body_stresses(stress_view()), bodies_.infos(), time_, steps_) > 0)
+    if (bonds_.break_by_stress(stress_.body_stresses(stress_view()), bodies_.infos(), time_,
+                               steps_) > 0)
       stress_.invalidate();  // the sums still hold the bonds that broke
   }
   if (settings_.in_plane) bodies_.hold_in_plane(contacts_.live());
-  if (settings_.local_damping > 0.0) bodies_.apply_local_damping(settings_.local_damping, contacts_.live(), nt);
+  if (settings_.local_damping > 0.0)
+    bodies_.apply_local_damping(settings_.local_damping, contacts_.live(), nt);
   if (domain_) domain_->after_forces(*this);
 }
 
 void World::closing_kick(double h) {
   bodies_.closing_kick(h, threads::thread_count(settings_.threads), settings_.lanes);
-  if (thermal_.conductivity() > 0.0) thermal_.conduct(bodies_.states(), bodies_.infos(), bonds_.list(), h);
+  if (thermal_.conductivity() > 0.0)
+    thermal_.conduct(bodies_.states(), bodies_.infos(), bonds_.list(), h);
 }
 
 void World::end_step() {
@@ -124,10 +128,13 @@ void World::end_step() {
   for (StepListener* l : listeners_) l->after_step(*this);
 }
 
-void World::set_timing(bool on) { clock_.set_on(on); }
+void World::set_timing(bool on) {
+  clock_.set_on(on);
+}
 
 void World::add_listener(StepListener* listener) {
-  if (std::find(listeners_.begin(), listeners_.end(), listener) == listeners_.end()) listeners_.push_back(listener);
+  if (std::find(listeners_.begin(), listeners_.end(), listener) == listeners_.end())
+    listeners_.push_back(listener);
 }
 
 void World::remove_listener(StepListener* listener) {
@@ -137,10 +144,13 @@ void World::remove_listener(StepListener* listener) {
 // ---------------------------------------------------------------------------------------
 // Bodies
 
-std::uint32_t World::add_shape(RigidShape shape) { return bodies_.add_shape(std::move(shape)); }
+std::uint32_t World::add_shape(RigidShape shape) {
+  return bodies_.add_shape(std::move(shape));
+}
 
-BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x, const Eigen::Quaterniond& q,
-                       const Eigen::Vector3d& v, const Eigen::Vector3d& w, int grain_id) {
+BodyId World::add_body(std::uint32_t shape, double rho, const Eigen::Vector3d& x,
+                       const Eigen::Quaterniond& q, const Eigen::Vector3d& v,
+                       const Eigen::Vector3d& w, int grain_id) {
   const BodyId id = bodies_.add(shape, rho, x, q, v, w, grain_id);
   thermal_.reset(id.index, bodies_.slots());
   forces_current_ = false;
@@ -171,7 +181,8 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
     if (f.shape >= bodies_.shape_count())
       throw std::out_of_range("split_body: no shape " + std::to_string(f.shape));
     const Eigen::Vector3d x = ps.x + ps.q * f.offset;
-    const BodyId id = add_body(f.shape, rho, x, ps.q * f.turn, ps.v + ps.w.cross(x - ps.x), ps.w, pi.grain_id);
+    const BodyId id =
+        add_body(f.shape, rho, x, ps.q * f.turn, ps.v + ps.w.cross(x - ps.x), ps.w, pi.grain_id);
     bodies_.infos()[id.index].fixed = pi.fixed;
     bodies_.set_role(id.index, parent_role);  // the parent's owner holds its pieces
     // The piece is of the parent's material: its temperature, and its expansion tensor
@@ -184,13 +195,27 @@ std::vector<BodyId> World::split_body(BodyId parent, const std::vector<Fragment>
   return ids;
 }
 
-void World::set_fixed(BodyId id, bool fixed) { bodies_.infos()[bodies_.slot_of(id, "set_fixed: ")].fixed = fixed; }
-bool World::contains(BodyId id) const { return bodies_.contains(id); }
-const BodyState& World::state(BodyId id) const { return bodies_.states()[bodies_.slot_of(id, "")]; }
-BodyState& World::state(BodyId id) { return bodies_.states()[bodies_.slot_of(id, "")]; }
-const BodyInfo& World::info(BodyId id) const { return bodies_.infos()[bodies_.slot_of(id, "")]; }
-BodyId World::id_at(std::uint32_t slot) const { return bodies_.id_at(slot); }
-std::vector<BodyId> World::body_ids() const { return bodies_.ids(); }
+void World::set_fixed(BodyId id, bool fixed) {
+  bodies_.infos()[bodies_.slot_of(id, "set_fixed: ")].fixed = fixed;
+}
+bool World::contains(BodyId id) const {
+  return bodies_.contains(id);
+}
+const BodyState& World::state(BodyId id) const {
+  return bodies_.states()[bodies_.slot_of(id, "")];
+}
+BodyState& World::state(BodyId id) {
+  return bodies_.states()[bodies_.slot_of(id, "")];
+}
+const BodyInfo& World::info(BodyId id) const {
+  return bodies_.infos()[bodies_.slot_of(id, "")];
+}
+BodyId World::id_at(std::uint32_t slot) const {
+  return bodies_.id_at(slot);
+}
+std::vector<BodyId> World::body_ids() const {
+  return bodies_.ids();
+}
 
 void World::set_angular_velocity(BodyId id, const Eigen::Vector3d& w) {
   bodies_.set_angular_velocity(bodies_.slot_of(id, ""), w);
@@ -202,12 +227,24 @@ std::size_t World::add_wall(Wall wall) {
   return walls_.size() - 1;
 }
 
-double World::kinetic_energy() const { return bodies_.kinetic_energy(); }
-double World::potential_energy() const { return bodies_.potential_energy(settings_.gravity); }
-ExactSum World::owned_kinetic_energy() const { return bodies_.owned_kinetic_energy(); }
-ExactSum World::owned_potential_energy() const { return bodies_.owned_potential_energy(settings_.gravity); }
-Eigen::Vector3d World::linear_momentum() const { return bodies_.linear_momentum(); }
-Eigen::Vector3d World::angular_momentum() const { return bodies_.angular_momentum(); }
+double World::kinetic_energy() const {
+  return bodies_.kinetic_energy();
+}
+double World::potential_energy() const {
+  return bodies_.potential_energy(settings_.gravity);
+}
+ExactSum World::owned_kinetic_energy() const {
+  return bodies_.owned_kinetic_energy();
+}
+ExactSum World::owned_potential_energy() const {
+  return bodies_.owned_potential_energy(settings_.gravity);
+}
+Eigen::Vector3d World::linear_momentum() const {
+  return bodies_.linear_momentum();
+}
+Eigen::Vector3d World::angular_momentum() const {
+  return bodies_.angular_momentum();
+}
 
 // ---------------------------------------------------------------------------------------
 // Bonds
@@ -236,7 +273,8 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   }
   if (!forces_current_) compute_forces();  // posed shapes and live slots of this state
   contacts_.pose_geometry();               // a lazy pose may have skipped some
-  bonds_.make(params, distance, bodies_, contacts_.posed(), contacts_.live(), cell_, settings_.search);
+  bonds_.make(params, distance, bodies_, contacts_.posed(), contacts_.live(), cell_,
+              settings_.search);
   // Bonded at this temperature: their rest state is the present one.
   thermal_.mark_bonded();
   // The stress-free start: at rest, no shear or rolling springs, forces recomputed.
@@ -253,8 +291,12 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
   return bonds_.list().size();
 }
 
-void World::set_bond_strength(std::size_t k, double factor) { bonds_.set_strength(k, factor); }
-BondCounts World::bond_counts() const { return bonds_.counts(); }
+void World::set_bond_strength(std::size_t k, double factor) {
+  bonds_.set_strength(k, factor);
+}
+BondCounts World::bond_counts() const {
+  return bonds_.counts();
+}
 
 // ---------------------------------------------------------------------------------------
 // Thermal field
@@ -272,11 +314,15 @@ Eigen::Matrix3d World::expansion(BodyId id) const {
 void World::set_temperature(BodyId id, double kelvin) {
   thermal_.set_temperature(bodies_.slot_of(id, "set_temperature: "), kelvin);
 }
-void World::set_temperature(double kelvin) { thermal_.set_temperature(bodies_.infos(), kelvin); }
+void World::set_temperature(double kelvin) {
+  thermal_.set_temperature(bodies_.infos(), kelvin);
+}
 void World::ramp_temperature(double change, double target) {
   thermal_.ramp_temperature(bodies_.infos(), change, target);
 }
-double World::temperature(BodyId id) const { return thermal_.temperature(bodies_.slot_of(id, "temperature: ")); }
+double World::temperature(BodyId id) const {
+  return thermal_.temperature(bodies_.slot_of(id, "temperature: "));
+}
 void World::set_conduction(double conductivity, double heat_capacity) {
   thermal_.set_conduction(conductivity, heat_capacity);
 }
@@ -290,7 +336,8 @@ void World::set_temperature_held(BodyId id, bool held) {
 void World::set_cell(const PeriodicCell& cell) {
   CellControl::check(cell);
   if (settings_.manifold_tolerance > 0.0)
-    throw std::invalid_argument("set_cell: a periodic cell uses the exact search (manifold_tolerance 0)");
+    throw std::invalid_argument(
+        "set_cell: a periodic cell uses the exact search (manifold_tolerance 0)");
   if (!bonds_.empty()) throw std::logic_error("set_cell: set the cell before the bonds are made");
   cell_.set(cell);
   bonds_.follow_wrap(cell_.wrap(bodies_.states(), bodies_.infos()), cell_.cell());
@@ -298,12 +345,16 @@ void World::set_cell(const PeriodicCell& cell) {
   forces_current_ = false;
 }
 
-void World::set_velocity_gradient(const Eigen::Matrix3d& l) { cell_.set_velocity_gradient(l); }
+void World::set_velocity_gradient(const Eigen::Matrix3d& l) {
+  cell_.set_velocity_gradient(l);
+}
 
 // ---------------------------------------------------------------------------------------
 // Contacts and stress sums
 
-const std::vector<ContactRecord>& World::contacts() const { return contacts_.records(settings_.threads); }
+const std::vector<ContactRecord>& World::contacts() const {
+  return contacts_.records(settings_.threads);
+}
 
 bool World::by_body_current() const {
   // The per-body lists of the last evaluation (the contact and bond sums) describe the
@@ -313,17 +364,28 @@ bool World::by_body_current() const {
 }
 
 StressSums::View World::stress_view() const {
-  return {bodies_, contacts_, bonds_, cell_, by_body_current(), domain_ != nullptr, settings_.threads};
+  return {bodies_,           contacts_,          bonds_,           cell_,
+          by_body_current(), domain_ != nullptr, settings_.threads};
 }
 
-Eigen::Matrix3d World::cell_stress() const { return StressSums::cell_stress(stress_view()); }
-const std::vector<Eigen::Matrix3d>& World::stress_sums() const { return stress_.sums(stress_view()); }
-Eigen::Matrix3d World::stress_sum(std::uint32_t slot) const { return stress_.sum(stress_view(), slot); }
-const std::vector<Eigen::Vector3d>& World::stress_sum_diagonals() const { return stress_.diagonals(stress_view()); }
+Eigen::Matrix3d World::cell_stress() const {
+  return StressSums::cell_stress(stress_view());
+}
+const std::vector<Eigen::Matrix3d>& World::stress_sums() const {
+  return stress_.sums(stress_view());
+}
+Eigen::Matrix3d World::stress_sum(std::uint32_t slot) const {
+  return stress_.sum(stress_view(), slot);
+}
+const std::vector<Eigen::Vector3d>& World::stress_sum_diagonals() const {
+  return stress_.diagonals(stress_view());
+}
 void World::forces_on(std::uint32_t slot, std::vector<AppliedForce>& out) const {
   stress_.forces_on(stress_view(), slot, out);
 }
-std::vector<Eigen::Matrix3d> World::body_stresses() const { return stress_.body_stresses(stress_view()); }
+std::vector<Eigen::Matrix3d> World::body_stresses() const {
+  return stress_.body_stresses(stress_view());
+}
 
 // ---------------------------------------------------------------------------------------
 // Domain decomposition
@@ -339,8 +401,12 @@ void World::set_roles(std::vector<Role> roles) {
   contacts_.forget_search();
 }
 
-std::size_t World::owned_contact_count() const { return contacts_.owned_count(bodies_); }
+std::size_t World::owned_contact_count() const {
+  return contacts_.owned_count(bodies_);
+}
 
-Exchange World::exchange() { return Exchange(bodies_, contacts_, bonds_, walls_); }
+Exchange World::exchange() {
+  return Exchange(bodies_, contacts_, bonds_, walls_);
+}
 
 }  // namespace cleave::physics

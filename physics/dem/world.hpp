@@ -111,8 +111,8 @@ class World {
   [[nodiscard]] Eigen::Matrix3d expansion(BodyId id) const;
   /// alpha_a across the c-axis and alpha_c along it (world), the tensor of a hexagonal or
   /// trigonal crystal: alpha_a I + (alpha_c - alpha_a) c c^T.
-  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Vector3d& c_axis, double alpha_a,
-                                                         double alpha_c) {
+  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Vector3d& c_axis,
+                                                         double alpha_a, double alpha_c) {
     return ThermalField::crystal_expansion(c_axis, alpha_a, alpha_c);
   }
   /// Sets one body's temperature (K), or every live body's.

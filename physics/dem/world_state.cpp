@@ -141,7 +141,6 @@ struct Fnv {
   void add(const Eigen::Quaterniond& q) { bytes(q.coeffs().data(), 4 * sizeof(double)); }
 };
 
-
 void put_settings(StateWriter& w, const WorldSettings& settings) {
   // Settings (threads and the feature skin stay the loader's: results do not depend on them).
   w.put(settings.gravity);
@@ -225,7 +224,8 @@ void put_search(StateWriter& w, const Contacts& contacts, const CellControl& cel
   // search and each searched pair's image.
   w.put(cell.on());
   if (cell.on()) {
-    for (const Eigen::Matrix3d* m : {&cell.cell().vectors(), &cell.cell().velocity_gradient(), &cell.at_search()}) {
+    for (const Eigen::Matrix3d* m :
+         {&cell.cell().vectors(), &cell.cell().velocity_gradient(), &cell.at_search()}) {
       for (int c = 0; c < 3; ++c) w.put(Eigen::Vector3d(m->col(c)));
     }
     w.put(cell.cell().origin());
@@ -327,7 +327,9 @@ void put_bonds(StateWriter& w, const Bonds& bonds, bool cell) {
   w.put(bonds.params().law);
   w.put(bonds.params().criterion);
   w.put(bonds.params().sigma_f);
-  for (double v : {bonds.params().beam_young, bonds.params().beam_poisson, bonds.params().beam_radius}) w.put(v);
+  for (double v :
+       {bonds.params().beam_young, bonds.params().beam_poisson, bonds.params().beam_radius})
+    w.put(v);
   w.count(bonds.breaks().size());
   for (const BondBreak& b : bonds.breaks()) {
     w.put(b.time);
@@ -421,7 +423,7 @@ LoadedBodies get_bodies(StateReader& r) {
     if (f >= slots || infos[f].alive) r.fail("a free slot holds a live body");
   }
   return {std::move(shapes), std::move(states), std::move(infos), std::move(free_slots), live,
-          thermal_on,        conductivity,      heat_capacity,     std::move(thermal)};
+          thermal_on,        conductivity,      heat_capacity,    std::move(thermal)};
 }
 
 std::vector<Wall> get_walls(StateReader& r) {
@@ -497,8 +499,8 @@ LoadedSearch get_search(StateReader& r) {
       e.penetration = r.get<double>();
     }
   }
-  return {{pairs_current, skin, std::move(searched_at), std::move(searched_q), std::move(pairs), std::move(pair_image),
-           std::move(manifold_slots), std::move(manifolds)},
+  return {{pairs_current, skin, std::move(searched_at), std::move(searched_q), std::move(pairs),
+           std::move(pair_image), std::move(manifold_slots), std::move(manifolds)},
           cell_on,
           cell,
           cell_at_search};
@@ -650,12 +652,14 @@ void World::load_state(StateReader& r) {
 
   // All read: replace the state.
   settings_ = ws;
-  bodies_.restore(std::move(b.shapes), std::move(b.states), std::move(b.infos), std::move(b.free_slots), b.live);
+  bodies_.restore(std::move(b.shapes), std::move(b.states), std::move(b.infos),
+                  std::move(b.free_slots), b.live);
   thermal_.restore(std::move(b.thermal), b.thermal_on, b.conductivity, b.heat_capacity);
   walls_ = std::move(walls);
   cell_.restore(s.cell_on, s.cell, s.cell_at_search);
   bonds_.restore(std::move(bd.bonds), std::move(bd.offsets), bd.params, std::move(bd.breaks));
-  contacts_.restore(settings_.search, std::move(s.search), std::move(c.history), std::move(c.records), bodies_);
+  contacts_.restore(settings_.search, std::move(s.search), std::move(c.history),
+                    std::move(c.records), bodies_);
   time_ = time;
   steps_ = steps;
   forces_current_ = forces_current;
