@@ -10,12 +10,18 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "physics/dem/exchange.hpp"
+
 namespace cleave::parallel {
 
 namespace {
 
 using physics::BodyState;
+using physics::BondDynamic;
+using physics::Exchange;
+using physics::HistoryEntry;
 using physics::Role;
+using physics::WallForceAt;
 using physics::World;
 
 /// Plain bytes in and out of a buffer: states, histories and bonds are plain data (doubles,
@@ -49,34 +55,6 @@ struct Unpacker {
     for (std::uint64_t k = 0; k < n; ++k) f(get<T>());
   }
 };
-
-/// What a bond carries from step to step (its geometry at bonding is everywhere already).
-struct BondDynamic {
-  std::uint64_t index;
-  physics::BondState state;
-  physics::BondFailure failure;
-  double broken_at, thermal_gap, rest_length;
-  Eigen::Vector3d point, normal, force, moment, shift;
-};
-
-BondDynamic dynamic_of(const physics::Bond& b, std::size_t k) {
-  return {k, b.state, b.failure, b.broken_at, b.thermal_gap, b.beam.rest_length,
-          b.point, b.normal, b.force, b.moment, b.shift};
-}
-
-void apply(physics::Bond& b, const BondDynamic& d) {
-  b.state = d.state;
-  b.failure = d.failure;
-  b.broken_at = d.broken_at;
-  b.thermal_gap = d.thermal_gap;
-  b.beam.rest_length = d.rest_length;
-  b.point = d.point;
-  b.normal = d.normal;
-  b.force = d.force;
-  b.moment = d.moment;
-  b.shift = d.shift;
-}
-
 
 /// A body's slot and state, as gathered.
 struct OwnedState {
@@ -265,139 +243,27 @@ std::vector<std::vector<char>> MpiDomain::all_gather(const std::vector<char>& mi
   return in;
 }
 
-void MpiDomain::index_bonds(const World& world) {
-  // Made anew at each re-partition: a split moves bonds to its pieces and re-sorts them.
-  bonds_of_.assign(world.states_.size(), {});
-  for (std::size_t k = 0; k < world.bonds_.size(); ++k) {
-    bonds_of_[world.bonds_[k].a].push_back(static_cast<std::uint32_t>(k));
-    bonds_of_[world.bonds_[k].b].push_back(static_cast<std::uint32_t>(k));
-  }
-}
-
 void MpiDomain::repartition(World& world, bool first) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t slots = world.states_.size();
-  const auto n = static_cast<std::size_t>(size_);
-  std::vector<Role> roles(slots, Role::dormant);
-  world.bodies_changed_ = false;
+  Exchange ex = world.exchange();
+  std::vector<Role> roles(ex.slots(), Role::dormant);
+  ex.take_bodies_changed();
   bool rebalanced = false;
   if (first) {
     // Every process knows every body: the same cuts everywhere, no messages.
     std::vector<Bisection::Point> points;
-    for (const physics::BodyId id : world.body_ids()) points.push_back({world.states_[id.index].x, id.index});
+    for (const physics::BodyId id : world.body_ids())
+      points.push_back({ex.state(id.index).x, id.index});
     cuts_ = Bisection(std::move(points), size_);
     for (const physics::BodyId id : world.body_ids()) {
-      if (cuts_.owner(world.states_[id.index].x) == rank_) roles[id.index] = Role::owned;
+      if (cuts_.owner(ex.state(id.index).x) == rank_) roles[id.index] = Role::owned;
     }
     rebalanced = true;
   } else {
-    // Re-cut when the load has drifted: every process's centroids to every process.
-    std::uint64_t mine = 0;
-    for (std::uint32_t i = 0; i < slots; ++i) mine += world.infos_[i].alive && world.owns(i);
-    std::uint64_t most = 0, total = 0;
-    {
-      Timer timer(stats_.communication_seconds);
-      MPI_Allreduce(&mine, &most, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
-      MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    }
-    if (total > 0 && static_cast<double>(most) > rebalance_ * static_cast<double>(total) / static_cast<double>(n)) {
-      std::vector<char> buf;
-      Packer pk{buf};
-      for (std::uint32_t i = 0; i < slots; ++i) {
-        if (world.infos_[i].alive && world.owns(i)) pk.put(Bisection::Point{world.states_[i].x, i});
-      }
-      std::vector<Bisection::Point> points;
-      for (const auto& part : all_gather(buf)) {
-        Unpacker up{part};
-        while (up.more()) points.push_back(up.get<Bisection::Point>());
-      }
-      std::sort(points.begin(), points.end(), [](const auto& p, const auto& q) { return p.slot < q.slot; });
-      cuts_ = Bisection(std::move(points), size_);
-      rebalanced = true;
-    }
-    // Bodies that left this region go to their new owner with their contact histories and
-    // bonds (the new owner may not have evaluated the pairs they had with other ghosts).
-    index_bonds(world);
-    std::vector<std::vector<char>> out(n);
-    for (std::uint32_t i = 0; i < slots; ++i) {
-      if (!world.infos_[i].alive || !world.owns(i)) continue;
-      const int to = cuts_.owner(world.states_[i].x);
-      if (to == rank_) {
-        roles[i] = Role::owned;
-        continue;
-      }
-      ++stats_.migrated;
-      Packer pk{out[static_cast<std::size_t>(to)]};
-      pk.put(i);
-      pk.put(world.states_[i]);
-      std::uint64_t histories = 0;
-      for (const auto& e : world.history_) histories += (e.key.a == i || e.key.b == i);
-      pk.put(histories);
-      for (const auto& e : world.history_) {
-        if (e.key.a == i || e.key.b == i) pk.put(e);
-      }
-      pk.put(static_cast<std::uint64_t>(bonds_of_[i].size()));
-      for (const std::uint32_t k : bonds_of_[i]) pk.put(dynamic_of(world.bonds_[k], k));
-    }
-    const auto in = all_to_all(out);
-    std::vector<World::HistoryEntry> arrived;
-    for (const auto& part : in) {
-      Unpacker up{part};
-      while (up.more()) {
-        const auto i = up.get<std::uint32_t>();
-        world.states_[i] = up.get<BodyState>();
-        roles[i] = Role::owned;
-        up.each<World::HistoryEntry>([&](const auto& e) { arrived.push_back(e); });
-        up.each<BondDynamic>([&](const BondDynamic& d) { apply(world.bonds_[d.index], d); });
-      }
-    }
-    if (!arrived.empty()) {
-      // Histories this process lacks join its list (one it has is the same, bit for bit).
-      auto key_less = [](const World::HistoryEntry& p, const World::HistoryEntry& q) { return p.key < q.key; };
-      std::sort(arrived.begin(), arrived.end(), key_less);
-      std::vector<World::HistoryEntry> merged;
-      merged.reserve(world.history_.size() + arrived.size());
-      std::size_t a = 0, b = 0;
-      while (a < world.history_.size() || b < arrived.size()) {
-        if (b == arrived.size() || (a < world.history_.size() && key_less(world.history_[a], arrived[b]))) {
-          merged.push_back(world.history_[a++]);
-        } else if (a == world.history_.size() || key_less(arrived[b], world.history_[a])) {
-          if (merged.empty() || merged.back().key != arrived[b].key) merged.push_back(arrived[b]);
-          ++b;
-        } else {
-          merged.push_back(world.history_[a++]);
-          ++b;
-        }
-      }
-      world.history_ = std::move(merged);
-    }
+    rebalanced = recut(ex);
+    migrate(ex, roles);
   }
-  // Ghosts: each owner sends the bodies within the halo of another process's region.
-  send_.assign(n, {});
-  recv_.assign(n, {});
-  std::vector<std::vector<char>> out(n);
-  anchor_.resize(slots);
-  for (std::uint32_t i = 0; i < slots; ++i) {
-    if (roles[i] != Role::owned) continue;
-    anchor_[i] = world.states_[i].x;
-    for (int r = 0; r < size_; ++r) {
-      if (r == rank_ || cuts_.distance(r, world.states_[i].x) > halo_) continue;
-      send_[static_cast<std::size_t>(r)].push_back(i);
-      Packer pk{out[static_cast<std::size_t>(r)]};
-      pk.put(i);
-      pk.put(world.states_[i]);
-    }
-  }
-  const auto in = all_to_all(out);
-  for (std::size_t r = 0; r < n; ++r) {
-    Unpacker up{in[r]};
-    while (up.more()) {
-      const auto i = up.get<std::uint32_t>();
-      world.states_[i] = up.get<BodyState>();
-      roles[i] = Role::ghost;
-      recv_[r].push_back(i);
-    }
-  }
+  send_ghosts(ex, roles);
   stats_.owned = static_cast<std::size_t>(std::count(roles.begin(), roles.end(), Role::owned));
   stats_.ghosts = static_cast<std::size_t>(std::count(roles.begin(), roles.end(), Role::ghost));
   if (first) {
@@ -408,14 +274,118 @@ void MpiDomain::repartition(World& world, bool first) {
   ++stats_.repartitions;
   if (rebalanced) {
     ++stats_.rebalances;
-    stats_.rebalance_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats_.rebalance_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+}
+
+bool MpiDomain::recut(const Exchange& ex) {
+  // Re-cut when the load has drifted: every process's centroids to every process.
+  const std::size_t slots = ex.slots();
+  const auto n = static_cast<std::size_t>(size_);
+  std::uint64_t mine = 0;
+  for (std::uint32_t i = 0; i < slots; ++i) mine += ex.owned(i);
+  std::uint64_t most = 0, total = 0;
+  {
+    Timer timer(stats_.communication_seconds);
+    MPI_Allreduce(&mine, &most, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+  }
+  if (!(total > 0 && static_cast<double>(most) >
+                         rebalance_ * static_cast<double>(total) / static_cast<double>(n)))
+    return false;
+  std::vector<char> buf;
+  Packer pk{buf};
+  for (std::uint32_t i = 0; i < slots; ++i) {
+    if (ex.owned(i)) pk.put(Bisection::Point{ex.state(i).x, i});
+  }
+  std::vector<Bisection::Point> points;
+  for (const auto& part : all_gather(buf)) {
+    Unpacker up{part};
+    while (up.more()) points.push_back(up.get<Bisection::Point>());
+  }
+  std::sort(points.begin(), points.end(),
+            [](const auto& p, const auto& q) { return p.slot < q.slot; });
+  cuts_ = Bisection(std::move(points), size_);
+  return true;
+}
+
+void MpiDomain::migrate(Exchange& ex, std::vector<Role>& roles) {
+  // Bodies that left this region go to their new owner with their contact histories and
+  // bonds (the new owner may not have evaluated the pairs they had with other ghosts).
+  // (Bonds by slot made anew at each re-partition: a split moves bonds to its pieces and
+  // re-sorts them.)
+  const std::vector<std::vector<std::uint32_t>> bonds_of = ex.bonds_by_slot();
+  std::vector<std::vector<char>> out(static_cast<std::size_t>(size_));
+  for (std::uint32_t i = 0; i < ex.slots(); ++i) {
+    if (!ex.owned(i)) continue;
+    const int to = cuts_.owner(ex.state(i).x);
+    if (to == rank_) {
+      roles[i] = Role::owned;
+      continue;
+    }
+    ++stats_.migrated;
+    Packer pk{out[static_cast<std::size_t>(to)]};
+    pk.put(i);
+    pk.put(ex.state(i));
+    const std::vector<HistoryEntry> histories = ex.histories_of(i);
+    pk.put(static_cast<std::uint64_t>(histories.size()));
+    for (const auto& e : histories) pk.put(e);
+    pk.put(static_cast<std::uint64_t>(bonds_of[i].size()));
+    for (const std::uint32_t k : bonds_of[i]) pk.put(ex.bond(k));
+  }
+  const auto in = all_to_all(out);
+  std::vector<HistoryEntry> arrived;
+  for (const auto& part : in) {
+    Unpacker up{part};
+    while (up.more()) {
+      const auto i = up.get<std::uint32_t>();
+      ex.set_state(i, up.get<BodyState>());
+      roles[i] = Role::owned;
+      up.each<HistoryEntry>([&](const auto& e) { arrived.push_back(e); });
+      up.each<BondDynamic>([&](const BondDynamic& d) { ex.set_bond(d); });
+    }
+  }
+  // Histories this process lacks join its list (one it has is the same, bit for bit).
+  ex.merge_histories(std::move(arrived));
+}
+
+void MpiDomain::send_ghosts(Exchange& ex, std::vector<Role>& roles) {
+  // Each owner sends the bodies within the halo of another process's region.
+  const std::size_t slots = ex.slots();
+  const auto n = static_cast<std::size_t>(size_);
+  send_.assign(n, {});
+  recv_.assign(n, {});
+  std::vector<std::vector<char>> out(n);
+  anchor_.resize(slots);
+  for (std::uint32_t i = 0; i < slots; ++i) {
+    if (roles[i] != Role::owned) continue;
+    anchor_[i] = ex.state(i).x;
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_ || cuts_.distance(r, ex.state(i).x) > halo_) continue;
+      send_[static_cast<std::size_t>(r)].push_back(i);
+      Packer pk{out[static_cast<std::size_t>(r)]};
+      pk.put(i);
+      pk.put(ex.state(i));
+    }
+  }
+  const auto in = all_to_all(out);
+  for (std::size_t r = 0; r < n; ++r) {
+    Unpacker up{in[r]};
+    while (up.more()) {
+      const auto i = up.get<std::uint32_t>();
+      ex.set_state(i, up.get<BodyState>());
+      roles[i] = Role::ghost;
+      recv_[r].push_back(i);
+    }
   }
 }
 
 void MpiDomain::exchange_ghost_states(World& world) {
   // The lists are fixed between re-partitions, so are the message sizes: one call.
+  Exchange ex = world.exchange();
   const auto n = static_cast<std::size_t>(size_);
-  constexpr int kState = static_cast<int>(sizeof(BodyState));
+  constexpr int kState = static_cast<int>(Exchange::kStateBytes);
   std::vector<int> send_counts(n), recv_counts(n), send_at(n), recv_at(n);
   int sent = 0, received = 0;
   for (std::size_t r = 0; r < n; ++r) {
@@ -431,8 +401,8 @@ void MpiDomain::exchange_ghost_states(World& world) {
   char* p = send_buffer_.data();
   for (std::size_t r = 0; r < n; ++r) {
     for (const std::uint32_t i : send_[r]) {
-      std::memcpy(p, &world.states_[i], sizeof(BodyState));
-      p += sizeof(BodyState);
+      ex.pack_state(i, p);
+      p += Exchange::kStateBytes;
     }
   }
   {
@@ -446,8 +416,8 @@ void MpiDomain::exchange_ghost_states(World& world) {
   const char* q = recv_buffer_.data();
   for (std::size_t r = 0; r < n; ++r) {
     for (const std::uint32_t i : recv_[r]) {
-      std::memcpy(static_cast<void*>(&world.states_[i]), q, sizeof(BodyState));
-      q += sizeof(BodyState);
+      ex.unpack_state(i, q);
+      q += Exchange::kStateBytes;
     }
   }
   ++stats_.exchanges;
@@ -458,14 +428,14 @@ void MpiDomain::before_forces(World& world) {
   // Some owned body has moved half the skin since the last re-partition (anywhere): the
   // ghosts may no longer hold every body that can touch an owned one.
   // A body that came or went (a split: every process made it) repartitions at once.
-  if (world.bodies_changed_) {
-    world.bodies_changed_ = false;
+  Exchange ex = world.exchange();
+  if (ex.take_bodies_changed()) {
     repartition(world, false);
     return;
   }
   bool moved = false;
-  for (std::uint32_t i = 0; i < world.states_.size() && !moved; ++i) {
-    if (world.infos_[i].alive && world.owns(i)) moved = (world.states_[i].x - anchor_[i]).norm() >= 0.5 * skin_;
+  for (std::uint32_t i = 0; i < ex.slots() && !moved; ++i) {
+    if (ex.owned(i)) moved = (ex.state(i).x - anchor_[i]).norm() >= 0.5 * skin_;
   }
   if (any(moved)) {
     repartition(world, false);
@@ -477,23 +447,23 @@ void MpiDomain::before_forces(World& world) {
 void MpiDomain::after_forces(World& world) {
   // The walls' reactions, summed as one process sums them (wall by wall, body by body, each
   // body's contacts in order), and this step's bond breaks, each from the owner of its A.
+  Exchange ex = world.exchange();
   std::vector<char> buf;
   Packer pk{buf};
-  const auto walls = world.wall_forces();
+  const auto walls = ex.wall_forces();
   pk.put(static_cast<std::uint64_t>(walls.size()));
   for (const auto& w : walls) pk.put(w);
-  for (std::size_t j = world.breaks_at_step_; j < world.breaks_.size(); ++j) {
-    const physics::BondBreak& br = world.breaks_[j];
+  for (const physics::BondBreak& br : ex.step_breaks()) {
     if (!world.owns(br.a)) continue;
     pk.put(br);
-    pk.put(dynamic_of(world.bonds_[br.bond], br.bond));
+    pk.put(ex.bond(br.bond));
   }
   const auto in = all_gather(buf);
-  std::vector<World::WallForceAt> forces;
+  std::vector<WallForceAt> forces;
   std::vector<std::pair<physics::BondBreak, BondDynamic>> breaks;
   for (const auto& part : in) {
     Unpacker up{part};
-    up.each<World::WallForceAt>([&](const auto& f) { forces.push_back(f); });
+    up.each<WallForceAt>([&](const auto& f) { forces.push_back(f); });
     while (up.more()) {
       const auto br = up.get<physics::BondBreak>();
       breaks.emplace_back(br, up.get<BondDynamic>());
@@ -502,39 +472,35 @@ void MpiDomain::after_forces(World& world) {
   std::sort(forces.begin(), forces.end(), [](const auto& p, const auto& q) {
     return std::tie(p.wall, p.slot, p.order) < std::tie(q.wall, q.slot, q.order);
   });
-  for (auto& w : world.walls_) w.reaction.setZero();
-  for (const auto& f : forces) world.walls_[f.wall].reaction -= f.force;
+  ex.set_wall_reactions(forces);
   std::sort(breaks.begin(), breaks.end(), [](const auto& p, const auto& q) { return p.first.bond < q.first.bond; });
-  world.breaks_.resize(world.breaks_at_step_);
+  std::vector<physics::BondBreak> all;
   for (const auto& [br, d] : breaks) {
-    world.breaks_.push_back(br);
-    apply(world.bonds_[d.index], d);
+    all.push_back(br);
+    ex.set_bond(d);
   }
+  ex.set_step_breaks(all);
 }
 
 void MpiDomain::gather_all(World& world, bool contacts) {
+  Exchange ex = world.exchange();
   std::vector<char> buf;
   Packer pk{buf};
-  std::uint64_t owned = 0, histories = 0, records = 0;
-  for (std::uint32_t i = 0; i < world.states_.size(); ++i) owned += world.infos_[i].alive && world.owns(i);
-  auto counts_for = [&](const World::ContactKey& key) {
-    const bool wall = (key.a & World::kWallFlag) != 0;
-    return world.owns(wall ? key.b : key.a);
-  };
-  for (const auto& e : world.history_) histories += counts_for(e.key);
+  std::uint64_t owned = 0, records = 0;
+  for (std::uint32_t i = 0; i < ex.slots(); ++i) owned += ex.owned(i);
   pk.put(owned);
-  for (std::uint32_t i = 0; i < world.states_.size(); ++i) {
-    if (world.infos_[i].alive && world.owns(i)) pk.put(OwnedState{i, world.states_[i]});
+  for (std::uint32_t i = 0; i < ex.slots(); ++i) {
+    if (ex.owned(i)) pk.put(OwnedState{i, ex.state(i)});
   }
-  pk.put(histories);
-  for (const auto& e : world.history_) {
-    if (counts_for(e.key)) pk.put(e);
-  }
+  const std::vector<HistoryEntry> histories = ex.owned_histories();
+  pk.put(static_cast<std::uint64_t>(histories.size()));
+  for (const auto& e : histories) pk.put(e);
+  const std::vector<physics::Bond>& bond_list = world.bonds();
   std::uint64_t bonds = 0;
-  for (const auto& b : world.bonds_) bonds += world.owns(b.a);
+  for (const auto& b : bond_list) bonds += world.owns(b.a);
   pk.put(bonds);
-  for (std::size_t k = 0; k < world.bonds_.size(); ++k) {
-    if (world.owns(world.bonds_[k].a)) pk.put(dynamic_of(world.bonds_[k], k));
+  for (std::size_t k = 0; k < bond_list.size(); ++k) {
+    if (world.owns(bond_list[k].a)) pk.put(ex.bond(k));
   }
   if (contacts) {
     const auto& all = world.contacts();
@@ -546,26 +512,25 @@ void MpiDomain::gather_all(World& world, bool contacts) {
     }
   }
   const auto in = all_gather(buf);
-  std::vector<World::HistoryEntry> history;
+  std::vector<HistoryEntry> history;
   std::vector<RecordAt> gathered;
   for (const auto& part : in) {
     Unpacker up{part};
-    up.each<OwnedState>([&](const OwnedState& b) { world.states_[b.slot] = b.state; });
-    up.each<World::HistoryEntry>([&](const auto& e) { history.push_back(e); });
-    up.each<BondDynamic>([&](const BondDynamic& d) { apply(world.bonds_[d.index], d); });
+    up.each<OwnedState>([&](const OwnedState& b) { ex.set_state(b.slot, b.state); });
+    up.each<HistoryEntry>([&](const auto& e) { history.push_back(e); });
+    up.each<BondDynamic>([&](const BondDynamic& d) { ex.set_bond(d); });
     if (contacts) up.each<RecordAt>([&](const RecordAt& r) { gathered.push_back(r); });
   }
-  std::sort(history.begin(), history.end(), [](const auto& p, const auto& q) { return p.key < q.key; });
-  world.history_ = std::move(history);
+  ex.set_histories(std::move(history));
   if (contacts) {
     // One process's order: the pairs sorted by (A, B), each pair's contacts as found, then
     // the walls' contacts wall by wall, body by body.
     std::stable_sort(gathered.begin(), gathered.end(), [](const RecordAt& p, const RecordAt& q) {
       return std::tie(p.group, p.first, p.second, p.order) < std::tie(q.group, q.first, q.second, q.order);
     });
-    world.records_.clear();
-    for (const RecordAt& r : gathered) world.records_.push_back(r.record);
-    world.records_current_ = true;
+    std::vector<physics::ContactRecord> records_in_order;
+    for (const RecordAt& r : gathered) records_in_order.push_back(r.record);
+    ex.set_records(std::move(records_in_order));
   }
 }
 

@@ -16,6 +16,10 @@
 
 #include "physics/dem/world.hpp"
 
+namespace cleave::physics {
+class Exchange;
+}
+
 namespace cleave::parallel {
 
 /// MPI_Init / MPI_Finalize around a program (one per process).
@@ -110,9 +114,16 @@ class MpiDomain final : public physics::Domain {
 
  private:
   void repartition(physics::World& world, bool first);
+  /// New cuts when the most bodies a process owns exceed the threshold; whether it cut.
+  bool recut(const physics::Exchange& ex);
+  /// The owned bodies that left this region to their new owners (with their contact
+  /// histories and bonds), those that came in; `roles` gains this process's owned bodies.
+  void migrate(physics::Exchange& ex, std::vector<physics::Role>& roles);
+  /// The owned bodies within the halo of other regions to those processes, and theirs here
+  /// (`roles` gains the ghosts).
+  void send_ghosts(physics::Exchange& ex, std::vector<physics::Role>& roles);
   void exchange_ghost_states(physics::World& world);
   std::vector<std::vector<char>> all_to_all(const std::vector<std::vector<char>>& out);
-  void index_bonds(const physics::World& world);
 
   int rank_ = 0, size_ = 1;
   double rebalance_ = 1.2;
@@ -121,7 +132,6 @@ class MpiDomain final : public physics::Domain {
   bool attached_ = false;
   std::vector<Eigen::Vector3d> anchor_;  // by slot: an owned body's centroid at the last re-partition
   std::vector<std::vector<std::uint32_t>> send_, recv_;  // by process: ghost slots sent / received
-  std::vector<std::vector<std::uint32_t>> bonds_of_;     // by slot: its bonds' indices
   std::vector<char> send_buffer_, recv_buffer_;  // the ghost exchange's
   DomainStats stats_;
 };

@@ -12,67 +12,6 @@
 
 namespace cleave::physics {
 
-void PosedShape::update(const RigidShape& shape, const BodyState& state) {
-  update_frame(shape, state);
-  update_geometry();
-}
-
-void PosedShape::update_frame(const RigidShape& shape, const BodyState& state) {
-  if (primitives != nullptr) {
-    travel += (state.x - centre).norm();
-    turn += std::sqrt(std::min((state.q.coeffs() - orientation.coeffs()).squaredNorm(),
-                               (state.q.coeffs() + orientation.coeffs()).squaredNorm()));
-  }
-  primitives = &shape.primitives;
-  centre = state.x;
-  orientation = state.q;
-  radius = shape.primitives.dilation_radius;
-  rotation = state.q.toRotationMatrix();
-}
-
-void PosedShape::update_vertices() {
-  // centre + R v and the box in scalars, each operation Eigen's (its 3x3 product sums rows
-  // 0 and 1 left to right, in one SSE pair, and row 2 as (a + (b + c)); cwiseMin/Max are
-  // std::min/max by component): the same bits, without Eigen reading each vertex and the box
-  // back as 16-byte pairs just stored as 8-byte halves (perf: a third of this function).
-  const Eigen::Matrix3d& R = rotation;
-  const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2),
-               r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
-  const double cx = centre.x(), cy = centre.y(), cz = centre.z();
-  const auto& p = *primitives;
-  vertices.resize(p.vertices.size());
-  double lx = cx, ly = cy, lz = cz, hx = cx, hy = cy, hz = cz;
-  for (std::size_t i = 0; i < p.vertices.size(); ++i) {
-    const double v0 = p.vertices[i].x(), v1 = p.vertices[i].y(), v2 = p.vertices[i].z();
-    const double x = cx + ((r00 * v0 + r01 * v1) + r02 * v2);
-    const double y = cy + ((r10 * v0 + r11 * v1) + r12 * v2);
-    const double z = cz + (r20 * v0 + (r21 * v1 + r22 * v2));
-    vertices[i] = {x, y, z};
-    lx = std::min(lx, x);
-    ly = std::min(ly, y);
-    lz = std::min(lz, z);
-    hx = std::max(hx, x);
-    hy = std::max(hy, y);
-    hz = std::max(hz, z);
-  }
-  lo = {lx, ly, lz};
-  hi = {hx, hy, hz};
-}
-
-void PosedShape::update_geometry() {
-  update_vertices();
-  const Eigen::Matrix3d& R = rotation;
-  const auto& p = *primitives;
-  const std::size_t nf = p.faces.size(), stride = (nf + 1) & ~std::size_t{1};
-  faces = nf;
-  if (planes.size() != 4 * stride) planes.assign(4 * stride, 0.0);  // the padding stays 0
-  for (std::size_t f = 0; f < nf; ++f) {
-    const Eigen::Vector3d n = R * p.faces[f].normal;
-    for (int k = 0; k < 3; ++k) planes[k * stride + f] = n[k];
-    planes[3 * stride + f] = n.dot(vertices[p.faces[f].vertices[0]]);
-  }
-}
-
 namespace {
 
 constexpr std::size_t kMaxVertices = 48;
@@ -815,50 +754,6 @@ bool polyhedron_contacts(const PosedShape& a, const PosedShape& b, double skin, 
   if (!early_out(a, b, reach)) contacts_over(a, b, 0.0, all, a_to_b, b_to_a, out);
   near.touching = out.size() > before;
   return false;
-}
-
-void capture_manifold(const PosedShape& a, const PosedShape& b, const std::vector<FeatureContact>& found,
-                      double margin, ContactManifold& m) {
-  const Eigen::Matrix3d at = a.rotation.transpose(), bt = b.rotation.transpose();
-  m.entries.clear();
-  for (const FeatureContact& fc : found) {
-    ContactManifold::Entry e;
-    e.feature_a = fc.feature_a;
-    e.feature_b = fc.feature_b;
-    e.point_a = at * (fc.contact.point - a.centre);
-    e.point_b = bt * (fc.contact.point - b.centre);
-    e.normal_a = at * fc.contact.normal;
-    e.penetration = fc.contact.penetration;
-    m.entries.push_back(e);
-  }
-  // In feature order, as the world lists a pair's contacts: carried ones need no sort.
-  std::sort(m.entries.begin(), m.entries.end(), [](const auto& x, const auto& y) {
-    return std::tie(x.feature_a, x.feature_b) < std::tie(y.feature_a, y.feature_b);
-  });
-  m.offset = at * (b.centre - a.centre);
-  m.turn = a.orientation.conjugate() * b.orientation;
-  m.lever = b.primitives->bounding_radius;  // the dilation included
-  m.margin = margin;
-}
-
-bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManifold& m) {
-  if (!(m.margin > 0.0)) return false;
-  const Eigen::Vector3d offset = a.rotation.transpose() * (b.centre - a.centre);
-  const Eigen::Quaterniond turn = a.orientation.conjugate() * b.orientation;
-  // A unit vector of B turned by theta relative to A moves 2 sin(theta/2) <= 2 |dq|.
-  const double dq = std::sqrt(std::min((turn.coeffs() - m.turn.coeffs()).squaredNorm(),
-                                       (turn.coeffs() + m.turn.coeffs()).squaredNorm()));
-  const double moved = (offset - m.offset).norm() + 2.0 * m.lever * dq;
-  return moved < 0.5 * m.margin;
-}
-
-bool manifold_contacts(const PosedShape& a, const PosedShape& b, const ContactManifold& m,
-                       std::vector<FeatureContact>& out) {
-  if (!manifold_holds(a, b, m)) return false;
-  for_carried_contacts(a, b, m, [&](std::uint32_t fa, std::uint32_t fb, const PrimitiveContact& c) {
-    out.push_back({fa, fb, c});
-  });
-  return true;
 }
 
 bool near_features_apart(const PosedShape& a, const PosedShape& b, const NearFeatures& near) {

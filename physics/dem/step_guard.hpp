@@ -10,8 +10,10 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "physics/dem/step_listener.hpp"
 #include "physics/dem/world.hpp"
 
 namespace cleave::physics {
@@ -40,18 +42,20 @@ struct BlowUp {
   double suggested_dt = 0.0;
 };
 
-/// Watches a World step by step. Call before_step() before World::step() and check()
-/// after it. A body's movement in a step is bounded by |dx| + angle(dq) x its bounding
-/// radius (no point of a rigid body moves more); it must stay below `fraction` x the
-/// bounding radius (default 0.1: a tenth of the body's size per step, far above any sane
-/// run: a 1 mm grain at dt = 1e-7 s would need 1000 m/s).
-class StepGuard {
+/// Watches a World step by step. Call before_step() before World::step() (or register it
+/// with World::add_listener, which calls it) and check() after it. A body's movement in a
+/// step is bounded by |dx| + angle(dq) x its bounding radius (no point of a rigid body moves
+/// more); it must stay below `fraction` x the bounding radius (default 0.1: a tenth of the body's
+/// size per step, far above any sane run: a 1 mm grain at dt = 1e-7 s would need 1000 m/s).
+class StepGuard : public StepListener {
  public:
   static constexpr double kDefaultFraction = 0.1;
   explicit StepGuard(double fraction = kDefaultFraction) : fraction_(fraction) {}
 
   /// Remembers every live body's pose.
   void before_step(const World& world);
+  /// As a listener: before each step.
+  void before_step(World& world) override { before_step(std::as_const(world)); }
   /// The first body (in slot order) with a non-finite state or a too large movement since
   /// before_step(); none when all is well. Bodies created since (split pieces) are checked
   /// for finite values only. `step_completed` = false: World::step threw part-way (a

@@ -141,25 +141,27 @@ struct Fnv {
   void add(const Eigen::Quaterniond& q) { bytes(q.coeffs().data(), 4 * sizeof(double)); }
 };
 
-}  // namespace
-
-void World::save_state(StateWriter& w) const {
-  w.put(kWorldLayout);
+void put_settings(StateWriter& w, const WorldSettings& settings) {
   // Settings (threads and the feature skin stay the loader's: results do not depend on them).
-  w.put(settings_.gravity);
-  w.put(settings_.dt);
-  put_params(w, settings_.particle_particle);
-  put_params(w, settings_.particle_wall);
-  w.put(settings_.search);
-  w.put(settings_.search_skin);
-  w.put(settings_.local_damping);
+  w.put(settings.gravity);
+  w.put(settings.dt);
+  put_params(w, settings.particle_particle);
+  put_params(w, settings.particle_wall);
+  w.put(settings.search);
+  w.put(settings.search_skin);
+  w.put(settings.local_damping);
+}
 
-  w.count(shapes_.size());
-  for (const RigidShape& s : shapes_) put_shape(w, s);
+/// Shapes, bodies and their thermal records.
+void put_bodies(StateWriter& w, const Bodies& bodies, const ThermalField& thermal) {
+  w.count(bodies.shapes().size());
+  for (const RigidShape& s : bodies.shapes()) put_shape(w, s);
 
-  w.count(states_.size());
-  for (std::size_t i = 0; i < states_.size(); ++i) {
-    const BodyInfo& b = infos_[i];
+  const std::vector<BodyState>& states = bodies.states();
+  const std::vector<BodyInfo>& infos = bodies.infos();
+  w.count(states.size());
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const BodyInfo& b = infos[i];
     w.put(b.shape);
     w.put(b.mass);
     w.put(b.inv_mass);
@@ -169,16 +171,16 @@ void World::save_state(StateWriter& w) const {
     w.put(b.generation);
     w.put(b.alive);
     w.put(b.fixed);
-    const BodyState& s = states_[i];
+    const BodyState& s = states[i];
     for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.L, &s.w, &s.f, &s.tau}) w.put(*v);
     w.put(s.q);
   }
-  w.put(free_slots_);
-  w.put<std::uint64_t>(live_);
-  w.put(thermal_on_);
-  w.put(conductivity_);
-  w.put(heat_capacity_);
-  for (const BodyThermal& t : thermal_) {
+  w.put(bodies.free_slots());
+  w.put<std::uint64_t>(bodies.count());
+  w.put(thermal.on());
+  w.put(thermal.conductivity());
+  w.put(thermal.heat_capacity());
+  for (const BodyThermal& t : thermal.slots()) {
     w.put(t.temperature);
     w.put(t.bonded_at);
     w.put(t.alpha);
@@ -186,9 +188,11 @@ void World::save_state(StateWriter& w) const {
     w.put(t.shaped_at);
     w.put(t.centre);
   }
+}
 
-  w.count(walls_.size());
-  for (const Wall& wall : walls_) {
+void put_walls(StateWriter& w, const std::vector<Wall>& walls) {
+  w.count(walls.size());
+  for (const Wall& wall : walls) {
     w.put(wall.kind);
     w.put(wall.name);
     for (const Eigen::Vector3d* v : {&wall.origin, &wall.normal, &wall.u, &wall.velocity, &wall.reaction,
@@ -197,42 +201,45 @@ void World::save_state(StateWriter& w) const {
     }
     for (double v : {wall.half_u, wall.half_v, wall.length, wall.radius}) w.put(v);
   }
+}
 
+/// The neighbour search's state, the periodic cell and the contact manifolds.
+void put_search(StateWriter& w, const Contacts& contacts, const CellControl& cell, bool whole) {
   // The neighbour search's Verlet list: reused until a body moves half the skin.
   // One process of several (a domain) lists its own region's pairs only: its checkpoint,
   // read on any number of processes, searches afresh.
-  const bool whole = roles_.empty();
-  w.put(whole && pairs_current_);
-  w.put(skin_);
-  w.put(whole ? searched_at_ : std::vector<Eigen::Vector3d>{});
-  w.count(whole ? searched_q_.size() : 0);
+  w.put(whole && contacts.pairs_current());
+  w.put(contacts.skin());
+  w.put(whole ? contacts.searched_at() : std::vector<Eigen::Vector3d>{});
+  w.count(whole ? contacts.searched_q().size() : 0);
   if (whole) {
-    for (const Eigen::Quaterniond& q : searched_q_) w.put(q);
+    for (const Eigen::Quaterniond& q : contacts.searched_q()) w.put(q);
   }
-  w.count(whole ? pairs_.size() : 0);
-  for (const auto& [i, j] : whole ? pairs_ : std::vector<BodyPair>{}) {
+  w.count(whole ? contacts.pairs().size() : 0);
+  for (const auto& [i, j] : whole ? contacts.pairs() : std::vector<BodyPair>{}) {
     w.put(i);
     w.put(j);
   }
   // The periodic cell: its vectors, origin, axes, velocity gradient, the vectors at the last
   // search and each searched pair's image.
-  w.put(cell_on_);
-  if (cell_on_) {
-    for (const Eigen::Matrix3d* m : {&cell_.vectors(), &cell_.velocity_gradient(), &cell_at_search_}) {
+  w.put(cell.on());
+  if (cell.on()) {
+    for (const Eigen::Matrix3d* m :
+         {&cell.cell().vectors(), &cell.cell().velocity_gradient(), &cell.at_search()}) {
       for (int c = 0; c < 3; ++c) w.put(Eigen::Vector3d(m->col(c)));
     }
-    w.put(cell_.origin());
-    for (bool periodic : cell_.periodic()) w.put(periodic);
-    w.count(pair_image_.size());
-    for (const Eigen::Vector3i& n : pair_image_) {
+    w.put(cell.cell().origin());
+    for (bool periodic : cell.cell().periodic()) w.put(periodic);
+    w.count(contacts.pair_images().size());
+    for (const Eigen::Vector3i& n : contacts.pair_images()) {
       for (int c = 0; c < 3; ++c) w.put<std::int32_t>(n[c]);
     }
   }
   // The pairs' contact manifolds (manifold_tolerance > 0), so that a restart carries the
   // same contacts as the run it continues.
-  w.put(manifold_slots_);
-  w.count(manifolds_.size());
-  for (const ContactManifold& m : manifolds_) {
+  w.put(contacts.manifold_slots());
+  w.count(contacts.manifolds().size());
+  for (const ContactManifold& m : contacts.manifolds()) {
     w.put(m.margin);
     w.put(m.lever);
     w.put(m.offset);
@@ -247,17 +254,20 @@ void World::save_state(StateWriter& w) const {
       w.put(e.penetration);
     }
   }
+}
 
-  w.count(history_.size());
-  for (const HistoryEntry& e : history_) {
+void put_contacts(StateWriter& w, const std::vector<HistoryEntry>& history,
+                  const std::vector<ContactRecord>& records, bool cell) {
+  w.count(history.size());
+  for (const HistoryEntry& e : history) {
     for (std::uint32_t k : {e.key.a, e.key.b, e.key.fa, e.key.fb}) w.put(k);
     w.put(e.history.shear);
     w.put(e.history.rolling);
     w.put(e.history.torsion);
     w.put(e.history.max_overlap);
   }
-  w.count(contacts().size());
-  for (const ContactRecord& c : contacts()) {
+  w.count(records.size());
+  for (const ContactRecord& c : records) {
     w.put(c.a);
     w.put(c.b);
     w.put(c.wall);
@@ -265,13 +275,16 @@ void World::save_state(StateWriter& w) const {
     w.put(c.normal);
     w.put(c.overlap);
     w.put(c.force);
-    if (cell_on_) w.put(c.shift);
+    if (cell) w.put(c.shift);
   }
+}
 
-  const bool beams = bond_params_.law == BondLaw::beam;
+/// The bonds, the pairs' offsets, the bond parameters and the breaks.
+void put_bonds(StateWriter& w, const Bonds& bonds, bool cell) {
+  const bool beams = bonds.params().law == BondLaw::beam;
   w.put(beams);
-  w.count(bonds_.size());
-  for (const Bond& bd : bonds_) {
+  w.count(bonds.list().size());
+  for (const Bond& bd : bonds.list()) {
     if (beams) {
       for (const Eigen::Vector3d* v : {&bd.beam.end_a, &bd.beam.end_b, &bd.beam.axis_a, &bd.beam.axis_b,
                                        &bd.beam.across_a, &bd.beam.across_b})
@@ -280,7 +293,7 @@ void World::save_state(StateWriter& w) const {
     }
     w.put(bd.a);
     w.put(bd.b);
-    if (cell_on_) {
+    if (cell) {
       for (int c = 0; c < 3; ++c) w.put<std::int32_t>(bd.image[c]);
     }
     for (const Eigen::Vector3d* v : {&bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.point, &bd.normal,
@@ -301,22 +314,24 @@ void World::save_state(StateWriter& w) const {
       w.put(o.overlap);
     }
   }
-  w.count(offsets_.size());
-  for (const PairOffset& o : offsets_) {
+  w.count(bonds.offsets().size());
+  for (const Bonds::PairOffset& o : bonds.offsets()) {
     w.put(o.a);
     w.put(o.b);
     w.put(o.overlap);
   }
-  for (double v : {bond_params_.kbn, bond_params_.kbs, bond_params_.tbn, bond_params_.tbs,
-                   bond_params_.sigma_c, bond_params_.g_c}) {
+  for (double v : {bonds.params().kbn, bonds.params().kbs, bonds.params().tbn, bonds.params().tbs,
+                   bonds.params().sigma_c, bonds.params().g_c}) {
     w.put(v);
   }
-  w.put(bond_params_.law);
-  w.put(bond_params_.criterion);
-  w.put(bond_params_.sigma_f);
-  for (double v : {bond_params_.beam_young, bond_params_.beam_poisson, bond_params_.beam_radius}) w.put(v);
-  w.count(breaks_.size());
-  for (const BondBreak& b : breaks_) {
+  w.put(bonds.params().law);
+  w.put(bonds.params().criterion);
+  w.put(bonds.params().sigma_f);
+  for (double v :
+       {bonds.params().beam_young, bonds.params().beam_poisson, bonds.params().beam_radius})
+    w.put(v);
+  w.count(bonds.breaks().size());
+  for (const BondBreak& b : bonds.breaks()) {
     w.put(b.time);
     w.put(b.step);
     w.put<std::uint64_t>(b.bond);
@@ -329,22 +344,15 @@ void World::save_state(StateWriter& w) const {
     w.put(b.mode);
     put_bond_state(w, b.loads);
   }
-  w.put(time_);
-  w.put(steps_);
-  w.put(forces_current_);
 }
 
-void World::load_state(StateReader& r) {
-  if (const auto layout = r.get<std::uint32_t>(); layout != kWorldLayout) {
-    r.fail("world layout " + std::to_string(layout) + " is not supported (this build reads " +
-           std::to_string(kWorldLayout) + ")");
-  }
+WorldSettings get_settings(StateReader& r, const WorldSettings& mine) {
   WorldSettings ws;
-  ws.threads = settings_.threads;
-  ws.feature_skin = settings_.feature_skin;
-  ws.manifold_tolerance = settings_.manifold_tolerance;  // a choice of this run, as the skin
-  ws.in_plane = settings_.in_plane;                      // and the same
-  ws.lanes = settings_.lanes;
+  ws.threads = mine.threads;
+  ws.feature_skin = mine.feature_skin;
+  ws.manifold_tolerance = mine.manifold_tolerance;  // a choice of this run, as the skin
+  ws.in_plane = mine.in_plane;                      // and the same
+  ws.lanes = mine.lanes;
   ws.gravity = r.vec3();
   ws.dt = r.get<double>();
   ws.particle_particle = get_params(r);
@@ -353,7 +361,20 @@ void World::load_state(StateReader& r) {
   ws.search_skin = r.get<double>();
   ws.local_damping = r.get<double>();
   if (!(ws.dt > 0.0)) r.fail("the time step is not positive");
+  return ws;
+}
 
+struct LoadedBodies {
+  std::vector<RigidShape> shapes;
+  std::vector<BodyState> states;
+  std::vector<BodyInfo> infos;
+  std::vector<std::uint32_t> free_slots;
+  std::uint64_t live;
+  bool thermal_on;
+  double conductivity, heat_capacity;
+  std::vector<BodyThermal> thermal;
+};
+LoadedBodies get_bodies(StateReader& r) {
   std::vector<RigidShape> shapes(r.count(8));
   for (RigidShape& s : shapes) s = get_shape(r);
 
@@ -401,11 +422,11 @@ void World::load_state(StateReader& r) {
   for (std::uint32_t f : free_slots) {
     if (f >= slots || infos[f].alive) r.fail("a free slot holds a live body");
   }
-  auto slot = [&](std::uint32_t s) {
-    if (s >= slots) r.fail("a body slot is out of range");
-    return s;
-  };
+  return {std::move(shapes), std::move(states), std::move(infos), std::move(free_slots), live,
+          thermal_on,        conductivity,      heat_capacity,    std::move(thermal)};
+}
 
+std::vector<Wall> get_walls(StateReader& r) {
   std::vector<Wall> walls(r.count(8));
   for (Wall& wall : walls) {
     wall.kind = r.get_enum(Wall::Kind::cylinder);
@@ -416,7 +437,16 @@ void World::load_state(StateReader& r) {
     }
     for (double* v : {&wall.half_u, &wall.half_v, &wall.length, &wall.radius}) *v = r.get<double>();
   }
+  return walls;
+}
 
+struct LoadedSearch {
+  Contacts::SearchState search;
+  bool cell_on;
+  PeriodicCell cell;
+  Eigen::Matrix3d cell_at_search;
+};
+LoadedSearch get_search(StateReader& r) {
   const bool pairs_current = r.get_bool();
   const double skin = r.get<double>();
   std::vector<Eigen::Vector3d> searched_at = r.vec3s();
@@ -469,7 +499,22 @@ void World::load_state(StateReader& r) {
       e.penetration = r.get<double>();
     }
   }
+  return {{pairs_current, skin, std::move(searched_at), std::move(searched_q), std::move(pairs),
+           std::move(pair_image), std::move(manifold_slots), std::move(manifolds)},
+          cell_on,
+          cell,
+          cell_at_search};
+}
 
+struct LoadedContacts {
+  std::vector<HistoryEntry> history;
+  std::vector<ContactRecord> records;
+};
+LoadedContacts get_contacts(StateReader& r, std::size_t slots, std::size_t walls, bool cell_on) {
+  auto slot = [&](std::uint32_t s) {
+    if (s >= slots) r.fail("a body slot is out of range");
+    return s;
+  };
   std::vector<HistoryEntry> history(r.count(16));
   for (HistoryEntry& e : history) {
     e.key.a = r.get<std::uint32_t>();
@@ -486,14 +531,27 @@ void World::load_state(StateReader& r) {
     c.a = r.get<std::uint32_t>();
     c.b = slot(r.get<std::uint32_t>());
     c.wall = r.get_bool();
-    if (c.wall ? c.a >= walls.size() : c.a >= slots) r.fail("a contact's body or wall is out of range");
+    if (c.wall ? c.a >= walls : c.a >= slots) r.fail("a contact's body or wall is out of range");
     c.point = r.vec3();
     c.normal = r.vec3();
     c.overlap = r.get<double>();
     c.force = r.vec3();
     if (cell_on) c.shift = r.vec3();
   }
+  return {std::move(history), std::move(records)};
+}
 
+struct LoadedBonds {
+  std::vector<Bond> bonds;
+  std::vector<Bonds::PairOffset> offsets;
+  BondParams params;
+  std::vector<BondBreak> breaks;
+};
+LoadedBonds get_bonds(StateReader& r, std::size_t slots, bool cell_on, const PeriodicCell& cell) {
+  auto slot = [&](std::uint32_t s) {
+    if (s >= slots) r.fail("a body slot is out of range");
+    return s;
+  };
   const bool beams = r.get_bool();
   std::vector<Bond> bonds(r.count(8));
   for (Bond& bd : bonds) {
@@ -529,8 +587,8 @@ void World::load_state(StateReader& r) {
       o.overlap = r.get<double>();
     }
   }
-  std::vector<PairOffset> offsets(r.count(16));
-  for (PairOffset& o : offsets) {
+  std::vector<Bonds::PairOffset> offsets(r.count(16));
+  for (Bonds::PairOffset& o : offsets) {
     o.a = slot(r.get<std::uint32_t>());
     o.b = slot(r.get<std::uint32_t>());
     o.overlap = r.get<double>();
@@ -556,70 +614,70 @@ void World::load_state(StateReader& r) {
     b.mode = r.get_enum(BondFailure::torsion);
     b.loads = get_bond_state(r);
   }
+  return {std::move(bonds), std::move(offsets), bp, std::move(breaks)};
+}
+
+}  // namespace
+
+void World::save_state(StateWriter& w) const {
+  w.put(kWorldLayout);
+  put_settings(w, settings_);
+  put_bodies(w, bodies_, thermal_);
+  put_walls(w, walls_);
+  // One process of several (a domain) lists its own region's pairs only: its checkpoint,
+  // read on any number of processes, searches afresh.
+  put_search(w, contacts_, cell_, bodies_.roles().empty());
+  put_contacts(w, contacts_.histories(), contacts(), cell_.on());
+  put_bonds(w, bonds_, cell_.on());
+  w.put(time_);
+  w.put(steps_);
+  w.put(forces_current_);
+}
+
+void World::load_state(StateReader& r) {
+  if (const auto layout = r.get<std::uint32_t>(); layout != kWorldLayout) {
+    r.fail("world layout " + std::to_string(layout) + " is not supported (this build reads " +
+           std::to_string(kWorldLayout) + ")");
+  }
+  const WorldSettings ws = get_settings(r, settings_);
+  LoadedBodies b = get_bodies(r);
+  const std::size_t slots = b.states.size();
+  std::vector<Wall> walls = get_walls(r);
+  LoadedSearch s = get_search(r);
+  LoadedContacts c = get_contacts(r, slots, walls.size(), s.cell_on);
+  LoadedBonds bd = get_bonds(r, slots, s.cell_on, s.cell);
   const double time = r.get<double>();
   const auto steps = r.get<std::uint64_t>();
   const bool forces_current = r.get_bool();
 
   // All read: replace the state.
   settings_ = ws;
-  search_ = NeighbourSearch(settings_.search);
-  shapes_ = std::move(shapes);
-  states_ = std::move(states);
-  infos_ = std::move(infos);
-  thermal_ = std::move(thermal);
-  thermal_on_ = thermal_on;
-  conductivity_ = conductivity;
-  heat_capacity_ = heat_capacity;
-  free_slots_ = std::move(free_slots);
-  live_ = live;
+  bodies_.restore(std::move(b.shapes), std::move(b.states), std::move(b.infos),
+                  std::move(b.free_slots), b.live);
+  thermal_.restore(std::move(b.thermal), b.thermal_on, b.conductivity, b.heat_capacity);
   walls_ = std::move(walls);
-  pairs_current_ = pairs_current;
-  skin_ = skin;
-  searched_at_ = std::move(searched_at);
-  searched_q_ = std::move(searched_q);
-  pairs_ = std::move(pairs);
-  body_pairs_stale_ = true;
-  cell_ = cell;
-  cell_on_ = cell_on;
-  cell_at_search_ = cell_at_search;
-  pair_image_ = std::move(pair_image);
-  near_.clear();
-  manifolds_ = std::move(manifolds);
-  manifold_slots_ = std::move(manifold_slots);
-  held_.clear();  // made again from the manifolds
-  history_ = std::move(history);
-  next_history_.clear();
-  records_ = std::move(records);
-  records_current_ = true;
-  bonds_ = std::move(bonds);
-  body_bonds_stale_ = true;
-  offsets_ = std::move(offsets);
-  bond_params_ = bp;
-  breaks_ = std::move(breaks);
+  cell_.restore(s.cell_on, s.cell, s.cell_at_search);
+  bonds_.restore(std::move(bd.bonds), std::move(bd.offsets), bd.params, std::move(bd.breaks));
+  contacts_.restore(settings_.search, std::move(s.search), std::move(c.history),
+                    std::move(c.records), bodies_);
   time_ = time;
   steps_ = steps;
   forces_current_ = forces_current;
-  // The posed shapes of this state (initialise_bonds reads them when the forces are current).
-  live_slots_.clear();
-  posed_.assign(states_.size(), PosedShape{});
-  for (std::uint32_t i = 0; i < states_.size(); ++i) {
-    if (!infos_[i].alive) continue;
-    live_slots_.push_back(i);
-    posed_[i].update(shapes_[infos_[i].shape], states_[i]);
-  }
-  if (pairs_current_ && searched_at_.size() != live_slots_.size()) pairs_current_ = false;
 }
 
 std::uint64_t World::state_hash() const {
   Fnv h;
+  const std::vector<BodyState>& states = bodies_.states();
+  const std::vector<BodyInfo>& infos = bodies_.infos();
+  const std::vector<BodyThermal>& thermal = thermal_.slots();
   h.add(time_);
   h.add(steps_);
-  for (std::uint32_t i = 0; i < states_.size(); ++i) {
-    if (!infos_[i].alive) continue;
-    const BodyState& s = states_[i];
+  for (std::uint32_t i = 0; i < states.size(); ++i) {
+    if (!infos[i].alive) continue;
+    const BodyState& s = states[i];
     h.add(i);
-    h.add(infos_[i].generation);
-    h.add(infos_[i].shape);
+    h.add(infos[i].generation);
+    h.add(infos[i].shape);
     for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.L, &s.w, &s.f, &s.tau}) h.add(*v);
     h.add(s.q);
   }
@@ -628,7 +686,7 @@ std::uint64_t World::state_hash() const {
     h.add(w.velocity);
     h.add(w.reaction);
   }
-  for (const Bond& bd : bonds_) {
+  for (const Bond& bd : bonds_.list()) {
     h.add(bd.a);
     h.add(bd.b);
     h.add(bd.state.normal);
@@ -638,7 +696,7 @@ std::uint64_t World::state_hash() const {
     h.add(bd.state.broken);
     h.add(bd.failure);
   }
-  for (const HistoryEntry& e : history_) {
+  for (const HistoryEntry& e : contacts_.histories()) {
     h.add(e.key.a);
     h.add(e.key.b);
     h.add(e.key.fa);
@@ -648,25 +706,25 @@ std::uint64_t World::state_hash() const {
     h.add(e.history.torsion);
     h.add(e.history.max_overlap);
   }
-  for (const PairOffset& o : offsets_) {
+  for (const Bonds::PairOffset& o : bonds_.offsets()) {
     h.add(o.a);
     h.add(o.b);
     h.add(o.overlap);
   }
-  if (thermal_on_ || conductivity_ > 0.0) {  // (left out otherwise: hashes as before)
-    for (std::uint32_t i = 0; i < thermal_.size(); ++i) {
-      if (!infos_[i].alive) continue;
-      h.add(thermal_[i].temperature);
-      h.add(thermal_[i].bonded_at);
+  if (thermal_.on() || thermal_.conductivity() > 0.0) {  // (left out otherwise: hashes as before)
+    for (std::uint32_t i = 0; i < thermal.size(); ++i) {
+      if (!infos[i].alive) continue;
+      h.add(thermal[i].temperature);
+      h.add(thermal[i].bonded_at);
     }
-    for (const Bond& bd : bonds_) h.add(bd.thermal_gap);
+    for (const Bond& bd : bonds_.list()) h.add(bd.thermal_gap);
   }
-  if (bond_params_.law == BondLaw::beam) {
-    for (const Bond& bd : bonds_) h.add(bd.beam.rest_length);
+  if (bonds_.params().law == BondLaw::beam) {
+    for (const Bond& bd : bonds_.list()) h.add(bd.beam.rest_length);
   }
-  if (cell_on_) {
-    for (int c = 0; c < 3; ++c) h.add(Eigen::Vector3d(cell_.vectors().col(c)));
-    for (const Bond& bd : bonds_) h.add(bd.shift);
+  if (cell_.on()) {
+    for (int c = 0; c < 3; ++c) h.add(Eigen::Vector3d(cell_.cell().vectors().col(c)));
+    for (const Bond& bd : bonds_.list()) h.add(bd.shift);
   }
   return h.h;
 }
