@@ -187,3 +187,29 @@ TEST(StepGuard, ANonFiniteWallIsNamedBeforeTheBodiesItWouldSpoil) {
   EXPECT_NE(text.find("step 3 "), std::string::npos) << text;
   EXPECT_NE(text.find("wall 1 ('lid'): its velocity is not finite"), std::string::npos) << text;
 }
+
+TEST(StepGuard, AsAListenerItMeasuresEachStepFromThatStepsStart) {
+  // Registered with the world, the guard remembers the poses before every step: a body
+  // moving 0.6 of the limit a step is never flagged, though three steps take it 1.8 limits
+  // from where it was before the first; a body moving 2 limits a step is, with one step's
+  // displacement, v dt.
+  FreeWorld f;
+  const double limit = 0.1 * f.radius;
+  f.add({0, 0, 0}, {0.6 * limit / kDt, 0, 0});
+  StepGuard guard;
+  f.world.add_listener(&guard);
+  for (int i = 0; i < 3; ++i) {
+    f.world.step();
+    EXPECT_FALSE(guard.check(f.world)) << "step " << i + 1;
+  }
+  const double speed = 2.0 * limit / kDt;
+  const BodyId fast = f.add({0.1, 0, 0}, {0, speed, 0});
+  f.world.step();
+  f.world.step();
+  const auto b = guard.check(f.world);
+  f.world.remove_listener(&guard);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->body, fast);
+  EXPECT_NEAR(b->displacement, speed * kDt, 1e-12);
+  EXPECT_EQ(b->step, f.world.steps());
+}
