@@ -133,7 +133,7 @@ bool elastic_loop(Shared& sh, std::map<std::string, double> p, std::map<std::str
 /// Broyden's method on (ln sigma_t, ln sigma_f): the first Jacobian says that sigma_t grows
 /// with both strengths, half each, and sigma_f (the bar's first crack, on its tension face)
 /// with t_bn alone (SiC's ratio study in
-/// docs/USER_GUIDE.md, "Real materials": from t_bs = t_bn up the bar breaks in tension and
+/// docs/USER_GUIDE.md, "Why the SiC model is as it is": from t_bs = t_bn up the bar breaks in tension and
 /// the disc gains as t_bs^0.53); each trial's secant corrects it. Steps are at most a factor
 /// e^0.5 per strength, so that no trial leaves the scenarios' reach by much.
 bool strength_loop(Shared& sh, std::map<std::string, double> p, std::map<std::string, double>& fit) {

@@ -97,7 +97,7 @@ struct Measurement {
   /// P S replaced by 4 M plus an edge-notched strip's K_I under N. The formulas assume
   /// vertical forces at the rollers' axes; a roller's friction, or a grain corner pushing
   /// off its apex, puts a couple against the bending and a push along the faces that only
-  /// this reading sees (USER_GUIDE, "Quasi-static loading").
+  /// this reading sees (USER_GUIDE, "Reading a testing machine's load").
   double moment_at_first_crack = NAN;
   double axial_at_first_crack = NAN;
   double value_from_statics = NAN;
@@ -118,7 +118,7 @@ Measurement measure(Test test, const std::filesystem::path& scenario, Simulation
 /// study. The bending tests are read at their first crack, as a brittle ceramic breaks at
 /// its first: the lattice, a few grains deep, stops a crack where its path turns, and the
 /// load that climbs on after it depends on the loading rate and which bonds go next
-/// (USER_GUIDE, "Quasi-static loading").
+/// (USER_GUIDE, "Check that loading is quasi-static").
 /// - four-point bending: the tension face's stress from the section's statics at the first
 ///   crack (value_from_statics_at_first_crack); the formula's peak also carries the
 ///   rollers' friction couple;

@@ -37,9 +37,8 @@
 /// the cell is the smallest one with at most kEntryBudget (body, cell) entries per body in
 /// expectation, but at least 1 / kMaxCellsPerAxis of the widest box. A body of width w
 /// spans (w / cell + 1)^3 cells on average, so a budget of 4 gives cells about 1.7 times
-/// the width of the bodies that dominate the count (the small ones). 4 measured fastest
-/// overall (bench_neighbour_search, 10^5 bodies: with 8 and 16 up to 15 % and 50 % slower
-/// on mixed sizes, with 2 up to 70 % slower; equal sizes barely care).
+/// the width of the bodies that dominate the count (the small ones). 4 was the fastest
+/// budget on mixed sizes in bench_neighbour_search; equal sizes barely care.
 /// A few huge bodies enlarge the cell only as far as their share of the entries needs,
 /// and no body spans more than kMaxCellsPerAxis + 1 cells per axis.
 

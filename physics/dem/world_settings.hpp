@@ -51,7 +51,7 @@ struct WorldSettings {
   /// For specimens one grain thick, whose bonds all sit at mid-thickness: a bond's bending
   /// stiffness (eq. 2.9 over the section of eq. 2.10) is all that holds such a grain against
   /// turning about an in-plane axis, and loaded slowly in compression the layer buckles out
-  /// of its plane (USER_GUIDE, "Quasi-static loading"). A choice of the run, like
+  /// of its plane (USER_GUIDE, "Check that loading is quasi-static"). A choice of the run, like
   /// manifold_tolerance: a restart takes it from the settings it is given, not the file.
   bool in_plane = false;
   /// Bonds, contacts, drifts and kicks four at a time in AVX's lanes where the processor
