@@ -1,5 +1,5 @@
 #include "physics/dem/world.hpp"
-#include "physics/bonds/bond_pair.hpp"
+#include "physics/bonds/bond_batch.hpp"
 #include "physics/bonds/grain_stress.hpp"
 #include "physics/bonds/vec3.hpp"
 
@@ -1740,15 +1740,14 @@ void World::bond_forces(int nt) {
       return constants;
     };
     // Four (or two) intact bonds side by side of the plain bonded-particle law go through
-    // bond_quad (bond_pair): bond_pair.hpp, all in one AVX (SSE2) register, the bits of the
-    // loop below.
+    // bond_batch (bond_batch.hpp), with the bits of the loop below.
     static const Eigen::Vector3d kNoShift = Eigen::Vector3d::Zero();
     // (Made once a step: made in each call they were zeroed there, 17 % of this loop's own
     // samples.)
     BondConstants lane_c[4];
     BondLane lane_in[4];
     BondLaneResult lane_out[4];
-    auto lanes = [&](std::size_t k, auto width) {
+    auto batch = [&](std::size_t k, auto width) {
       constexpr std::size_t kN = decltype(width)::value;
       for (std::size_t i = 0; i < kN; ++i) {
         Bond& bd = bonds_[k + i];
@@ -1762,11 +1761,7 @@ void World::bond_forces(int nt) {
                       &bd.arm_a,    &bd.arm_b, &bd.normal_a,
                       &bd.normal_b, &bd.state, &lane_c[i]};
       }
-      if constexpr (kN == 4) {
-        bond_quad(lane_in, lane_out, settings_.dt);
-      } else {
-        bond_pair(lane_in, lane_out, settings_.dt);
-      }
+      bond_batch<kN>(lane_in, lane_out, settings_.dt);
       for (std::size_t i = 0; i < kN; ++i) {
         Bond& bd = bonds_[k + i];
         bd.point = eigen(lane_out[i].point);
@@ -1785,8 +1780,7 @@ void World::bond_forces(int nt) {
     };
     constexpr std::size_t kBondsAhead = 8;
     const bool plain = base.law == BondLaw::bonded_particle && !thermal_on_ &&
-                       !(cell_on_ && moving_cell_) && roles_.empty() && settings_.lanes &&
-                       has_avx();
+                       !(cell_on_ && moving_cell_) && roles_.empty();
     for (std::size_t k = block.begin; k < block.end; ++k) {
       // The records and bodies a few bonds ahead asked for now (bonds_ streams past the
       // caches, 576 bytes a bond of which the law reads the first five lines, a pattern
@@ -1809,12 +1803,12 @@ void World::bond_forces(int nt) {
       }
       if (plain && k + 3 < block.end && bonds_[k].intact() && bonds_[k + 1].intact() &&
           bonds_[k + 2].intact() && bonds_[k + 3].intact()) {
-        lanes(k, std::integral_constant<std::size_t, 4>{});
+        batch(k, std::integral_constant<std::size_t, 4>{});
         k += 3;
         continue;
       }
       if (plain && k + 1 < block.end && bonds_[k].intact() && bonds_[k + 1].intact()) {
-        lanes(k, std::integral_constant<std::size_t, 2>{});
+        batch(k, std::integral_constant<std::size_t, 2>{});
         ++k;
         continue;
       }
@@ -1842,16 +1836,14 @@ void World::bond_forces(int nt) {
       }
       // B's centroid, or its image's in a periodic cell (shift zero without one).
       if (cell_on_) bd.shift = cell_.shift(bd.image);
-      const V3 shift = cell_on_ ? v3(bd.shift) : V3{0.0, 0.0, 0.0};  // (not the record's line)
-      // In plain doubles (vec3.hpp: Eigen's bits, without its stalls).
-      const V3 xa = v3(sa.x), xb3 = v3(sb.x) + shift;
-      const V3 pa = xa + rotated(sa.q, v3(bd.arm_a)), pb = xb3 + rotated(sb.q, v3(bd.arm_b));
-      const V3 point = 0.5 * (pa + pb);
+      const BondLane lane{&sa.x, &sa.v, &sa.w, &sa.q, &sb.x, &sb.v, &sb.w, &sb.q, cell_on_ ? &bd.shift : &kNoShift,
+                          &bd.arm_a, &bd.arm_b, &bd.normal_a, &bd.normal_b, &bd.state, nullptr};
+      const BondMotion<double> motion = bond_motion<1>(&lane);
+      const V3 point = motion.point;
       bd.point = eigen(point);
-      bd.normal = eigen(normalized(rotated(sa.q, v3(bd.normal_a)) + rotated(sb.q, v3(bd.normal_b))));
-      Eigen::Vector3d velocity =
-          eigen((v3(sb.v) + cross(v3(sb.w), point - xb3)) - (v3(sa.v) + cross(v3(sa.w), point - xa)));
-      const Eigen::Vector3d xb = eigen(xb3);
+      bd.normal = eigen(motion.normal);
+      Eigen::Vector3d velocity = eigen(motion.velocity);
+      const Eigen::Vector3d xb = eigen(motion.xb);
       if (cell_on_ && moving_cell_) velocity += gradient_ * (xb - sa.x);
       if (thermal_on_) {
         const Eigen::Vector3d free = thermal_free(bd, sa, sb);
