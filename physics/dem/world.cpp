@@ -1236,7 +1236,7 @@ void World::step() {
         return true;
       },
       [&](BodyState* const* s, const BodyInfo* const* b, int n) {
-        drift(s, b, n, h, settings_.lanes);
+        drift(s, b, n, h);
       });  // sets w
   if (cell_on_) {
     if (moving_cell_) {
@@ -1257,7 +1257,7 @@ void World::step() {
         return infos_[i].alive && !infos_[i].fixed && owns(static_cast<std::uint32_t>(i));
       },
       [&](BodyState* const* s, const BodyInfo* const* b, int n) {
-        kick(s, b, n, 0.5 * h, settings_.lanes);
+        kick(s, b, n, 0.5 * h);
       });
   if (conductivity_ > 0.0) conduct(h);
   lap(StepPhase::closing_kick);
