@@ -115,11 +115,6 @@ struct WorldSettings {
   /// of its plane (USER_GUIDE, "Quasi-static loading"). A choice of the run, like
   /// manifold_tolerance: a restart takes it from the settings it is given, not the file.
   bool in_plane = false;
-  /// Bonds, contacts, drifts and kicks four at a time in AVX's lanes where the processor
-  /// has them (physics/bonds/lanes.hpp), else one at a time: the same bits either way. Off, the
-  /// lanes' gain can be measured (the benchmarks' CLEAVE_BENCH_ALTERNATE). A choice of the
-  /// run, as in_plane.
-  bool lanes = true;
 };
 
 /// A bond between two bodies (sec. 2.3.3): eqs 2.9-2.16 act at the bond point in parallel
@@ -402,8 +397,6 @@ class World {
   /// Clocks the parts of each step from now on (true) or stops (false); switching on starts
   /// the sums from zero. Off by default: a clock read per part and step when on.
   void set_timing(bool on);
-  /// WorldSettings::lanes, between steps (bit-identical either way).
-  void set_lanes(bool on) { settings_.lanes = on; }
   [[nodiscard]] const StepTimings& timings() const { return timings_; }
   /// Contacts of the last force evaluation.
   /// (Made from the last evaluation on the first call after it: not for concurrent calls.)

@@ -344,7 +344,6 @@ void World::load_state(StateReader& r) {
   ws.feature_skin = settings_.feature_skin;
   ws.manifold_tolerance = settings_.manifold_tolerance;  // a choice of this run, as the skin
   ws.in_plane = settings_.in_plane;                      // and the same
-  ws.lanes = settings_.lanes;
   ws.gravity = r.vec3();
   ws.dt = r.get<double>();
   ws.particle_particle = get_params(r);
