@@ -410,13 +410,27 @@ void CubicLattice::links(int k, double dt) {
     c[l] = &classes_[ends_[k + l].cls];
   }
   if (W == 1 && c[0]->breakable && links_[k].state.phase == LinkPhase::contact) return;
-  auto at = [&](const std::vector<Eigen::Vector3d>& a, const int* idx) {
+  auto at = [&](const std::vector<Eigen::Vector3d>& a, const int* idx) __attribute__((always_inline)) {
     return load3<W>([&](int l) -> const Eigen::Vector3d& { return a[idx[l]]; });
   };
-  auto put = [&](std::vector<Eigen::Vector3d>& a, const int* idx, const Vec3<T>& v) {
-    for (int l = 0; l < W; ++l) a[idx[l]] = eigen(lane(v, l));
+  auto put = [&](std::vector<Eigen::Vector3d>& a, const int* idx, const Vec3<T>& v) __attribute__((always_inline)) {
+    if constexpr (W == 1) {
+      a[idx[0]] = eigen(v);
+    } else {
+      // Through memory once, not lane by lane out of the registers.
+      alignas(64) double x[W], y[W], z[W];
+      v.x.copy_to(x, simd::stdx::vector_aligned);
+      v.y.copy_to(y, simd::stdx::vector_aligned);
+      v.z.copy_to(z, simd::stdx::vector_aligned);
+      for (int l = 0; l < W; ++l) a[idx[l]] = Eigen::Vector3d(x[l], y[l], z[l]);
+    }
   };
-  auto field = [&](double LinkClass::*f) { return simd::load<W>([&](int l) { return c[l]->*f; }); };
+  // The links' classes: as a rule all share one (a colour runs along a row of the grid).
+  bool one_class = true;
+  for (int l = 1; l < W; ++l) one_class = one_class && c[l] == c[0];
+  auto field = [&](double LinkClass::*f) __attribute__((always_inline)) {
+    return one_class ? T(c[0]->*f) : simd::load<W>([&](int l) { return c[l]->*f; });
+  };
   const Vec3<T> d = at(x_, J) - at(x_, I);
   const T dist = norm(d);
   const Vec3<T> nrm = d * (1.0 / dist);
