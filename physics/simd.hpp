@@ -15,9 +15,8 @@
 /// Here, not in a physics folder: bonds, dem and lattice all use it and it uses nothing of
 /// cleave's.
 
-#include <experimental/simd>
-
 #include <cmath>
+#include <experimental/simd>
 #include <type_traits>
 
 namespace cleave::physics::simd {
@@ -55,15 +54,21 @@ template <int W, class Get>
 }
 
 /// Lane i of a value or a mask.
-[[gnu::always_inline]] inline double lane(double v, int) { return v; }
-[[gnu::always_inline]] inline bool lane(bool m, int) { return m; }
+[[gnu::always_inline]] inline double lane(double v, int) {
+  return v;
+}
+[[gnu::always_inline]] inline bool lane(bool m, int) {
+  return m;
+}
 template <class V>
 [[gnu::always_inline]] inline auto lane(const V& v, int i) {
   return static_cast<typename V::value_type>(v[i]);
 }
 
 /// `m ? a : b`, lane by lane.
-[[gnu::always_inline]] inline double select(bool m, double a, double b) { return m ? a : b; }
+[[gnu::always_inline]] inline double select(bool m, double a, double b) {
+  return m ? a : b;
+}
 template <class T>
 [[gnu::always_inline]] inline T select(const typename T::mask_type& m, const T& a, const T& b) {
   T r = b;
@@ -72,8 +77,12 @@ template <class T>
 }
 
 /// Whether any / every lane of a mask is set.
-[[gnu::always_inline]] inline bool any(bool m) { return m; }
-[[gnu::always_inline]] inline bool all(bool m) { return m; }
+[[gnu::always_inline]] inline bool any(bool m) {
+  return m;
+}
+[[gnu::always_inline]] inline bool all(bool m) {
+  return m;
+}
 template <class M>
 [[gnu::always_inline]] inline bool any(const M& m) {
   return stdx::any_of(m);
@@ -99,7 +108,9 @@ template <class T>
 }
 
 /// The correctly rounded square root, lane by lane.
-[[gnu::always_inline]] inline double root(double a) { return std::sqrt(a); }
+[[gnu::always_inline]] inline double root(double a) {
+  return std::sqrt(a);
+}
 template <class T>
 [[gnu::always_inline]] inline T root(const T& a) {
   return stdx::sqrt(a);

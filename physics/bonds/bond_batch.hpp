@@ -62,11 +62,14 @@ template <int W>
   BondMotion<T> m;
   const Vec3<T> xa = vec(&BondLane::xa);
   m.xb = vec(&BondLane::xb) + vec(&BondLane::shift);
-  const Vec3<T> pa = xa + rotated(qa, vec(&BondLane::arm_a)), pb = m.xb + rotated(qb, vec(&BondLane::arm_b));
+  const Vec3<T> pa = xa + rotated(qa, vec(&BondLane::arm_a)),
+                pb = m.xb + rotated(qb, vec(&BondLane::arm_b));
   m.point = 0.5 * (pa + pb);
-  m.normal = normalized(rotated(qa, vec(&BondLane::normal_a)) + rotated(qb, vec(&BondLane::normal_b)));
+  m.normal =
+      normalized(rotated(qa, vec(&BondLane::normal_a)) + rotated(qb, vec(&BondLane::normal_b)));
   const Vec3<T> wa = vec(&BondLane::wa), wb = vec(&BondLane::wb);
-  m.velocity = (vec(&BondLane::vb) + cross(wb, m.point - m.xb)) - (vec(&BondLane::va) + cross(wa, m.point - xa));
+  m.velocity = (vec(&BondLane::vb) + cross(wb, m.point - m.xb)) -
+               (vec(&BondLane::va) + cross(wa, m.point - xa));
   m.spin = wb - wa;
   return m;
 }
@@ -83,15 +86,16 @@ struct BondLoads {
 /// and incremented by one step dt of relative velocity and spin, with the spring
 /// stiffnesses K_bn, K_bs, K_br, K_bt (eqs 2.10, 2.11). Opening along n is tension.
 template <class T>
-[[gnu::always_inline]] inline BondLoads<T> bond_increment(const BondLoads<T>& b, const T& kbn, const T& kbs,
-                                                          const T& kbr, const T& kbt, const Vec3<T>& n,
-                                                          const Vec3<T>& velocity, const Vec3<T>& spin, double dt) {
+[[gnu::always_inline]] inline BondLoads<T> bond_increment(const BondLoads<T>& b, const T& kbn,
+                                                          const T& kbs, const T& kbr, const T& kbt,
+                                                          const Vec3<T>& n, const Vec3<T>& velocity,
+                                                          const Vec3<T>& spin, double dt) {
   const T vn = dot(velocity, n);
   const Vec3<T> vs = velocity - vn * n;
   const T wt = dot(spin, n);
   const Vec3<T> wr = spin - wt * n;
-  return {b.normal + kbn * vn * dt, into_plane(b.shear, n) - kbs * dt * vs, into_plane(b.bending, n) - kbr * dt * wr,
-          b.torsion - kbt * dt * wt};
+  return {b.normal + kbn * vn * dt, into_plane(b.shear, n) - kbs * dt * vs,
+          into_plane(b.bending, n) - kbr * dt * wr, b.torsion - kbt * dt * wt};
 }
 
 /// The bonded-particle law for the W bonds in[0..W) (BondLaw::bonded_particle, not held, no
@@ -102,13 +106,18 @@ template <int W>
 inline void bond_batch(const BondLane* in, BondLaneResult* out, double dt) {
   using T = simd::Real<W>;
   const BondMotion<T> m = bond_motion<W>(in);
-  auto state = [&](double BondState::*f) { return simd::load<W>([&](int i) { return (*in[i].state).*f; }); };
+  auto state = [&](double BondState::*f) {
+    return simd::load<W>([&](int i) { return (*in[i].state).*f; });
+  };
   auto state3 = [&](Eigen::Vector3d BondState::*f) {
     return load3<W>([&](int i) -> const Eigen::Vector3d& { return (*in[i].state).*f; });
   };
-  auto constant = [&](double BondConstants::*f) { return simd::load<W>([&](int i) { return (*in[i].constants).*f; }); };
+  auto constant = [&](double BondConstants::*f) {
+    return simd::load<W>([&](int i) { return (*in[i].constants).*f; });
+  };
   const BondLoads<T> b = bond_increment<T>(
-      {state(&BondState::normal), state3(&BondState::shear), state3(&BondState::bending), state(&BondState::torsion)},
+      {state(&BondState::normal), state3(&BondState::shear), state3(&BondState::bending),
+       state(&BondState::torsion)},
       constant(&BondConstants::kbn), constant(&BondConstants::kbs), constant(&BondConstants::kbr),
       constant(&BondConstants::kbt), m.normal, m.velocity, m.spin, dt);
   const T shear_size = norm(b.shear), bending_size = norm(b.bending);
@@ -125,7 +134,8 @@ inline void bond_batch(const BondLane* in, BondLaneResult* out, double dt) {
     s.torsion = simd::lane(b.torsion, i);
     r.point = lane(m.point, i);
     r.normal = lane(m.normal, i);
-    r.failure = limit_failure(*l.constants, s.normal, simd::lane(shear_size, i), simd::lane(bending_size, i), s.torsion);
+    r.failure = limit_failure(*l.constants, s.normal, simd::lane(shear_size, i),
+                              simd::lane(bending_size, i), s.torsion);
     if (r.failure != BondFailure::none) {
       r.at_failure = break_bond(s);
       r.force = r.moment = V3{0.0, 0.0, 0.0};

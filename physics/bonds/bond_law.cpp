@@ -1,8 +1,9 @@
 #include "physics/bonds/bond_law.hpp"
-#include "physics/bonds/bond_batch.hpp"
 
 #include <algorithm>
 #include <cmath>
+
+#include "physics/bonds/bond_batch.hpp"
 
 namespace cleave::physics {
 
@@ -35,8 +36,9 @@ BondResult bond_force(const BondParams& p, const BondConstants& k, const BondSec
   const double Kbn = k.kbn, Kbs = k.kbs;
   // Increments (eqs 2.12, 2.13): bond_batch.hpp's, one lane.
   const V3 nn = v3(n);
-  const BondLoads<double> next = bond_increment<double>({b.normal, v3(b.shear), v3(b.bending), b.torsion}, k.kbn, k.kbs,
-                                                        k.kbr, k.kbt, nn, v3(velocity), v3(spin), dt);
+  const BondLoads<double> next =
+      bond_increment<double>({b.normal, v3(b.shear), v3(b.bending), b.torsion}, k.kbn, k.kbs, k.kbr,
+                             k.kbt, nn, v3(velocity), v3(spin), dt);
   const V3 shear = next.shear, bending = next.bending;
   b.normal = next.normal;
   b.shear = eigen(shear);

@@ -45,11 +45,13 @@ template <class T>
   return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
 template <class T>
-[[gnu::always_inline]] inline Vec3<T> operator*(const std::type_identity_t<T>& s, const Vec3<T>& a) {
+[[gnu::always_inline]] inline Vec3<T> operator*(const std::type_identity_t<T>& s,
+                                                const Vec3<T>& a) {
   return {s * a.x, s * a.y, s * a.z};
 }
 template <class T>
-[[gnu::always_inline]] inline Vec3<T> operator*(const Vec3<T>& a, const std::type_identity_t<T>& s) {
+[[gnu::always_inline]] inline Vec3<T> operator*(const Vec3<T>& a,
+                                                const std::type_identity_t<T>& s) {
   return {a.x * s, a.y * s, a.z * s};
 }
 /// `m ? a : b`, lane by lane.
@@ -105,14 +107,17 @@ template <class T>
 /// The vectors get(0), get(1), ... (Eigen vectors) in lanes 0, 1, ...
 template <int W, class Get>
 [[gnu::always_inline]] inline Vec3<simd::Real<W>> load3(Get&& get) {
-  return {simd::load<W>([&](int i) { return get(i).x(); }), simd::load<W>([&](int i) { return get(i).y(); }),
+  return {simd::load<W>([&](int i) { return get(i).x(); }),
+          simd::load<W>([&](int i) { return get(i).y(); }),
           simd::load<W>([&](int i) { return get(i).z(); })};
 }
 /// The quaternions get(0), get(1), ... in lanes 0, 1, ...
 template <int W, class Get>
 [[gnu::always_inline]] inline Quat<simd::Real<W>> load_quat(Get&& get) {
-  return {simd::load<W>([&](int i) { return get(i).x(); }), simd::load<W>([&](int i) { return get(i).y(); }),
-          simd::load<W>([&](int i) { return get(i).z(); }), simd::load<W>([&](int i) { return get(i).w(); })};
+  return {simd::load<W>([&](int i) { return get(i).x(); }),
+          simd::load<W>([&](int i) { return get(i).y(); }),
+          simd::load<W>([&](int i) { return get(i).z(); }),
+          simd::load<W>([&](int i) { return get(i).w(); })};
 }
 /// Lane i of a vector.
 template <class T>

@@ -1,8 +1,9 @@
 #include "physics/dem/contact_law.hpp"
-#include "physics/bonds/tangent.hpp"
 
 #include <algorithm>
 #include <cmath>
+
+#include "physics/bonds/tangent.hpp"
 
 namespace cleave::physics {
 
@@ -33,15 +34,18 @@ ContactForce contact_force(const ContactParams& p, const ContactKinematics& k, c
 }
 
 template <int W>
-void contact_forces(const ContactParams& p, const ContactKinematics* const k[], const ContactDamping* const d[],
-                    ContactHistory* const h[], ContactForce* const out[], double dt) {
+void contact_forces(const ContactParams& p, const ContactKinematics* const k[],
+                    const ContactDamping* const d[], ContactHistory* const h[],
+                    ContactForce* const out[], double dt) {
   using T = simd::Real<W>;
   using simd::load;
   using simd::max_of;
   using simd::min_of;
   // Lane i: contact i's field.
   auto in = [&](auto field) { return load<W>([&](int i) { return (*k[i]).*field; }); };
-  auto coefficient = [&](double ContactDamping::*field) { return load<W>([&](int i) { return (*d[i]).*field; }); };
+  auto coefficient = [&](double ContactDamping::*field) {
+    return load<W>([&](int i) { return (*d[i]).*field; });
+  };
   auto vector = [&](const auto& get) { return load3<W>(get); };
   const Vec3<T> n = vector([&](int i) -> const auto& { return k[i]->normal; });
   const Vec3<T> v = vector([&](int i) -> const auto& { return k[i]->velocity; });
@@ -51,7 +55,8 @@ void contact_forces(const ContactParams& p, const ContactKinematics* const k[], 
   // Normal spring with the unloading multiplier (eq 2.4 and the C_res of table 2.3).
   const T max_overlap = max_of(load<W>([&](int i) { return h[i]->max_overlap; }), delta);
   const T loading = p.kn * delta;
-  const T unloading = (p.c_res * p.kn) * (delta - max_overlap * coefficient(&ContactDamping::unload));
+  const T unloading =
+      (p.c_res * p.kn) * (delta - max_overlap * coefficient(&ContactDamping::unload));
   const T fn_spring = max_of(zero, min_of(loading, unloading));
 
   // Normal damping (eq 2.6): |U_n| / dt is the normal relative speed.
@@ -61,7 +66,8 @@ void contact_forces(const ContactParams& p, const ContactKinematics* const k[], 
 
   // Shear spring, incremental (eq 2.4): U_s = dt * v_t; Coulomb cap (eq 2.5).
   const Vec3<T> vt = v - vn * n;
-  Vec3<T> shear = into_plane(vector([&](int i) -> const auto& { return h[i]->shear; }), n) - (p.ks * dt) * vt;
+  Vec3<T> shear =
+      into_plane(vector([&](int i) -> const auto& { return h[i]->shear; }), n) - (p.ks * dt) * vt;
   const T cap = p.mu_s * fn;
   // Sliding when |shear| >= cap. A shear surely below the cap needs no square root (where
   // some lanes take it anyway, it is below the cap there too: the same decision).
@@ -69,8 +75,9 @@ void contact_forces(const ContactParams& p, const ContactKinematics* const k[], 
   if (!simd::all(surely_shorter(shear, cap))) fs = simd::root(dot(shear, shear));
   const auto sliding = fs >= cap && fs > 0.0;
   shear = select(sliding, shear * (cap / fs), shear);
-  force = select(sliding, force + shear,
-                 force + (shear - coefficient(&ContactDamping::cs) * vt));  // shear damping (eq 2.6)
+  force =
+      select(sliding, force + shear,
+             force + (shear - coefficient(&ContactDamping::cs) * vt));  // shear damping (eq 2.6)
 
   // Rolling and torsional resistance (eqs 2.7, 2.8), capped by mu_r F_n lever (eq 2.5).
   const bool resists = p.kr > 0.0 || p.kt > 0.0;
@@ -81,7 +88,8 @@ void contact_forces(const ContactParams& p, const ContactKinematics* const k[], 
     const T wt = dot(spin, n);
     const Vec3<T> wr = spin - wt * n;
     const T mcap = p.mu_r * fn * in(&ContactKinematics::lever);
-    rolling = into_plane(vector([&](int i) -> const auto& { return h[i]->rolling; }), n) - (p.kr * dt) * wr;
+    rolling = into_plane(vector([&](int i) -> const auto& { return h[i]->rolling; }), n) -
+              (p.kr * dt) * wr;
     if (!simd::all(surely_shorter(rolling, mcap))) {
       const T rl = simd::root(dot(rolling, rolling));
       rolling = select(rl > mcap, rolling * (mcap / rl), rolling);
@@ -109,14 +117,14 @@ void contact_forces(const ContactParams& p, const ContactKinematics* const k[], 
 }
 
 template void contact_forces<1>(const ContactParams&, const ContactKinematics* const[],
-                                const ContactDamping* const[], ContactHistory* const[], ContactForce* const[],
-                                double);
+                                const ContactDamping* const[], ContactHistory* const[],
+                                ContactForce* const[], double);
 template void contact_forces<2>(const ContactParams&, const ContactKinematics* const[],
-                                const ContactDamping* const[], ContactHistory* const[], ContactForce* const[],
-                                double);
+                                const ContactDamping* const[], ContactHistory* const[],
+                                ContactForce* const[], double);
 template void contact_forces<4>(const ContactParams&, const ContactKinematics* const[],
-                                const ContactDamping* const[], ContactHistory* const[], ContactForce* const[],
-                                double);
+                                const ContactDamping* const[], ContactHistory* const[],
+                                ContactForce* const[], double);
 
 double critical_time_step(double mass, double stiffness) {
   return 2.0 * std::sqrt(mass / stiffness);

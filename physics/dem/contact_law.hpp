@@ -86,8 +86,9 @@ ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
 /// of physics/simd.hpp): lane i evaluates k[i] with d[i], updating h[i] and writing out[i],
 /// with the bits contact_force gives it at any W (it is this at W = 1).
 template <int W>
-void contact_forces(const ContactParams& p, const ContactKinematics* const k[], const ContactDamping* const d[],
-                    ContactHistory* const h[], ContactForce* const out[], double dt);
+void contact_forces(const ContactParams& p, const ContactKinematics* const k[],
+                    const ContactDamping* const d[], ContactHistory* const h[],
+                    ContactForce* const out[], double dt);
 
 /// Critical time step of a mass-spring pair, 2 sqrt(m / k), used with the stiffest spring
 /// (C_res K_n on unloading) and the lightest body.

@@ -26,8 +26,10 @@ template <class T>
 /// a * b with the arithmetic of Eigen's SSE quaternion product, lane by lane.
 template <class T>
 [[gnu::always_inline]] inline Quat<T> product(const Quat<T>& a, const Quat<T>& b) {
-  return {(a.w * b.x + a.y * b.z) - (a.z * b.y - a.x * b.w), (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
-          (a.w * b.z - a.y * b.x) + (a.z * b.w + a.x * b.y), (a.w * b.w - a.y * b.y) - (a.z * b.z + a.x * b.x)};
+  return {(a.w * b.x + a.y * b.z) - (a.z * b.y - a.x * b.w),
+          (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
+          (a.w * b.z - a.y * b.x) + (a.z * b.w + a.x * b.y),
+          (a.w * b.w - a.y * b.y) - (a.z * b.z + a.x * b.x)};
 }
 
 /// q.normalize() with the arithmetic of Eigen's SSE code (its two-lane sum of squares);
@@ -37,8 +39,8 @@ template <class T>
   const T n2 = (q.x * q.x + q.z * q.z) + (q.y * q.y + q.w * q.w);
   const T n = simd::root(n2);
   const auto positive = n2 > 0.0;
-  return {select(positive, q.x / n, q.x), select(positive, q.y / n, q.y), select(positive, q.z / n, q.z),
-          select(positive, q.w / n, q.w)};
+  return {select(positive, q.x / n, q.x), select(positive, q.y / n, q.y),
+          select(positive, q.z / n, q.z), select(positive, q.w / n, q.w)};
 }
 
 template <class M, class T>
@@ -76,7 +78,8 @@ template <class T>
 /// turns by +theta about body axis k; the body-frame components of the (fixed) world
 /// angular momentum turn by -theta.
 template <class T>
-[[gnu::always_inline]] inline void rotate_about(int k, double h, Quat<T>& q, T pi[3], const T inv[3]) {
+[[gnu::always_inline]] inline void rotate_about(int k, double h, Quat<T>& q, T pi[3],
+                                                const T inv[3]) {
   const T theta = h * pi[k] * inv[k];
   // One sine and cosine, of the half angle (the quaternion's), give the whole angle's.
   T ch, sh;
@@ -93,7 +96,8 @@ template <class T>
 /// Free rigid-body rotation over h, lane by lane: the splitting X(h/2) Y(h/2) Z(h) Y(h/2)
 /// X(h/2), then the normalisation.
 template <class T>
-[[gnu::always_inline]] inline Quat<T> rotated_freely(Quat<T> q, const Vec3<T>& L, const Vec3<T>& inv, double h) {
+[[gnu::always_inline]] inline Quat<T> rotated_freely(Quat<T> q, const Vec3<T>& L,
+                                                     const Vec3<T>& inv, double h) {
   const Vec3<T> p = rotated(conjugate(q), L);
   T pi[3] = {p.x, p.y, p.z};
   const T iv[3] = {inv.x, inv.y, inv.z};
@@ -136,7 +140,8 @@ void turn_lanes(BodyState* const s[], const BodyInfo* const b[], double h) {
   const auto w = spin(q, f.L, f.inv);
   for (int i = 0; i < W; ++i) {
     if (simd::lane(turning, i))
-      s[i]->q = Eigen::Quaterniond(simd::lane(q.w, i), simd::lane(q.x, i), simd::lane(q.y, i), simd::lane(q.z, i));
+      s[i]->q = Eigen::Quaterniond(simd::lane(q.w, i), simd::lane(q.x, i), simd::lane(q.y, i),
+                                   simd::lane(q.z, i));
     s[i]->w = eigen(lane(w, i));
   }
 }
@@ -169,12 +174,15 @@ void kick(BodyState& s, const BodyInfo& b, double h) {
 
 void kick(BodyState* const s[], const BodyInfo* const b[], int n, double h) {
   for (int m = 0; m < n; ++m) kick_momenta(*s[m], *b[m], h);
-  in_lanes(s, b, n, [](auto w, BodyState* const* sw, const BodyInfo* const* bw) { spin_lanes<decltype(w)::value>(sw, bw); });
+  in_lanes(s, b, n, [](auto w, BodyState* const* sw, const BodyInfo* const* bw) {
+    spin_lanes<decltype(w)::value>(sw, bw);
+  });
 }
 
 void rotate_free(Eigen::Quaterniond& q, const Eigen::Vector3d& L, const Eigen::Vector3d& inv_inertia,
                  double h) {
-  const Quat<double> r = rotated_freely(Quat<double>{q.x(), q.y(), q.z(), q.w()}, v3(L), v3(inv_inertia), h);
+  const Quat<double> r =
+      rotated_freely(Quat<double>{q.x(), q.y(), q.z(), q.w()}, v3(L), v3(inv_inertia), h);
   q = Eigen::Quaterniond(r.w, r.x, r.y, r.z);
 }
 
@@ -186,7 +194,9 @@ void drift(BodyState& s, const BodyInfo& b, double h) {
 
 void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h) {
   for (int m = 0; m < n; ++m) s[m]->x += h * s[m]->v;
-  in_lanes(s, b, n, [h](auto w, BodyState* const* sw, const BodyInfo* const* bw) { turn_lanes<decltype(w)::value>(sw, bw, h); });
+  in_lanes(s, b, n, [h](auto w, BodyState* const* sw, const BodyInfo* const* bw) {
+    turn_lanes<decltype(w)::value>(sw, bw, h);
+  });
 }
 
 }  // namespace cleave::physics

@@ -410,10 +410,12 @@ void CubicLattice::links(int k, double dt) {
     c[l] = &classes_[ends_[k + l].cls];
   }
   if (W == 1 && c[0]->breakable && links_[k].state.phase == LinkPhase::contact) return;
-  auto at = [&](const std::vector<Eigen::Vector3d>& a, const int* idx) __attribute__((always_inline)) {
+  auto at = [&](const std::vector<Eigen::Vector3d>& a, const int* idx)
+      __attribute__((always_inline)) {
     return load3<W>([&](int l) -> const Eigen::Vector3d& { return a[idx[l]]; });
   };
-  auto put = [&](std::vector<Eigen::Vector3d>& a, const int* idx, const Vec3<T>& v) __attribute__((always_inline)) {
+  auto put = [&](std::vector<Eigen::Vector3d> & a, const int* idx, const Vec3<T>& v)
+      __attribute__((always_inline)) {
     if constexpr (W == 1) {
       a[idx[0]] = eigen(v);
     } else {
@@ -470,7 +472,8 @@ void CubicLattice::links(int k, double dt) {
       const double jn = 0.5 * (ja + jb);
       closing = std::min(jn, 0.0) * (x0_[e.j].z() - x0_[e.i].z()) / c[0]->rest;
     }
-    const CohesiveTraction t = cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
+    const CohesiveTraction t =
+        cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
     // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
     fj = -p.area * t.tn * nrm;
     if (ds > 0.0) fj = fj - (p.area * t.ts / ds) * shear;
