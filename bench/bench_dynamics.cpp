@@ -10,8 +10,6 @@
 // which saves the 2,000 settling steps of the tiles; --steps K times
 // K steps per case instead of 2e6/N (3 to 200); --phases prints, under each case, where its
 // timed steps went (World::set_timing: search, narrow phase, contact law, bonds, ...).
-// CLEAVE_BENCH_ALTERNATE=1 alternates the timed steps between AVX's lanes on and off
-// (WorldSettings::lanes) and prints each phase's time on both sides (step_phases.hpp).
 // CLEAVE_BENCH_HASH=1 prints each case's state hash after its timed steps (World::state_hash):
 // two builds that should give the same bits can be checked on the same cases.
 // For each case, in its own child process (so peak memory is its own): build the world,
@@ -285,8 +283,7 @@ Result run_case(int n, Case kind, const Pile& tile) {
   physics::World world = kind == Case::poured ? poured_world(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
-  cleave::bench::LaneAlternation alternation;  // CLEAVE_BENCH_ALTERNATE
-  world.set_timing(g_phases || alternation.on());
+  world.set_timing(g_phases);
   const int steps = g_steps > 0 ? g_steps : std::clamp(static_cast<int>(2e6 / std::max(1, bodies)), 3, 200);
   // Timed in blocks of 10 steps; the median block is reported, which a moment of
   // interference from elsewhere on the machine does not move.
@@ -295,7 +292,7 @@ Result run_case(int n, Case kind, const Pile& tile) {
   auto t0 = std::chrono::steady_clock::now();
   double contacts = 0, pairs = 0;
   for (int i = 0; i < steps; ++i) {
-    alternation.step(world);
+    world.step();
     if ((i + 1) % kBlock == 0 || i + 1 == steps) {
       const auto t1 = std::chrono::steady_clock::now();
       blocks.push_back(std::chrono::duration<double>(t1 - t0).count() / ((i % kBlock) + 1));
@@ -318,7 +315,6 @@ Result run_case(int n, Case kind, const Pile& tile) {
   getrusage(RUSAGE_SELF, &u);
   r.peak_mib = u.ru_maxrss / 1024.0;
   r.phases = world.timings();
-  alternation.print();
   if (const char* h = std::getenv("CLEAVE_BENCH_HASH"); h != nullptr && *h != '\0' && *h != '0')
     std::printf("  state hash after %d steps: %016llx\n", steps,
                 static_cast<unsigned long long>(world.state_hash()));

@@ -2,9 +2,7 @@
 //   ./build/bench/cleave_bench_fracture [GRAINS] [K_IC] [GATE] [MANIFOLD]
 //   (defaults 10000, 0.5 Pa m^0.5, gate open; GATE: eq. 3.22's sigma_f_hyd in Pa; MANIFOLD:
 //   WorldSettings::manifold_tolerance, default 0, the exact search; CLEAVE_BENCH_STEPS:
-//   timed steps, default 100; CLEAVE_BENCH_PHASES=1: where the step and the check go;
-//   CLEAVE_BENCH_ALTERNATE=1: the timed steps alternate between AVX's lanes on and off,
-//   each phase's time printed for both sides)
+//   timed steps, default 100; CLEAVE_BENCH_PHASES=1: where the step and the check go)
 // 1. One split inside a running world: the first cut of a (shape, plane) pair (exact CGAL
 //    split + mass properties of the pieces) and a repeated one (shared pieces), each with
 //    World::split_body, in microseconds.
@@ -94,12 +92,11 @@ int main(int argc, char** argv) {
     // swings by tens of percent within a minute; the fastest block is the least disturbed).
     constexpr int kBlock = 10;
     double total = 0.0, best = std::numeric_limits<double>::infinity(), check = 0.0;
-    cleave::bench::LaneAlternation alternation;  // CLEAVE_BENCH_ALTERNATE
-    d.world.set_timing(phases || alternation.on());
+    d.world.set_timing(phases);
     for (int done = 0; done < kSteps; done += kBlock) {
       const auto t0 = Clock::now();
       for (int i = 0; i < kBlock; ++i) {
-        alternation.step(d.world);
+        d.world.step();
         if (!fracture) continue;
         const auto c0 = phases ? Clock::now() : Clock::time_point{};
         splits += transgranular_step(d.world, *d.book, p).size();
@@ -114,7 +111,6 @@ int main(int argc, char** argv) {
                 "fastest 10-step block %.2f ms/step (%.1f steps/s), %zu splits, %zu bodies at the end\n",
                 d.specimen.grains.size(), d.world.bonds().size(), fracture ? "on " : "off", ms, 1e3 / ms,
                 1e3 * best, 1.0 / best, splits, d.world.body_count());
-    alternation.print();
     if (phases) {
       cleave::bench::print_phases("where the step goes", d.world.timings());
       if (fracture)

@@ -8,11 +8,10 @@
 
 #include "io/sweep.hpp"
 #include "physics/bonds/bond_law.hpp"
-#include "physics/bonds/bond_pair.hpp"
+#include "physics/bonds/bond_batch.hpp"
 #include "eigen_reference.hpp"
 
 using namespace cleave::physics;
-using cleave::test::eigen_into_plane;
 using cleave::test::same_bits;
 
 namespace {
@@ -160,97 +159,18 @@ TEST(BondStrengthFactor, IsTheSameForEitherOrderOfTheGrainsAndChangesWithTheSeed
 
 namespace {
 
-/// The bonded-particle law's increments and limits as they read with Eigen's vectors
-/// (cleave's form before vec3.hpp): the reference the scalar form must equal to the bit.
-BondResult eigen_bond_force(const BondParams& p, const BondSection& s, const Eigen::Vector3d& n,
-                            const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin, BondState& b, double dt) {
-  BondResult out;
-  if (b.broken) return out;
-  const double Kbn = p.kbn * s.area(), Kbs = p.kbs * s.area();
-  const double Kbr = p.kbn * s.inertia(), Kbt = p.kbs * s.polar();
-  const double vn = velocity.dot(n);
-  const Eigen::Vector3d vs = velocity - vn * n;
-  const double wt = spin.dot(n);
-  const Eigen::Vector3d wr = spin - wt * n;
-  b.normal += Kbn * vn * dt;
-  b.shear = eigen_into_plane(b.shear, n) - Kbs * dt * vs;
-  b.bending = eigen_into_plane(b.bending, n) - Kbr * dt * wr;
-  b.torsion -= Kbt * dt * wt;
-  const double r = s.radius;
-  if (b.normal > p.tbn * s.area()) {
-    out.failure = BondFailure::tension;
-  } else if (b.shear.norm() > p.tbs * s.area()) {
-    out.failure = BondFailure::shear;
-  } else if (b.bending.norm() > p.tbn * s.inertia() / r) {
-    out.failure = BondFailure::bending;
-  } else if (std::abs(b.torsion) > p.tbs * s.polar() / r) {
-    out.failure = BondFailure::torsion;
-  }
-  if (out.failure != BondFailure::none) {
-    out.at_failure = b;
-    b = BondState{};
-    b.broken = true;
-    return out;
-  }
-  out.force = -b.normal * n + b.shear;
-  out.moment = b.bending + b.torsion * n;
-  return out;
-}
-
-}  // namespace
-
-TEST(BondLaw, ScalarFormGivesEigensBits) {
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-9.0, -3.0);
-  auto vec = [&](double scale) {
-    const double x = u(rng), y = u(rng), z = u(rng);
-    return Eigen::Vector3d(x * scale, y * scale, z * scale);
-  };
-  int failures[5] = {0, 0, 0, 0, 0};
-  for (int trial = 0; trial < 20000; ++trial) {
-    BondState b;
-    if (trial % 3 != 0) {  // a third start unloaded (zero springs: into_plane's early out)
-      b.normal = 1e-5 * u(rng);
-      b.shear = vec(2e-5 * std::abs(u(rng)));
-      b.bending = vec(2e-10 * std::abs(u(rng)));
-      b.torsion = 4e-10 * u(rng);
-    }
-    const Eigen::Vector3d n = vec(1.0).normalized();
-    const Eigen::Vector3d velocity = vec(std::pow(10.0, e(rng)) / kDt), spin = vec(std::pow(10.0, e(rng) + 3.0) / kDt);
-    BondState b_ref = b;
-    const BondResult got = bond_force(kParams, kSection, n, velocity, spin, b, kDt);
-    const BondResult want = eigen_bond_force(kParams, kSection, n, velocity, spin, b_ref, kDt);
-    ASSERT_EQ(got.failure, want.failure) << trial;
-    ASSERT_TRUE(same_bits(got.force, want.force)) << trial;
-    ASSERT_TRUE(same_bits(got.moment, want.moment)) << trial;
-    const BondState& got_s = got.failure == BondFailure::none ? b : got.at_failure;
-    const BondState& want_s = want.failure == BondFailure::none ? b_ref : want.at_failure;
-    ASSERT_TRUE(same_bits(got_s.shear, want_s.shear)) << trial;
-    ASSERT_TRUE(same_bits(got_s.bending, want_s.bending)) << trial;
-    ASSERT_EQ(std::memcmp(&got_s.normal, &want_s.normal, sizeof(double)), 0) << trial;
-    ASSERT_EQ(std::memcmp(&got_s.torsion, &want_s.torsion, sizeof(double)), 0) << trial;
-    ++failures[static_cast<int>(want.failure)];
-  }
-  // Intact bonds and every failure mode were met.
-  for (int mode = 0; mode < 5; ++mode) EXPECT_GT(failures[mode], 100) << "mode " << mode;
-}
-
-namespace {
-
-/// One bond as World::bond_forces evaluates it one at a time, written with Eigen's own
-/// operations (its bits): the reference bond_pair's lanes must give to the bit.
+/// One bond as World::bond_forces evaluates it one at a time: bond_motion at width 1 and
+/// bond_force.
 struct OneBond {
   Eigen::Vector3d point, normal, force, moment;
   BondResult result;
 };
 OneBond one_bond(const BondLane& l, const BondParams& p, const BondSection& s, double dt) {
   OneBond o;
-  const Eigen::Vector3d xb3 = *l.xb + *l.shift;
-  const Eigen::Vector3d pa = *l.xa + *l.qa * *l.arm_a, pb = xb3 + *l.qb * *l.arm_b;
-  o.point = 0.5 * (pa + pb);
-  o.normal = (*l.qa * *l.normal_a + *l.qb * *l.normal_b).normalized();
-  const Eigen::Vector3d velocity = (*l.vb + l.wb->cross(o.point - xb3)) - (*l.va + l.wa->cross(o.point - *l.xa));
-  o.result = bond_force(p, *l.constants, s, o.normal, velocity, *l.wb - *l.wa, *l.state, dt);
+  const BondMotion<double> m = bond_motion<1>(&l);
+  o.point = eigen(m.point);
+  o.normal = eigen(m.normal);
+  o.result = bond_force(p, *l.constants, s, o.normal, eigen(m.velocity), *l.wb - *l.wa, *l.state, dt);
   o.force = o.result.force;
   o.moment = o.result.moment;
   return o;
@@ -258,10 +178,10 @@ OneBond one_bond(const BondLane& l, const BondParams& p, const BondSection& s, d
 
 }  // namespace
 
-// bond_pair and bond_quad (two bonds in an SSE2 register, four in an AVX one: World::
-// bond_forces' common case) against the bonds evaluated one at a time with Eigen: random
-// poses, motions, loads and strengths, unloaded springs (into_plane's early out) and every
-// failure mode; each lane to the bit.
+// bond_batch at width N (World::bond_forces' common case: four) against the bonds evaluated
+// one at a time as World::bond_forces does (width 1): random poses, motions, loads and
+// strengths, unloaded springs (into_plane's early out) and every failure mode; each lane to
+// the bit.
 template <int N>
 void lanes_give_the_scalar_bits() {
   std::mt19937_64 rng(11);
@@ -324,11 +244,7 @@ void lanes_give_the_scalar_bits() {
       in[i] = side[i].lane();
     }
     BondLaneResult got[N];
-    if constexpr (N == 2) {
-      bond_pair(in, got, kDt);
-    } else {
-      bond_quad(in, got, kDt);
-    }
+    bond_batch<N>(in, got, kDt);
     for (int i = 0; i < N; ++i) {
       const OneBond& w = want[i];
       const BondLaneResult& g = got[i];
@@ -356,12 +272,6 @@ void lanes_give_the_scalar_bits() {
   for (int mode = 0; mode < 5; ++mode) EXPECT_GT(failures[mode], 100) << "mode " << mode;
 }
 
-TEST(BondPair, GivesTheScalarLawsBitsInEachLane) {
-  if (!has_avx()) GTEST_SKIP() << "no AVX here: World evaluates bonds one at a time";
-  lanes_give_the_scalar_bits<2>();
-}
+TEST(BondLaw, GivesTheSameBitsAtWidthsOneAndTwo) { lanes_give_the_scalar_bits<2>(); }
 
-TEST(BondQuad, GivesTheScalarLawsBitsInEachLane) {
-  if (!has_avx()) GTEST_SKIP() << "no AVX here: World evaluates bonds one at a time";
-  lanes_give_the_scalar_bits<4>();
-}
+TEST(BondLaw, GivesTheSameBitsAtWidthsOneAndFour) { lanes_give_the_scalar_bits<4>(); }

@@ -362,34 +362,6 @@ TEST(BondedSpecimen, BitIdenticalForOneAndTwoThreadsUntilAndAfterBondsBreak) {
   }
 }
 
-// The same block, turned out of the axes (no component of a rotation or a normal zero),
-// with AVX's lanes (bonds four at a time, drifts four at a time) and without (one at a
-// time): the same state to the bit, bonds breaking included. This holds the wiring (which
-// bond or body each lane reads and writes, the switch; a swap of two lanes fails it). The
-// lanes' rounding is BondQuad's and the batch drift's tests to hold: in a regular block most
-// of the law's divisions are exact (a normal's length 2, a spring already in its plane), so
-// a one-ulp change in them does not show here. Where the processor has no AVX both runs
-// take the one-at-a-time path.
-TEST(BondedSpecimen, BitIdenticalWithAndWithoutTheLanesUntilAndAfterBondsBreak) {
-  const Eigen::Quaterniond turn = Eigen::Quaterniond(0.9, 0.3, -0.2, 0.25).normalized();
-  auto simulate = [&](bool lanes) {
-    double top = 0.0;
-    World world = pulled_block(2, top, turn);
-    world.set_lanes(lanes);
-    for (int i = 0; i < 300; ++i) world.step();
-    return world;
-  };
-  const World with = simulate(true);
-  const World without = simulate(false);
-  ASSERT_FALSE(with.bond_breaks().empty());
-  ASSERT_EQ(with.bond_breaks().size(), without.bond_breaks().size());
-  for (std::size_t k = 0; k < with.bond_breaks().size(); ++k) {
-    EXPECT_EQ(with.bond_breaks()[k].bond, without.bond_breaks()[k].bond);
-    EXPECT_EQ(with.bond_breaks()[k].step, without.bond_breaks()[k].step);
-  }
-  EXPECT_EQ(with.state_hash(), without.state_hash());
-}
-
 namespace {
 
 /// Table 2.5's springs with the cohesive law of seed 002: sigma_c = 1000 Pa, and G_c such

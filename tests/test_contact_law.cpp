@@ -10,7 +10,6 @@
 
 #include "geometry/exact_polyhedron.hpp"
 #include "eigen_reference.hpp"
-#include "physics/bonds/lanes.hpp"
 #include "physics/dem/contact_law.hpp"
 #include "physics/dem/world.hpp"
 
@@ -176,47 +175,6 @@ TEST(CriticalTimeStep, IsTwiceSqrtMassOverStiffness) {
 
 namespace {
 
-/// The law as it reads with Eigen's vectors (cleave's form before vec3.hpp): the reference
-/// the scalar form must equal to the bit.
-ContactForce eigen_contact_force(const ContactParams& p, const ContactKinematics& k, ContactHistory& h, double dt) {
-  ContactForce out;
-  const Eigen::Vector3d& n = k.normal;
-  const double delta = std::max(0.0, k.overlap);
-  h.max_overlap = std::max(h.max_overlap, delta);
-  const double loading = p.kn * delta;
-  const double unloading = p.c_res * p.kn * (delta - h.max_overlap * (1.0 - 1.0 / p.c_res));
-  const double fn_spring = std::max(0.0, std::min(loading, unloading));
-  const double vn = k.velocity.dot(n);
-  const double cn = p.damping_ratio * std::sqrt(p.c_res * p.kn * k.m_crit);
-  const double fn = std::max(0.0, fn_spring - cn * vn);
-  out.force = fn * n;
-  const Eigen::Vector3d vt = k.velocity - vn * n;
-  h.shear = eigen_into_plane(h.shear, n) - p.ks * dt * vt;
-  const double cap = p.mu_s * fn;
-  const double fs = h.shear.norm();
-  if (fs >= cap && fs > 0.0) {
-    h.shear *= cap / fs;
-    out.sliding = true;
-    out.force += h.shear;
-  } else {
-    const double cs = p.damping_ratio * std::sqrt(p.ks * k.m_crit);
-    out.force += h.shear - cs * vt;
-  }
-  if (p.kr > 0.0 || p.kt > 0.0) {
-    const double wt = k.spin.dot(n);
-    const Eigen::Vector3d wr = k.spin - wt * n;
-    const double mcap = p.mu_r * fn * k.lever;
-    h.rolling = eigen_into_plane(h.rolling, n) - p.kr * dt * wr;
-    if (h.rolling.norm() > mcap) h.rolling *= mcap / h.rolling.norm();
-    h.torsion -= p.kt * dt * wt;
-    h.torsion = std::clamp(h.torsion, -mcap, mcap);
-    const double cr = p.damping_ratio * std::sqrt(p.kr * k.i_crit);
-    const double ct = p.damping_ratio * std::sqrt(p.kt * k.i_crit);
-    out.moment = h.rolling - cr * wr + (h.torsion - ct * wt) * n;
-  }
-  return out;
-}
-
 /// Random draws for the law's bit tests: u uniform in [-1, 1), e in [-8, 0) (decades),
 /// vectors of a scale, and parameters near table 2.3's (rolling and torsion on when asked).
 struct LawDraws {
@@ -243,46 +201,6 @@ struct LawDraws {
 };
 
 }  // namespace
-
-TEST(ContactLaw, ScalarFormGivesEigensBits) {
-  LawDraws draw(3);
-  auto& rng = draw.rng;
-  auto& u = draw.u;
-  auto& e = draw.e;
-  auto vec = [&](double scale) { return draw.vec(scale); };
-  int sliding = 0, sticking = 0;
-  for (int trial = 0; trial < 20000; ++trial) {
-    const ContactParams p = draw.params(trial % 2 != 0);  // rolling and torsion every other trial
-    ContactKinematics k;
-    k.normal = vec(1.0).normalized();
-    k.overlap = 1e-6 * u(rng);
-    k.velocity = vec(std::pow(10.0, e(rng)));
-    k.spin = vec(std::pow(10.0, e(rng)));
-    k.m_crit = 1e-6;
-    k.i_crit = 1e-12;
-    k.lever = 1e-4;
-    ContactHistory h;
-    if (trial % 3 != 0) {  // a third start fresh (zero springs: into_plane's early out)
-      h.shear = vec(10.0 * std::pow(10.0, e(rng) / 4.0));  // up to 10 N against caps of about 1 N
-      h.rolling = vec(1e-6 * std::pow(10.0, e(rng)));
-      h.torsion = 1e-7 * u(rng);
-      h.max_overlap = 1e-6 * std::abs(u(rng));
-    }
-    ContactHistory h_ref = h;
-    const ContactForce got = contact_force(p, k, h, 1e-6);
-    const ContactForce want = eigen_contact_force(p, k, h_ref, 1e-6);
-    ASSERT_TRUE(same_bits(got.force, want.force)) << trial;
-    ASSERT_TRUE(same_bits(got.moment, want.moment)) << trial;
-    ASSERT_EQ(got.sliding, want.sliding) << trial;
-    ASSERT_TRUE(same_bits(h.shear, h_ref.shear)) << trial;
-    ASSERT_TRUE(same_bits(h.rolling, h_ref.rolling)) << trial;
-    ASSERT_EQ(std::memcmp(&h.torsion, &h_ref.torsion, sizeof(double)), 0) << trial;
-    ASSERT_EQ(h.max_overlap, h_ref.max_overlap) << trial;
-    (want.sliding ? sliding : sticking) += 1;
-  }
-  EXPECT_GT(sliding, 1000);  // both branches of the Coulomb cap were taken
-  EXPECT_GT(sticking, 1000);
-}
 
 TEST(SurelyShorter, NeverClaimsALengthAtOrAboveTheLimitAndSeesTheClearlyShorter) {
   // The caps' test without the square root (vec3.hpp): whenever it says |a| < limit, the
@@ -320,12 +238,12 @@ TEST(SurelyShorter, NeverClaimsALengthAtOrAboveTheLimitAndSeesTheClearlyShorter)
 }
 
 
-TEST(ContactQuad, GivesTheScalarLawsBitsInEachLane) {
-  // contact_force_quad against contact_force, lane by lane, to the bit: random quads over
-  // every branch (loading and unloading, sliding and sticking, rolling capped or not,
-  // torsion clamped either side, springs along the normal, no overlap, fresh histories),
-  // each lane its own coefficients. A reordered product or a swapped select fails it.
-  if (!has_avx()) GTEST_SKIP() << "no AVX on this processor";
+TEST(ContactLaw, GivesTheSameBitsAtWidthsOneAndFour) {
+  // contact_forces<4> against contact_force (the law at width 1), lane by lane, to the bit:
+  // random quads over every branch (loading and unloading, sliding and sticking, rolling
+  // capped or not, torsion clamped either side, springs along the normal, no overlap, fresh
+  // histories), each lane its own coefficients. A lane's result that depended on its
+  // neighbours', or a select that differed from the branch, fails it.
   LawDraws draw(17);
   auto& rng = draw.rng;
   auto& u = draw.u;
@@ -366,7 +284,7 @@ TEST(ContactQuad, GivesTheScalarLawsBitsInEachLane) {
     ContactHistory* hp[4] = {&h[0], &h[1], &h[2], &h[3]};
     ContactForce* out[4] = {&got[0], &got[1], &got[2], &got[3]};
     got[trial % 4].moment = Eigen::Vector3d::Constant(7.0);  // must come back zero (or set)
-    contact_force_quad(p, in, dp, hp, out, 1e-6);
+    contact_forces<4>(p, in, dp, hp, out, 1e-6);
     for (int i = 0; i < 4; ++i) {
       const double torsion_before = h_ref[i].torsion;
       const ContactForce want = contact_force(p, k[i], d[i], h_ref[i], 1e-6);

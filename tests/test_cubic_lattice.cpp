@@ -386,39 +386,6 @@ TEST(CubicLattice, BitIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(one, two);
 }
 
-/// The connective links four at a time in AVX's lanes give the bits of one at a time: the
-/// coarse DCB and ENF loaded 20 times faster than their scenarios, so that within 4,000 steps
-/// the weak plane's links soften and break (the crack faces' compensation and the cohesive
-/// links both in play) and, in the ENF, the notch's faces press and slide on each other.
-class LatticeLanes : public ::testing::TestWithParam<const char*> {};
-
-TEST_P(LatticeLanes, FourLinksAtATimeGiveTheBitsOfOneAtATime) {
-  auto v = cleave::io::load_validation_scenario(std::string(CLEAVE_SOURCE_DIR) +
-                                                "/scenarios/validation/" + GetParam() + ".toml");
-  v.rig.velocity *= 20.0;
-  v.rig.ramp_time /= 20.0;
-  const auto run = [&](bool lanes, std::vector<std::uint64_t>& hashes) {
-    BeamRigDef def = v.rig;
-    def.lanes = lanes;
-    BeamTestRig rig(def);
-    const int notch = rig.lattice().phase_counts().contact;
-    for (int i = 1; i <= 4000; ++i) {
-      rig.step();
-      if (i % 500 == 0) hashes.push_back(rig.lattice().state_hash());
-    }
-    const auto phases = rig.lattice().phase_counts();
-    return phases.cohesive + phases.contact - notch;  // links that left the connective phase
-  };
-  std::vector<std::uint64_t> one, four;
-  const int cracked_one = run(false, one), cracked_four = run(true, four);
-  EXPECT_GT(cracked_one, 8) << "the weak plane must soften and break within the run";
-  EXPECT_EQ(cracked_one, cracked_four);
-  ASSERT_EQ(one.size(), four.size());
-  for (std::size_t k = 0; k < one.size(); ++k) EXPECT_EQ(one[k], four[k]) << "step " << 500 * (k + 1);
-}
-
-INSTANTIATE_TEST_SUITE_P(CoarseBeams, LatticeLanes, ::testing::Values("dcb_coarse", "enf_coarse"));
-
 namespace {
 
 /// Tip stiffness P / delta of a cantilever `cells` layers thick, clamped at its first column

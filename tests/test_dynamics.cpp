@@ -243,36 +243,6 @@ TEST(DropTest, TheNearFeatureCacheChangesNoBit) {
   EXPECT_EQ(state_hash(full), state_hash(cached));
 }
 
-TEST(DropTest, TheContactLawInLanesChangesNoBit) {
-  // The same drop, with rolling and torsional resistance on (every branch of the law), with
-  // the contacts' law four at a time in AVX's lanes (contact_force_quad) and one at a time:
-  // the same bits through the impacts and the bouncing. This holds the wiring (which
-  // contact each lane reads and writes, the switch between the pairs' and the walls'
-  // parameters, the ones left over); ContactQuad's test holds the lanes' rounding. Where
-  // the processor has no AVX both runs take the one-at-a-time path.
-  std::string text = kSmallDrop;
-  const std::string pp = "[contact.particle_particle]\n";
-  text.replace(text.find(pp), pp.size(), pp + "kr = 1e-4\nkt = 1e-4\nmu_r = 0.1\n");
-  const io::Scenario scenario = io::parse_scenario(text, "small_drop.toml");
-  ASSERT_GT(scenario.contact.particle_particle.kr, 0.0);
-  const geometry::Specimen specimen = geometry::build_specimen(scenario.specimen);
-  World lanes = sim::make_world(scenario, specimen);
-  World single = sim::make_world(scenario, specimen);
-  lanes.set_lanes(true);
-  single.set_lanes(false);
-  std::size_t most = 0;
-  for (int i = 0; i < 80000; ++i) {
-    lanes.step();
-    single.step();
-    most = std::max(most, single.contacts().size());
-    if (i % 1000 == 0) {
-      ASSERT_EQ(state_hash(lanes), state_hash(single)) << "step " << i;
-    }
-  }
-  EXPECT_GT(most, 40u);  // quads of the pairs' and the floor's contacts, and some left over
-  EXPECT_EQ(state_hash(lanes), state_hash(single));
-}
-
 namespace {
 
 /// kSmallDrop's grains packed in a box of x by y by z (m) on its floor, each pressed 5 um

@@ -49,7 +49,6 @@ CubicLatticeDef beam_lattice(const BeamRigDef& def) {
   ld.global_damping = def.global_damping;
   ld.link_bending = def.link_bending;
   ld.tiled_areas = def.tiled_areas;
-  ld.lanes = def.lanes;
   return ld;
 }
 

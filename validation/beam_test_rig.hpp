@@ -47,7 +47,6 @@ struct BeamRigDef {
   double mode_mix = 0.5;       ///< MMB: beta = G_II / G_T
   double link_bending = 1.0;   ///< CubicLatticeDef::link_bending (0: the paper's lattice)
   bool tiled_areas = true;     ///< CubicLatticeDef::tiled_areas (false: eq. 10's areas as they stand)
-  bool lanes = true;           ///< CubicLatticeDef::lanes (false: one link at a time, the same bits)
   LatticeMaterial material;
   double g_Ic = 0.0, g_IIc = 0.0;  ///< for the closed forms (the lattice uses material.g_c)
   double velocity = 0.0;       ///< v0 (m/s), eq. 56

@@ -1,8 +1,9 @@
 #include "physics/bonds/bond_law.hpp"
-#include "physics/bonds/tangent.hpp"
 
 #include <algorithm>
 #include <cmath>
+
+#include "physics/bonds/bond_batch.hpp"
 
 namespace cleave::physics {
 
@@ -32,20 +33,17 @@ BondResult bond_force(const BondParams& p, const BondConstants& k, const BondSec
                       const Eigen::Vector3d& velocity, const Eigen::Vector3d& spin, BondState& b, double dt) {
   BondResult out;
   if (b.broken) return out;
-  const double Kbn = k.kbn, Kbs = k.kbs, Kbr = k.kbr, Kbt = k.kbt;
-  // Increments (eqs 2.12, 2.13): opening along n is tension. In plain doubles (vec3.hpp:
-  // Eigen's bits without its stalls on three-element vectors).
-  const V3 nn = v3(n), vel = v3(velocity), sp = v3(spin);
-  const double vn = dot(vel, nn);
-  const V3 vs = vel - vn * nn;
-  const double wt = dot(sp, nn);
-  const V3 wr = sp - wt * nn;
-  b.normal += Kbn * vn * dt;
-  const V3 shear = into_plane(v3(b.shear), nn) - Kbs * dt * vs;
-  const V3 bending = into_plane(v3(b.bending), nn) - Kbr * dt * wr;
+  const double Kbn = k.kbn, Kbs = k.kbs;
+  // Increments (eqs 2.12, 2.13): bond_batch.hpp's, one lane.
+  const V3 nn = v3(n);
+  const BondLoads<double> next =
+      bond_increment<double>({b.normal, v3(b.shear), v3(b.bending), b.torsion}, k.kbn, k.kbs, k.kbr,
+                             k.kbt, nn, v3(velocity), v3(spin), dt);
+  const V3 shear = next.shear, bending = next.bending;
+  b.normal = next.normal;
   b.shear = eigen(shear);
   b.bending = eigen(bending);
-  b.torsion -= Kbt * dt * wt;
+  b.torsion = next.torsion;
   if (p.law == BondLaw::cohesive) {
     const double A = s.area();
     const double dn = b.normal / Kbn;

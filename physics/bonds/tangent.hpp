@@ -11,14 +11,15 @@
 namespace cleave::physics {
 
 /// `v` turned into the plane across unit normal `n`, with its length kept (zero if `v` is
-/// along `n`). In plain doubles (vec3.hpp), for the laws' loops.
-[[gnu::always_inline]] inline V3 into_plane(const V3& v, const V3& n) {
-  const double len = norm(v);
-  if (len == 0.0) return v;
-  const V3 t = v - dot(v, n) * n;
-  const double tl = norm(t);
-  if (tl == 0.0) return {0.0, 0.0, 0.0};
-  return t * (len / tl);
+/// along `n`), lane by lane (vec3.hpp).
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> into_plane(const Vec3<T>& v, const Vec3<T>& n) {
+  const T len = norm(v);
+  if (simd::all(len == 0.0)) return v;  // unloaded springs: no roots to take
+  const Vec3<T> t = v - dot(v, n) * n;
+  const T tl = norm(t);
+  const T zero(0.0);
+  return select(len == 0.0, v, select(tl == 0.0, Vec3<T>{zero, zero, zero}, t * (len / tl)));
 }
 
 /// The same on Eigen vectors, with the same bits.

@@ -1,63 +1,128 @@
 #pragma once
 /// \file
-/// Three doubles for the per-contact and per-bond loops (the laws, their kinematics, the
-/// sums onto the bodies), with each operation's arithmetic in the order Eigen gives it, so that the
-/// results are Eigen's bits (`ContactLaw.ScalarFormGivesEigensBits`,
-/// `BondLaw.ScalarFormGivesEigensBits`).
+/// Three values (doubles, or physics/simd.hpp's lanes of them) for the laws, their
+/// kinematics and the sums onto the bodies, each operation's arithmetic in the order Eigen
+/// gives it, so that a law reads the same whether it is handed Eigen vectors or these.
 ///
 /// Why not Eigen::Vector3d there: at -O2 Eigen adds two Vector3d as one SSE pair plus one
 /// scalar, and a cross product's result goes through the stack as three scalars; the pair's
-/// load then waits for two scalar stores it cannot forward from. perf put 40 % of the
-/// contact kinematics' time on two such loads. Plain doubles stay in registers.
+/// load then waits for two scalar stores it cannot forward from. Plain values stay in
+/// registers, and take the lanes of simd.hpp as they are.
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <type_traits>
+
+#include "physics/simd.hpp"
 
 namespace cleave::physics {
 
-struct V3 {
-  double x, y, z;
+/// A vector of three T: T = double for one contact, bond or body, simd::Real<W> for W of
+/// them side by side (lane i the i-th one's).
+template <class T>
+struct Vec3 {
+  T x, y, z;
 };
+using V3 = Vec3<double>;
+
+/// A quaternion's components (Eigen's x, y, z, w).
+template <class T>
+struct Quat {
+  T x, y, z, w;
+};
+
+using simd::select;
 
 [[gnu::always_inline]] inline V3 v3(const Eigen::Vector3d& e) { return {e.x(), e.y(), e.z()}; }
 [[gnu::always_inline]] inline Eigen::Vector3d eigen(const V3& a) { return {a.x, a.y, a.z}; }
-[[gnu::always_inline]] inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-[[gnu::always_inline]] inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-[[gnu::always_inline]] inline V3 operator*(double s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
-[[gnu::always_inline]] inline V3 operator*(const V3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> operator-(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> operator*(const std::type_identity_t<T>& s,
+                                                const Vec3<T>& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> operator*(const Vec3<T>& a,
+                                                const std::type_identity_t<T>& s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+/// `m ? a : b`, lane by lane.
+template <class M, class T>
+[[gnu::always_inline]] inline Vec3<T> select(const M& m, const Vec3<T>& a, const Vec3<T>& b) {
+  return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
 /// Eigen's a.dot(b) and squaredNorm(): (a0 b0 + a1 b1) + a2 b2.
-[[gnu::always_inline]] inline double dot(const V3& a, const V3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
-[[gnu::always_inline]] inline double norm(const V3& a) { return std::sqrt(dot(a, a)); }
+template <class T>
+[[gnu::always_inline]] inline T dot(const Vec3<T>& a, const Vec3<T>& b) {
+  return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+template <class T>
+[[gnu::always_inline]] inline T norm(const Vec3<T>& a) {
+  return simd::root(dot(a, a));
+}
 /// True only when norm(a) < limit, strictly and to the bit, decided without the square root
 /// (its latency held up the laws' caps): |a|^2 < fl(limit^2) (1 - 2^-20). With fl(limit^2)
 /// and that product each at most one rounding (2^-53) high, |a| < limit (1 - 2^-22), and the
 /// correctly rounded root stays below limit. Limits far from 1 (where limit^2 leaves the
 /// normal range) and NaN answer false: the caller then takes the root.
-[[gnu::always_inline]] inline bool surely_shorter(const V3& a, double limit) {
+template <class T>
+[[gnu::always_inline]] inline auto surely_shorter(const Vec3<T>& a, const T& limit) {
   return limit > 1e-150 && limit < 1e150 && dot(a, a) < (limit * limit) * (1.0 - 0x1p-20);
 }
 /// Eigen's a.cross(b).
-[[gnu::always_inline]] inline V3 cross(const V3& a, const V3& b) {
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 /// Eigen's normalized(): each component divided by the length (unchanged when it is zero).
-[[gnu::always_inline]] inline V3 normalized(const V3& a) {
-  const double z = dot(a, a);
-  if (!(z > 0.0)) return a;
-  const double s = std::sqrt(z);
-  return {a.x / s, a.y / s, a.z / s};
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> normalized(const Vec3<T>& a) {
+  const T z = dot(a, a);
+  const T s = simd::root(z);
+  return select(z > 0.0, Vec3<T>{a.x / s, a.y / s, a.z / s}, a);
 }
 /// q * v with the arithmetic of Eigen's QuaternionBase::_transformVector (the same bits);
 /// physics/dem/body.hpp's rotated() is this on Eigen vectors.
-[[gnu::always_inline]] inline V3 rotated(const Eigen::Quaterniond& q, const V3& v) {
-  const double qx = q.x(), qy = q.y(), qz = q.z(), qw = q.w();
-  double ux = qy * v.z - qz * v.y, uy = qz * v.x - qx * v.z, uz = qx * v.y - qy * v.x;
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> rotated(const Quat<T>& q, const Vec3<T>& v) {
+  T ux = q.y * v.z - q.z * v.y, uy = q.z * v.x - q.x * v.z, uz = q.x * v.y - q.y * v.x;
   ux += ux;
   uy += uy;
   uz += uz;
-  const double cx = qy * uz - qz * uy, cy = qz * ux - qx * uz, cz = qx * uy - qy * ux;
-  return {(v.x + qw * ux) + cx, (v.y + qw * uy) + cy, (v.z + qw * uz) + cz};
+  const T cx = q.y * uz - q.z * uy, cy = q.z * ux - q.x * uz, cz = q.x * uy - q.y * ux;
+  return {(v.x + q.w * ux) + cx, (v.y + q.w * uy) + cy, (v.z + q.w * uz) + cz};
+}
+[[gnu::always_inline]] inline V3 rotated(const Eigen::Quaterniond& q, const V3& v) {
+  return rotated(Quat<double>{q.x(), q.y(), q.z(), q.w()}, v);
+}
+
+/// The vectors get(0), get(1), ... (Eigen vectors) in lanes 0, 1, ...
+template <int W, class Get>
+[[gnu::always_inline]] inline Vec3<simd::Real<W>> load3(Get&& get) {
+  return {simd::load<W>([&](int i) { return get(i).x(); }),
+          simd::load<W>([&](int i) { return get(i).y(); }),
+          simd::load<W>([&](int i) { return get(i).z(); })};
+}
+/// The quaternions get(0), get(1), ... in lanes 0, 1, ...
+template <int W, class Get>
+[[gnu::always_inline]] inline Quat<simd::Real<W>> load_quat(Get&& get) {
+  return {simd::load<W>([&](int i) { return get(i).x(); }),
+          simd::load<W>([&](int i) { return get(i).y(); }),
+          simd::load<W>([&](int i) { return get(i).z(); }),
+          simd::load<W>([&](int i) { return get(i).w(); })};
+}
+/// Lane i of a vector.
+template <class T>
+[[gnu::always_inline]] inline V3 lane(const Vec3<T>& v, int i) {
+  return {simd::lane(v.x, i), simd::lane(v.y, i), simd::lane(v.z, i)};
 }
 
 }  // namespace cleave::physics

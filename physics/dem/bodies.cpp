@@ -122,7 +122,7 @@ void in_batches(std::vector<BodyState>& states, const std::vector<BodyInfo>& inf
 }
 }  // namespace
 
-void Bodies::kick_drift(double h, int nt, bool lanes) {
+void Bodies::kick_drift(double h, int nt) {
   in_batches(
       states_, infos_, nt,
       [&](std::size_t i) {
@@ -131,17 +131,17 @@ void Bodies::kick_drift(double h, int nt, bool lanes) {
         return true;
       },
       [&](BodyState* const* s, const BodyInfo* const* b, int n) {
-        drift(s, b, n, h, lanes);
+        drift(s, b, n, h);
       });  // sets w
 }
 
-void Bodies::closing_kick(double h, int nt, bool lanes) {
+void Bodies::closing_kick(double h, int nt) {
   in_batches(
       states_, infos_, nt,
       [&](std::size_t i) {
         return infos_[i].alive && !infos_[i].fixed && owns(static_cast<std::uint32_t>(i));
       },
-      [&](BodyState* const* s, const BodyInfo* const* b, int n) { kick(s, b, n, 0.5 * h, lanes); });
+      [&](BodyState* const* s, const BodyInfo* const* b, int n) { kick(s, b, n, 0.5 * h); });
 }
 
 void Bodies::hold_in_plane(const std::vector<std::uint32_t>& live) {

@@ -87,9 +87,9 @@ class Bodies {
 
   /// The first half step of the velocity Verlet scheme over the owned bodies: half kick
   /// of the momenta (free ones), then the drift of every owned body.
-  void kick_drift(double h, int threads, bool lanes);
+  void kick_drift(double h, int threads);
   /// The closing half kick of the free owned bodies.
-  void closing_kick(double h, int threads, bool lanes);
+  void closing_kick(double h, int threads);
   /// WorldSettings::in_plane: drops each free body's force and momentum along z and its
   /// torque and angular momentum about x and y (`live`: the slots this evaluation posed).
   void hold_in_plane(const std::vector<std::uint32_t>& live);

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "physics/bonds/bond_pair.hpp"
+#include "physics/bonds/bond_batch.hpp"
 #include "physics/dem/bodies.hpp"
 #include "physics/dem/bonds.hpp"
 #include "physics/dem/cell_control.hpp"
@@ -97,10 +97,9 @@ struct Bonds::LawPass {
   }
 
   /// Four (or two) intact bonds side by side of the plain bonded-particle law go through
-  /// bond_quad (bond_pair): bond_pair.hpp, all in one AVX (SSE2) register, the bits of
-  /// one().
+  /// bond_batch (bond_batch.hpp), with the bits of one().
   template <std::size_t kN>
-  [[gnu::always_inline]] void lanes(std::size_t k) {
+  [[gnu::always_inline]] void batch(std::size_t k) {
     static const Eigen::Vector3d kNoShift = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < kN; ++i) {
       Bond& bd = bonds.bonds_[k + i];
@@ -114,11 +113,7 @@ struct Bonds::LawPass {
                     &bd.arm_a,    &bd.arm_b, &bd.normal_a,
                     &bd.normal_b, &bd.state, &lane_c[i]};
     }
-    if constexpr (kN == 4) {
-      bond_quad(lane_in, lane_out, dt);
-    } else {
-      bond_pair(lane_in, lane_out, dt);
-    }
+    bond_batch<kN>(lane_in, lane_out, dt);
     for (std::size_t i = 0; i < kN; ++i) {
       Bond& bd = bonds.bonds_[k + i];
       bd.point = eigen(lane_out[i].point);
@@ -171,12 +166,12 @@ void Bonds::LawPass::run(std::size_t begin, std::size_t end, bool plain) {
     prefetch(k, end);
     if (plain && k + 3 < end && list[k].intact() && list[k + 1].intact() && list[k + 2].intact() &&
         list[k + 3].intact()) {
-      lanes<4>(k);
+      batch<4>(k);
       k += 3;
       continue;
     }
     if (plain && k + 1 < end && list[k].intact() && list[k + 1].intact()) {
-      lanes<2>(k);
+      batch<2>(k);
       ++k;
       continue;
     }
@@ -210,16 +205,17 @@ void Bonds::LawPass::one(std::size_t k) {
   }
   // B's centroid, or its image's in a periodic cell (shift zero without one).
   if (cell_on) bd.shift = cell.cell().shift(bd.image);
-  const V3 shift = cell_on ? v3(bd.shift) : V3{0.0, 0.0, 0.0};  // (not the record's line)
-  // In plain doubles (vec3.hpp: Eigen's bits, without its stalls).
-  const V3 xa = v3(sa.x), xb3 = v3(sb.x) + shift;
-  const V3 pa = xa + rotated(sa.q, v3(bd.arm_a)), pb = xb3 + rotated(sb.q, v3(bd.arm_b));
-  const V3 point = 0.5 * (pa + pb);
+  static const Eigen::Vector3d kNoShift = Eigen::Vector3d::Zero();
+  const BondLane lane{&sa.x,      &sa.v,      &sa.w,        &sa.q,        &sb.x,
+                      &sb.v,      &sb.w,      &sb.q,        cell_on ? &bd.shift : &kNoShift,
+                      &bd.arm_a,  &bd.arm_b,  &bd.normal_a, &bd.normal_b, &bd.state,
+                      nullptr};
+  const BondMotion<double> motion = bond_motion<1>(&lane);
+  const V3 point = motion.point;
   bd.point = eigen(point);
-  bd.normal = eigen(normalized(rotated(sa.q, v3(bd.normal_a)) + rotated(sb.q, v3(bd.normal_b))));
-  Eigen::Vector3d velocity =
-      eigen((v3(sb.v) + cross(v3(sb.w), point - xb3)) - (v3(sa.v) + cross(v3(sa.w), point - xa)));
-  const Eigen::Vector3d xb = eigen(xb3);
+  bd.normal = eigen(motion.normal);
+  Eigen::Vector3d velocity = eigen(motion.velocity);
+  const Eigen::Vector3d xb = eigen(motion.xb);
   if (cell_on && cell.moving()) velocity += cell.gradient() * (xb - sa.x);
   if (thermal_on) {
     const Eigen::Vector3d free = thermal_free(bd, sa, sb);
@@ -295,7 +291,7 @@ void Bonds::LawPass::beam(Bond& bd, const BodyState& sa, const BodyState& sb,
 }
 
 void Bonds::apply_law(const Bodies& bodies, const ThermalField& thermal, const CellControl& cell,
-                      double dt, bool lanes, int nt, double time, std::uint64_t step) {
+                      double dt, int nt, double time, std::uint64_t step) {
   const std::size_t n = bonds_.size();
   if (n == 0) return;
   if (static_cast<std::ptrdiff_t>(n) < kParallelMin) nt = 1;
@@ -312,7 +308,7 @@ void Bonds::apply_law(const Bodies& bodies, const ThermalField& thermal, const C
   }
   push_.resize(n);
   const bool plain = base.law == BondLaw::bonded_particle && !thermal.on() &&
-                     !(cell.on() && cell.moving()) && bodies.roles().empty() && lanes && has_avx();
+                     !(cell.on() && cell.moving()) && bodies.roles().empty();
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     const threads::Block block = threads::thread_block(n);

@@ -141,7 +141,7 @@ class Bonds {
   /// Eqs 2.9-2.16 on every bond whose bodies this process owns; the breaks logged at `time`,
   /// `step` (World::step's bond_law).
   void apply_law(const Bodies& bodies, const ThermalField& thermal, const CellControl& cell,
-                 double dt, bool lanes, int threads, double time, std::uint64_t step);
+                 double dt, int threads, double time, std::uint64_t step);
   /// The intact bonds' forces and torques summed onto the bodies in bond order (bond_sums);
   /// with `diagonals`, eq. 2.17's diagonal terms onto them too.
   void sum(Bodies& bodies, bool cell, std::vector<Eigen::Vector3d>* diagonals, int threads);

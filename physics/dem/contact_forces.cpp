@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <type_traits>
 
-#include "physics/bonds/lanes.hpp"
 #include "physics/dem/bodies.hpp"
 #include "physics/dem/bonds.hpp"
 #include "physics/dem/cell_control.hpp"
@@ -48,10 +47,8 @@ void Contacts::apply_law(const Bodies& bodies, const std::vector<Wall>& walls, c
     // Keys ascend through the contacts, as through the history: one search, then a walk.
     std::size_t cursor = 0, bond_cursor = 0;
     PairDamping pair;
-    // Four contacts with the same parameters go through contact_force_quad together, in
-    // AVX's lanes, with contact_force's bits; those left over (and all, without the lanes)
-    // one at a time.
-    const bool quads = settings.lanes && has_avx();
+    // Four contacts with the same parameters go through contact_forces<4> together, with
+    // contact_force's bits; those left over one at a time.
     const double dt = settings.dt;
     ContactKinematics lane_kin[4];
     ContactDamping lane_damping[4];
@@ -85,10 +82,6 @@ void Contacts::apply_law(const Bodies& bodies, const std::vector<Wall>& walls, c
       ContactKinematics& kin = lane_kin[filled];
       contact_inputs(in, p, k, params, cursor, bond_cursor, pair, kin);
       overlaps_[k] = kin.overlap;
-      if (!quads) {
-        forces_[k] = contact_force(params, kin, pair.damping, next_history_[k].history, dt);
-        return;
-      }
       lane_params = &params;
       lane_damping[filled] = pair.damping;
       lane_k[filled] = k;
@@ -99,7 +92,7 @@ void Contacts::apply_law(const Bodies& bodies, const std::vector<Wall>& walls, c
         history[i] = &next_history_[lane_k[i]].history;
         out[i] = &forces_[lane_k[i]];
       }
-      contact_force_quad(params, lane_in, lane_d, history, out, dt);
+      contact_forces<4>(params, lane_in, lane_d, history, out, dt);
       filled = 0;
     });
     one_at_a_time();

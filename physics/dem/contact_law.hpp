@@ -82,16 +82,13 @@ ContactForce contact_force(const ContactParams& p, const ContactKinematics& k, c
 ContactForce contact_force(const ContactParams& p, const ContactKinematics& k,
                            ContactHistory& history, double dt);
 
-/// contact_force for four contacts with the same parameters, side by side in AVX's four
-/// lanes: lane i evaluates k[i] with d[i], updating h[i] and writing out[i], to the bit as
-/// contact_force would (packed add, multiply, divide and square root round each lane as the
-/// scalar instructions do; no multiply-add is fused; the branches become selects). Four
-/// contacts' caps and square roots, each waiting on the one before, then run as one chain.
-/// Needs AVX (has_avx() of physics/bonds/lanes.hpp). `ContactQuad.GivesTheScalarLawsBitsInEachLane`
-/// holds it to contact_force.
-void contact_force_quad(const ContactParams& p, const ContactKinematics* const k[4],
-                        const ContactDamping* const d[4], ContactHistory* const h[4],
-                        ContactForce* const out[4], double dt);
+/// contact_force for W contacts with the same parameters side by side (W = 1, 2 or 4 lanes
+/// of physics/simd.hpp): lane i evaluates k[i] with d[i], updating h[i] and writing out[i],
+/// with the bits contact_force gives it at any W (it is this at W = 1).
+template <int W>
+void contact_forces(const ContactParams& p, const ContactKinematics* const k[],
+                    const ContactDamping* const d[], ContactHistory* const h[],
+                    ContactForce* const out[], double dt);
 
 /// Critical time step of a mass-spring pair, 2 sqrt(m / k), used with the stiffest spring
 /// (C_res K_n on unloading) and the lightest body.

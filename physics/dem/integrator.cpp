@@ -1,36 +1,53 @@
 #include "physics/dem/integrator.hpp"
 
-#include <bit>
 #include <cmath>
-#include <cstdint>
 
-#include "physics/bonds/lanes.hpp"
+#include "physics/bonds/vec3.hpp"
+#include "physics/simd.hpp"
 
 namespace cleave::physics {
 
-Eigen::Vector3d angular_velocity(const Eigen::Quaterniond& q, const Eigen::Vector3d& L,
-                                 const Eigen::Vector3d& inv_inertia) {
-  // R I^-1 R^T L in scalars, each operation Eigen's (conjugate: the vector part negated;
-  // cwiseProduct: each component's product), so the bits of
-  // rotated(q, inv_inertia.cwiseProduct(rotated(q.conjugate(), L))). Eigen's forms read q
-  // and L as 16-byte pairs, which wait on the 8-byte stores that the kick and the drift
-  // have just made of them (perf: 44 % of this function on one such load).
-  const Eigen::Quaterniond conjugate(q.w(), -q.x(), -q.y(), -q.z());
-  const V3 pi = rotated(conjugate, V3{L.x(), L.y(), L.z()});  // body-frame angular momentum
-  return eigen(rotated(q, V3{inv_inertia.x() * pi.x, inv_inertia.y() * pi.y, inv_inertia.z() * pi.z}));
-}
-
-void kick_momenta(BodyState& s, const BodyInfo& b, double h) {
-  s.v += (h * b.inv_mass) * s.f;
-  s.L += h * s.tau;
-}
-
-void kick(BodyState& s, const BodyInfo& b, double h) {
-  kick_momenta(s, b, h);
-  s.w = angular_velocity(s.q, s.L, b.inv_inertia);
-}
-
 namespace {
+
+/// The conjugate: the vector part negated (exactly).
+template <class T>
+[[gnu::always_inline]] inline Quat<T> conjugate(const Quat<T>& q) {
+  return {-q.x, -q.y, -q.z, q.w};
+}
+
+/// w = R I^-1 R^T L, lane by lane: Eigen's rotated(q, inv_inertia.cwiseProduct(
+/// rotated(q.conjugate(), L))), operation by operation (vec3.hpp's rotated).
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> spin(const Quat<T>& q, const Vec3<T>& L, const Vec3<T>& inv) {
+  const Vec3<T> pi = rotated(conjugate(q), L);  // body-frame angular momentum
+  return rotated(q, Vec3<T>{inv.x * pi.x, inv.y * pi.y, inv.z * pi.z});
+}
+
+/// a * b with the arithmetic of Eigen's SSE quaternion product, lane by lane.
+template <class T>
+[[gnu::always_inline]] inline Quat<T> product(const Quat<T>& a, const Quat<T>& b) {
+  return {(a.w * b.x + a.y * b.z) - (a.z * b.y - a.x * b.w),
+          (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
+          (a.w * b.z - a.y * b.x) + (a.z * b.w + a.x * b.y),
+          (a.w * b.w - a.y * b.y) - (a.z * b.z + a.x * b.x)};
+}
+
+/// q.normalize() with the arithmetic of Eigen's SSE code (its two-lane sum of squares);
+/// unchanged where that sum is not positive.
+template <class T>
+[[gnu::always_inline]] inline Quat<T> normalized(const Quat<T>& q) {
+  const T n2 = (q.x * q.x + q.z * q.z) + (q.y * q.y + q.w * q.w);
+  const T n = simd::root(n2);
+  const auto positive = n2 > 0.0;
+  return {select(positive, q.x / n, q.x), select(positive, q.y / n, q.y),
+          select(positive, q.z / n, q.z), select(positive, q.w / n, q.w)};
+}
+
+template <class M, class T>
+[[gnu::always_inline]] inline Quat<T> select(const M& m, const Quat<T>& a, const Quat<T>& b) {
+  return {simd::select(m, a.x, b.x), simd::select(m, a.y, b.y), simd::select(m, a.z, b.z),
+          simd::select(m, a.w, b.w)};
+}
 
 /// cos and sin of a half angle. Below 2^-27 in magnitude they are 1 and the angle itself,
 /// which is what a correctly rounded sine and cosine give there (sin x = x (1 - x^2/6 ...)
@@ -47,212 +64,139 @@ namespace {
     sh = std::sin(half);
   }
 }
+/// The same lane by lane (the library's sine and cosine: the same bits at every width).
+template <class T>
+[[gnu::always_inline]] inline void half_angle_cos_sin(const T& half, T& ch, T& sh) {
+  constexpr int W = simd::kWidth<T>;
+  alignas(64) double c[W], s[W];
+  for (int i = 0; i < W; ++i) half_angle_cos_sin(simd::lane(half, i), c[i], s[i]);
+  ch = T(c, simd::stdx::vector_aligned);
+  sh = T(s, simd::stdx::vector_aligned);
+}
 
-/// One sub-flow for n bodies side by side: rotate each about its principal axis k by
-/// theta = h pi_k / I_k. The orientation turns by +theta about body axis k; the body-frame
-/// components of the (fixed) world angular momentum turn by -theta. The bodies are
-/// independent; taking them together lets one body's sine and cosine overlap another's
-/// instead of each waiting for the sub-flow before it.
-template <int N>
-[[gnu::always_inline]] inline void rotate_about(int k, double h, Eigen::Quaterniond* const q[N],
-                                                Eigen::Vector3d pi[N], const Eigen::Vector3d* const inv_inertia[N],
-                                                int n) {
-  double ch[N], sh[N];
-  for (int m = 0; m < n; ++m) {
-    const double theta = h * pi[m][k] * (*inv_inertia[m])[k];
-    // One sine and cosine, of the half angle (the quaternion's), give the whole angle's.
-    half_angle_cos_sin(0.5 * theta, ch[m], sh[m]);
-  }
+/// One sub-flow: rotate about principal axis k by theta = h pi_k / I_k. The orientation
+/// turns by +theta about body axis k; the body-frame components of the (fixed) world
+/// angular momentum turn by -theta.
+template <class T>
+[[gnu::always_inline]] inline void rotate_about(int k, double h, Quat<T>& q, T pi[3],
+                                                const T inv[3]) {
+  const T theta = h * pi[k] * inv[k];
+  // One sine and cosine, of the half angle (the quaternion's), give the whole angle's.
+  T ch, sh;
+  half_angle_cos_sin(0.5 * theta, ch, sh);
+  const T c = 1.0 - 2.0 * sh * sh, s = 2.0 * sh * ch;
   const int i = (k + 1) % 3, j = (k + 2) % 3;
-  for (int m = 0; m < n; ++m) {
-    const double c = 1.0 - 2.0 * sh[m] * sh[m], s = 2.0 * sh[m] * ch[m];
-    const double pi_i = pi[m][i], pi_j = pi[m][j];
-    pi[m][i] = c * pi_i + s * pi_j;
-    pi[m][j] = -s * pi_i + c * pi_j;
-    Eigen::Quaterniond r(ch[m], 0.0, 0.0, 0.0);
-    r.vec()[k] = sh[m];
-    *q[m] = quaternion_product(*q[m], r);
-  }
+  const T pi_i = pi[i], pi_j = pi[j];
+  pi[i] = c * pi_i + s * pi_j;
+  pi[j] = -s * pi_i + c * pi_j;
+  const T zero(0.0);
+  q = product(q, Quat<T>{k == 0 ? sh : zero, k == 1 ? sh : zero, k == 2 ? sh : zero, ch});
 }
 
-/// rotate_free of n <= N bodies side by side, each with its own bits.
-template <int N>
-void rotate_free_n(Eigen::Quaterniond* const q[N], const Eigen::Vector3d* const L[N],
-                   const Eigen::Vector3d* const inv_inertia[N], int n, double h) {
-  Eigen::Vector3d pi[N];
-  for (int m = 0; m < n; ++m) pi[m] = rotated(q[m]->conjugate(), *L[m]);
-  rotate_about<N>(0, 0.5 * h, q, pi, inv_inertia, n);
-  rotate_about<N>(1, 0.5 * h, q, pi, inv_inertia, n);
-  rotate_about<N>(2, h, q, pi, inv_inertia, n);
-  rotate_about<N>(1, 0.5 * h, q, pi, inv_inertia, n);
-  rotate_about<N>(0, 0.5 * h, q, pi, inv_inertia, n);
-  for (int m = 0; m < n; ++m) normalize_quaternion(*q[m]);
+/// Free rigid-body rotation over h, lane by lane: the splitting X(h/2) Y(h/2) Z(h) Y(h/2)
+/// X(h/2), then the normalisation.
+template <class T>
+[[gnu::always_inline]] inline Quat<T> rotated_freely(Quat<T> q, const Vec3<T>& L,
+                                                     const Vec3<T>& inv, double h) {
+  const Vec3<T> p = rotated(conjugate(q), L);
+  T pi[3] = {p.x, p.y, p.z};
+  const T iv[3] = {inv.x, inv.y, inv.z};
+  rotate_about(0, 0.5 * h, q, pi, iv);
+  rotate_about(1, 0.5 * h, q, pi, iv);
+  rotate_about(2, h, q, pi, iv);
+  rotate_about(1, 0.5 * h, q, pi, iv);
+  rotate_about(0, 0.5 * h, q, pi, iv);
+  return normalized(q);
 }
 
-// (__m256d's attributes are not part of a template argument: no matter here.)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wignored-attributes"
-
-/// One sub-flow of rotate_about for four bodies in AVX's lanes: pi the body-frame momentum's
-/// components, q the orientation's (x, y, z, w).
-[[gnu::always_inline, gnu::target("avx")]] inline void turn_four(int k, double hk, wide::D4 pi[3],
-                                                                 wide::D4 q[4],
-                                                                 const wide::D4 inv[3]) {
-  using namespace wide;
-  using D = D4;
-  const D zero = splat<D>(0.0);
-  const D theta = mul(mul(splat<D>(hk), pi[k]), inv[k]);
-  alignas(32) double half[4], ch[4], sh[4];
-  _mm256_store_pd(half, mul(splat<D>(0.5), theta));
-  for (int m = 0; m < 4; ++m) half_angle_cos_sin(half[m], ch[m], sh[m]);
-  const D c_h = _mm256_load_pd(ch), s_h = _mm256_load_pd(sh);
-  const D twice = mul(splat<D>(2.0), s_h);
-  const D c = sub(splat<D>(1.0), mul(twice, s_h)), sn = mul(twice, c_h);
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  const D pi_i = pi[i], pi_j = pi[j];
-  pi[i] = add(mul(c, pi_i), mul(sn, pi_j));
-  pi[j] = add(mul(flip(sn), pi_i), mul(c, pi_j));
-  // quaternion_product(q, r), r = (ch; sh along axis k, +0 on the others).
-  const D bx = k == 0 ? s_h : zero, by = k == 1 ? s_h : zero, bz = k == 2 ? s_h : zero, bw = c_h;
-  const D x = q[0], y = q[1], z = q[2], w = q[3];
-  q[0] = sub(add(mul(w, bx), mul(y, bz)), sub(mul(z, by), mul(x, bw)));
-  q[1] = add(add(mul(w, by), mul(y, bw)), sub(mul(z, bx), mul(x, bz)));
-  q[2] = add(sub(mul(w, bz), mul(y, bx)), add(mul(z, bw), mul(x, by)));
-  q[3] = sub(sub(mul(w, bw), mul(y, by)), add(mul(z, bz), mul(x, bx)));
-}
-
-/// angular_velocity of lane i's body: R I^-1 R^T L (the conjugate's vector part negated).
-[[gnu::always_inline, gnu::target("avx")]] inline wide::Wide<wide::D4> spin_lanes(
-    wide::D4 qx, wide::D4 qy, wide::D4 qz, wide::D4 qw, const wide::Wide<wide::D4>& L,
-    const wide::D4 inv[3]) {
-  using namespace wide;
-  const Wide<D4> body = rotated(flip(qx), flip(qy), flip(qz), qw, L);
-  return rotated(qx, qy, qz, qw,
-                 Wide<D4>{mul(inv[0], body.x), mul(inv[1], body.y), mul(inv[2], body.z)});
-}
-
-/// Four bodies' orientations, angular momenta and inverse principal moments, body m in
-/// lane m.
-struct FourBodies {
-  wide::D4 qx, qy, qz, qw;
-  wide::Wide<wide::D4> L;
-  wide::D4 inv[3];
+/// The bodies' orientations, angular momenta and inverse principal moments, body i in lane i.
+template <int W>
+struct Bodies {
+  using T = simd::Real<W>;
+  Quat<T> q;
+  Vec3<T> L, inv;
+  Bodies(BodyState* const s[], const BodyInfo* const b[])
+      : q(load_quat<W>([&](int i) -> const auto& { return s[i]->q; })),
+        L(load3<W>([&](int i) -> const auto& { return s[i]->L; })),
+        inv(load3<W>([&](int i) -> const auto& { return b[i]->inv_inertia; })) {}
 };
-[[gnu::always_inline, gnu::target("avx")]] inline FourBodies four_bodies(
-    BodyState* const s[4], const BodyInfo* const b[4]) {
-  using wide::D4;
-  using wide::lanes;
-  return {
-      lanes<D4>([&](int m) { return s[m]->q.x(); }),
-      lanes<D4>([&](int m) { return s[m]->q.y(); }),
-      lanes<D4>([&](int m) { return s[m]->q.z(); }),
-      lanes<D4>([&](int m) { return s[m]->q.w(); }),
-      {lanes<D4>([&](int m) { return s[m]->L.x(); }), lanes<D4>([&](int m) { return s[m]->L.y(); }),
-       lanes<D4>([&](int m) { return s[m]->L.z(); })},
-      {lanes<D4>([&](int m) { return b[m]->inv_inertia.x(); }),
-       lanes<D4>([&](int m) { return b[m]->inv_inertia.y(); }),
-       lanes<D4>([&](int m) { return b[m]->inv_inertia.z(); })}};
+
+/// kick()'s second half for W bodies: their angular velocities.
+template <int W>
+void spin_lanes(BodyState* const s[], const BodyInfo* const b[]) {
+  const Bodies<W> f(s, b);
+  const auto w = spin(f.q, f.L, f.inv);
+  for (int i = 0; i < W; ++i) s[i]->w = eigen(lane(w, i));
 }
 
-/// The angular velocities of four bodies in AVX's lanes (kick's second half).
-[[gnu::target("avx")]] void spin_four(BodyState* const s[4], const BodyInfo* const b[4]) {
-  using namespace wide;
-  const FourBodies f = four_bodies(s, b);
-  const Wide<D4> w = spin_lanes(f.qx, f.qy, f.qz, f.qw, f.L, f.inv);
-  for (int m = 0; m < 4; ++m) s[m]->w = Eigen::Vector3d(lane(w.x, m), lane(w.y, m), lane(w.z, m));
-}
-
-/// rotate_free_n and angular_velocity of four bodies in AVX's four lanes, each lane the
-/// scalar code's operations in its order (so its bits): the quaternion products, the turns
-/// of the body-frame momentum and the normalisation side by side, the sines and cosines
-/// one lane at a time. Bodies with `turning` false keep their orientation (rotate_free is
-/// not called for them); every body gets its angular velocity.
-[[gnu::target("avx")]] void rotate_and_spin_four(BodyState* const s[4], const BodyInfo* const b[4],
-                                                 const bool turning[4], double h) {
-  using namespace wide;
-  using D = D4;
-  const FourBodies f = four_bodies(s, b);
-  // rotate_free_n: the body-frame momentum (the conjugate's vector part negated, exactly).
-  const Wide<D> p0 = rotated(flip(f.qx), flip(f.qy), flip(f.qz), f.qw, f.L);
-  D pi[3] = {p0.x, p0.y, p0.z};
-  D q[4] = {f.qx, f.qy, f.qz, f.qw};  // x, y, z, w
-  const D zero = splat<D>(0.0);
-  turn_four(0, 0.5 * h, pi, q, f.inv);
-  turn_four(1, 0.5 * h, pi, q, f.inv);
-  turn_four(2, h, pi, q, f.inv);
-  turn_four(1, 0.5 * h, pi, q, f.inv);
-  turn_four(0, 0.5 * h, pi, q, f.inv);
-  // normalize_quaternion: Eigen's two-lane sum of squares; unchanged where it is not positive.
-  const D n2 = add(add(mul(q[0], q[0]), mul(q[2], q[2])), add(mul(q[1], q[1]), mul(q[3], q[3])));
-  const D positive = greater(n2, zero), n = root(n2);
-  // Bodies that do not turn keep their orientation.
-  const D turns =
-      lanes<D>([&](int m) { return turning[m] ? std::bit_cast<double>(~std::uint64_t{0}) : 0.0; });
-  const D qx = pick(turns, pick(positive, div(q[0], n), q[0]), f.qx);
-  const D qy = pick(turns, pick(positive, div(q[1], n), q[1]), f.qy);
-  const D qz = pick(turns, pick(positive, div(q[2], n), q[2]), f.qz);
-  const D qw = pick(turns, pick(positive, div(q[3], n), q[3]), f.qw);
-  const Wide<D> w = spin_lanes(qx, qy, qz, qw, f.L, f.inv);
-  for (int m = 0; m < 4; ++m) {
-    if (turning[m])
-      s[m]->q = Eigen::Quaterniond(lane(qw, m), lane(qx, m), lane(qy, m), lane(qz, m));
-    s[m]->w = Eigen::Vector3d(lane(w.x, m), lane(w.y, m), lane(w.z, m));
+/// drift()'s rotation and angular velocity for W bodies; those with no angular momentum keep
+/// their orientation.
+template <int W>
+void turn_lanes(BodyState* const s[], const BodyInfo* const b[], double h) {
+  const Bodies<W> f(s, b);
+  const auto turning = dot(f.L, f.L) > 0.0;
+  auto q = f.q;
+  if (simd::any(turning)) q = select(turning, rotated_freely(f.q, f.L, f.inv, h), f.q);
+  const auto w = spin(q, f.L, f.inv);
+  for (int i = 0; i < W; ++i) {
+    if (simd::lane(turning, i))
+      s[i]->q = Eigen::Quaterniond(simd::lane(q.w, i), simd::lane(q.x, i), simd::lane(q.y, i),
+                                   simd::lane(q.z, i));
+    s[i]->w = eigen(lane(w, i));
   }
 }
 
-#pragma GCC diagnostic pop
+/// f<W>(s + m, b + m) over n bodies, four at a time, then two, then one.
+template <class F>
+void in_lanes(BodyState* const s[], const BodyInfo* const b[], int n, F&& f) {
+  int m = 0;
+  for (; m + 4 <= n; m += 4) f(std::integral_constant<int, 4>{}, s + m, b + m);
+  for (; m + 2 <= n; m += 2) f(std::integral_constant<int, 2>{}, s + m, b + m);
+  for (; m < n; ++m) f(std::integral_constant<int, 1>{}, s + m, b + m);
+}
 
 }  // namespace
 
-void kick(BodyState* const s[], const BodyInfo* const b[], int n, double h, bool lanes) {
+Eigen::Vector3d angular_velocity(const Eigen::Quaterniond& q, const Eigen::Vector3d& L,
+                                 const Eigen::Vector3d& inv_inertia) {
+  return eigen(spin(Quat<double>{q.x(), q.y(), q.z(), q.w()}, v3(L), v3(inv_inertia)));
+}
+
+void kick_momenta(BodyState& s, const BodyInfo& b, double h) {
+  s.v += (h * b.inv_mass) * s.f;
+  s.L += h * s.tau;
+}
+
+void kick(BodyState& s, const BodyInfo& b, double h) {
+  kick_momenta(s, b, h);
+  s.w = angular_velocity(s.q, s.L, b.inv_inertia);
+}
+
+void kick(BodyState* const s[], const BodyInfo* const b[], int n, double h) {
   for (int m = 0; m < n; ++m) kick_momenta(*s[m], *b[m], h);
-  if (lanes && n == 4 && has_avx()) {
-    spin_four(s, b);
-    return;
-  }
-  for (int m = 0; m < n; ++m) s[m]->w = angular_velocity(s[m]->q, s[m]->L, b[m]->inv_inertia);
+  in_lanes(s, b, n, [](auto w, BodyState* const* sw, const BodyInfo* const* bw) {
+    spin_lanes<decltype(w)::value>(sw, bw);
+  });
 }
 
 void rotate_free(Eigen::Quaterniond& q, const Eigen::Vector3d& L, const Eigen::Vector3d& inv_inertia,
                  double h) {
-  Eigen::Quaterniond* const qs[1] = {&q};
-  const Eigen::Vector3d* const ls[1] = {&L};
-  const Eigen::Vector3d* const is[1] = {&inv_inertia};
-  rotate_free_n<1>(qs, ls, is, 1, h);
+  const Quat<double> r =
+      rotated_freely(Quat<double>{q.x(), q.y(), q.z(), q.w()}, v3(L), v3(inv_inertia), h);
+  q = Eigen::Quaterniond(r.w, r.x, r.y, r.z);
 }
 
 void drift(BodyState& s, const BodyInfo& b, double h) {
-  s.x += h * s.v;
-  if (s.L.squaredNorm() > 0.0) rotate_free(s.q, s.L, b.inv_inertia, h);
-  s.w = angular_velocity(s.q, s.L, b.inv_inertia);
+  BodyState* const ss[1] = {&s};
+  const BodyInfo* const bs[1] = {&b};
+  drift(ss, bs, 1, h);
 }
 
-void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h, bool lanes) {
-  constexpr int N = kDriftBatch;
-  Eigen::Quaterniond* q[N];
-  const Eigen::Vector3d* L[N];
-  const Eigen::Vector3d* inv[N];
-  if (lanes && n == 4 && has_avx()) {  // four at once in AVX's lanes (rotate_and_spin_four)
-    bool turns[4];
-    for (int m = 0; m < 4; ++m) {
-      s[m]->x += h * s[m]->v;
-      turns[m] = s[m]->L.squaredNorm() > 0.0;
-    }
-    rotate_and_spin_four(s, b, turns, h);
-    return;
-  }
-  int turning = 0;
-  for (int m = 0; m < n; ++m) {
-    s[m]->x += h * s[m]->v;
-    if (s[m]->L.squaredNorm() > 0.0) {
-      q[turning] = &s[m]->q;
-      L[turning] = &s[m]->L;
-      inv[turning] = &b[m]->inv_inertia;
-      ++turning;
-    }
-  }
-  rotate_free_n<N>(q, L, inv, turning, h);
-  for (int m = 0; m < n; ++m) s[m]->w = angular_velocity(s[m]->q, s[m]->L, b[m]->inv_inertia);
+void drift(BodyState* const s[], const BodyInfo* const b[], int n, double h) {
+  for (int m = 0; m < n; ++m) s[m]->x += h * s[m]->v;
+  in_lanes(s, b, n, [h](auto w, BodyState* const* sw, const BodyInfo* const* bw) {
+    turn_lanes<decltype(w)::value>(sw, bw, h);
+  });
 }
 
 }  // namespace cleave::physics

@@ -53,7 +53,7 @@ void World::compute_forces() {
   clock_.lap(StepPhase::contact_law);
   contacts_.sum(bodies_, walls_, stress_.summing(), nt);
   clock_.lap(StepPhase::contact_sums);
-  bonds_.apply_law(bodies_, thermal_, cell_, settings_.dt, settings_.lanes, nt, time_, steps_);
+  bonds_.apply_law(bodies_, thermal_, cell_, settings_.dt, nt, time_, steps_);
   clock_.lap(StepPhase::bond_law);
   bonds_.sum(bodies_, cell_.on(), stress_.summing(), nt);
   clock_.lap(StepPhase::bond_sums);
@@ -95,7 +95,7 @@ void World::begin_step() {
 }
 
 void World::kick_drift(double h) {
-  bodies_.kick_drift(h, threads::thread_count(settings_.threads), settings_.lanes);
+  bodies_.kick_drift(h, threads::thread_count(settings_.threads));
   if (cell_.on()) {
     cell_.deform(bodies_.states(), bodies_.infos(), h);
     bonds_.follow_wrap(cell_.wrap(bodies_.states(), bodies_.infos()), cell_.cell());
@@ -116,7 +116,7 @@ void World::damping(int nt) {
 }
 
 void World::closing_kick(double h) {
-  bodies_.closing_kick(h, threads::thread_count(settings_.threads), settings_.lanes);
+  bodies_.closing_kick(h, threads::thread_count(settings_.threads));
   if (thermal_.conductivity() > 0.0)
     thermal_.conduct(bodies_.states(), bodies_.infos(), bonds_.list(), h);
 }

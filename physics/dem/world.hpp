@@ -180,8 +180,6 @@ class World {
   /// Clocks the parts of each step from now on (true) or stops (false); switching on starts
   /// the sums from zero. Off by default: a clock read per part and step when on.
   void set_timing(bool on);
-  /// WorldSettings::lanes, between steps (bit-identical either way).
-  void set_lanes(bool on) { settings_.lanes = on; }
   [[nodiscard]] const StepTimings& timings() const { return clock_.timings(); }
   /// Contacts of the last force evaluation.
   /// (Made from the last evaluation on the first call after it: not for concurrent calls.)

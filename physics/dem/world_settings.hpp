@@ -54,11 +54,6 @@ struct WorldSettings {
   /// of its plane (USER_GUIDE, "Check that loading is quasi-static"). A choice of the run, like
   /// manifold_tolerance: a restart takes it from the settings it is given, not the file.
   bool in_plane = false;
-  /// Bonds, contacts, drifts and kicks four at a time in AVX's lanes where the processor
-  /// has them (physics/bonds/lanes.hpp), else one at a time: the same bits either way. Off, the
-  /// lanes' gain can be measured (the benchmarks' CLEAVE_BENCH_ALTERNATE). A choice of the
-  /// run, as in_plane.
-  bool lanes = true;
 };
 
 }  // namespace cleave::physics

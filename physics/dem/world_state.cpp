@@ -352,7 +352,6 @@ WorldSettings get_settings(StateReader& r, const WorldSettings& mine) {
   ws.feature_skin = mine.feature_skin;
   ws.manifold_tolerance = mine.manifold_tolerance;  // a choice of this run, as the skin
   ws.in_plane = mine.in_plane;                      // and the same
-  ws.lanes = mine.lanes;
   ws.gravity = r.vec3();
   ws.dt = r.get<double>();
   ws.particle_particle = get_params(r);

@@ -8,20 +8,14 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "physics/bonds/lanes.hpp"
+#include "physics/bonds/vec3.hpp"
+#include "physics/simd.hpp"
 
 namespace cleave::physics {
 
 namespace {
 
 constexpr int kParallelMin = 2048;
-
-/// The part of s in the plane normal to n: a relative velocity's sliding part, or a stored
-/// shear separation turned with its link (a link turns by a tiny angle in one step, so
-/// dropping the normal component loses only a second-order sliver of the length).
-Eigen::Vector3d turn_into_plane(const Eigen::Vector3d& s, const Eigen::Vector3d& n) {
-  return s - s.dot(n) * n;
-}
 
 void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -352,7 +346,6 @@ void CubicLattice::step(double dt) {
 void CubicLattice::compute_forces(double dt) {
   const int nl = static_cast<int>(links_.size());
   const int n = size();
-  const bool quads = def_.lanes && has_avx();
   const int plane_count = static_cast<int>(plane_bodies_.size());
 #pragma omp parallel if (nl >= kParallelMin)
   {
@@ -375,17 +368,17 @@ void CubicLattice::compute_forces(double dt) {
     for (int colour = 0; colour + 1 < static_cast<int>(colour_start_.size()); ++colour) {
       // No two links of a colour share a body: each adds onto its two bodies directly, in
       // any order. The implicit barrier at the end of each loop orders the colours. Items:
-      // the quads of connective links, then one at a time the rest (the breakable ones).
+      // the connective links four at a time, then one at a time the rest (the breakable ones).
       const int begin = colour_start_[colour];
-      const int quad_count = quads ? (breakable_start_[colour] - begin) / 4 : 0;
+      const int quad_count = (breakable_start_[colour] - begin) / 4;
       const int singles = begin + 4 * quad_count;
       const int items = quad_count + (colour_start_[colour + 1] - singles);
 #pragma omp for schedule(static)
       for (int t = 0; t < items; ++t) {
         if (t < quad_count)
-          connective_quad(begin + 4 * t, dt);
+          links<4>(begin + 4 * t, dt);
         else
-          link_force(singles + (t - quad_count), dt);
+          links<1>(singles + (t - quad_count), dt);
       }
     }
   }
@@ -393,35 +386,82 @@ void CubicLattice::compute_forces(double dt) {
   forces_current_ = true;
 }
 
-void CubicLattice::link_force(int k, double dt) {
-  const LinkEnds e = ends_[k];
-  const LinkClass& c = classes_[e.cls];
-  if (c.breakable && links_[k].state.phase == LinkPhase::contact) return;
-  const Eigen::Vector3d d = x_[e.j] - x_[e.i];
-  const double dist = d.norm();
-  const Eigen::Vector3d nrm = d * (1.0 / dist);
-  const Eigen::Vector3d half = 0.5 * d;
+namespace {
+
+/// The part of s in the plane normal to n: a relative velocity's sliding part, or a stored
+/// shear separation turned with its link (a link turns by a tiny angle in one step, so
+/// dropping the normal component loses only a second-order sliver of the length).
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> off_axis(const Vec3<T>& s, const Vec3<T>& n) {
+  return s - dot(s, n) * n;
+}
+
+}  // namespace
+
+template <int W>
+void CubicLattice::links(int k, double dt) {
+  using T = simd::Real<W>;
+  int I[W], J[W], K[W];
+  const LinkClass* c[W];
+  for (int l = 0; l < W; ++l) {
+    I[l] = ends_[k + l].i;
+    J[l] = ends_[k + l].j;
+    K[l] = k + l;
+    c[l] = &classes_[ends_[k + l].cls];
+  }
+  if (W == 1 && c[0]->breakable && links_[k].state.phase == LinkPhase::contact) return;
+  auto at = [&](const std::vector<Eigen::Vector3d>& a, const int* idx)
+      __attribute__((always_inline)) {
+    return load3<W>([&](int l) -> const Eigen::Vector3d& { return a[idx[l]]; });
+  };
+  auto put = [&](std::vector<Eigen::Vector3d> & a, const int* idx, const Vec3<T>& v)
+      __attribute__((always_inline)) {
+    if constexpr (W == 1) {
+      a[idx[0]] = eigen(v);
+    } else {
+      // Through memory once, not lane by lane out of the registers.
+      alignas(64) double x[W], y[W], z[W];
+      v.x.copy_to(x, simd::stdx::vector_aligned);
+      v.y.copy_to(y, simd::stdx::vector_aligned);
+      v.z.copy_to(z, simd::stdx::vector_aligned);
+      for (int l = 0; l < W; ++l) a[idx[l]] = Eigen::Vector3d(x[l], y[l], z[l]);
+    }
+  };
+  // The links' classes: as a rule all share one (a colour runs along a row of the grid).
+  bool one_class = true;
+  for (int l = 1; l < W; ++l) one_class = one_class && c[l] == c[0];
+  auto field = [&](double LinkClass::*f) __attribute__((always_inline)) {
+    return one_class ? T(c[0]->*f) : simd::load<W>([&](int l) { return c[l]->*f; });
+  };
+  const Vec3<T> d = at(x_, J) - at(x_, I);
+  const T dist = norm(d);
+  const Vec3<T> nrm = d * (1.0 / dist);
+  const Vec3<T> half = 0.5 * d;
   // Eqs 50-52: relative velocity at the midpoint c (r_i = d/2, r_j = -d/2).
-  const Eigen::Vector3d vrel = (v_[e.j] - v_[e.i]) - (w_[e.j] + w_[e.i]).cross(half);
-  const Eigen::Vector3d vs = turn_into_plane(vrel, nrm);
-  Eigen::Vector3d& shear = shear_[k];
-  shear = turn_into_plane(shear, nrm) + dt * vs;  // eqs 54-55
-  const double dn = dist - c.rest;                // opening is positive
-  Eigen::Vector3d fj;
-  if (!c.breakable) {
+  const Vec3<T> wi = at(w_, I), wj = at(w_, J);
+  const Vec3<T> vrel = (at(v_, J) - at(v_, I)) - cross(wj + wi, half);
+  const Vec3<T> vs = off_axis(vrel, nrm);
+  const Vec3<T> shear = off_axis(at(shear_, K), nrm) + dt * vs;  // eqs 54-55
+  put(shear_, K, shear);
+  const T dn = dist - field(&LinkClass::rest);  // opening is positive
+  Vec3<T> fj;
+  if (W > 1 || !c[0]->breakable) {
     // Eqs 1 and 5: connective springs.
-    double kn = c.kn, ks = c.ks;
-    if (c.faced) {
-      const double w = 0.5 * (freedom_[e.i] + freedom_[e.j]);
-      kn += w * c.face_kn;
-      ks += w * c.face_ks;
+    T kn = field(&LinkClass::kn), ks = field(&LinkClass::ks);
+    const auto faced = simd::load_mask<W>([&](int l) { return c[l]->faced; });
+    if (simd::any(faced)) {
+      const T w = 0.5 * simd::load<W>([&](int l) { return freedom_[I[l]] + freedom_[J[l]]; });
+      kn = select(faced, kn + w * field(&LinkClass::face_kn), kn);
+      ks = select(faced, ks + w * field(&LinkClass::face_ks), ks);
     }
     fj = -kn * dn * nrm - ks * shear;
-  } else {
+  } else if constexpr (W == 1) {
+    // The cohesive links, one at a time.
+    const LinkEnds e = ends_[k];
     LatticeLink& l = links_[k];
-    const bool first = c.kind == 1;
+    const bool first = c[0]->kind == 1;
     const CohesiveParams& p = first ? cohesive1_ : cohesive2_;
-    const double ds = shear.norm();
+    const double ds = norm(shear);
     double closing = std::numeric_limits<double>::quiet_NaN();  // the paper's: min(dn, 0)
     if (def_.material.compression == Compression::plane) {
       // The plane's own opening here: the mean opening of the two first-neighbour links
@@ -430,138 +470,32 @@ void CubicLattice::link_force(int k, double dt) {
       const double ja = (x_[e.i + layer] - x_[e.i]).norm() - (x0_[e.i + layer] - x0_[e.i]).norm();
       const double jb = (x_[e.j] - x_[e.j - layer]).norm() - (x0_[e.j] - x0_[e.j - layer]).norm();
       const double jn = 0.5 * (ja + jb);
-      closing = std::min(jn, 0.0) * (x0_[e.j].z() - x0_[e.i].z()) / c.rest;
+      closing = std::min(jn, 0.0) * (x0_[e.j].z() - x0_[e.i].z()) / c[0]->rest;
     }
     const CohesiveTraction t =
         cohesive_traction(p, first ? limits1_ : limits2_, dn, ds, l.state, closing);
     // Eqs 27-29: tractions times the effective area, tension pulls j back towards i.
     fj = -p.area * t.tn * nrm;
-    if (ds > 0.0) fj -= (p.area * t.ts / ds) * shear;
+    if (ds > 0.0) fj = fj - (p.area * t.ts / ds) * shear;
   }
   // Eq. 6: the same moment on i and j (r_i = -r_j, f_i = -f_j).
-  const Eigen::Vector3d moment = (-half).cross(fj);
-  f_[e.j] += fj;
-  f_[e.i] -= fj;
-  if (c.kb > 0.0) {  // connective first neighbours only (never across the weak plane)
-    const Eigen::Vector3d wrel = w_[e.j] - w_[e.i];
-    Eigen::Vector3d& bend = bend_[k];
-    bend = turn_into_plane(bend, nrm) + dt * turn_into_plane(wrel, nrm);
-    const Eigen::Vector3d couple = -c.kb * bend;  // on j; its opposite on i
-    m_[e.j] += moment + couple;
-    m_[e.i] += moment - couple;
-  } else {
-    m_[e.j] += moment;
-    m_[e.i] += moment;
+  const Vec3<T> moment = cross(Vec3<T>{-half.x, -half.y, -half.z}, fj);
+  put(f_, J, at(f_, J) + fj);
+  put(f_, I, at(f_, I) - fj);
+  Vec3<T> on_j = moment, on_i = moment;
+  // Bending: connective first neighbours only (never across the weak plane).
+  const T kb = field(&LinkClass::kb);
+  const auto bends = kb > 0.0;
+  if (simd::any(bends)) {
+    const Vec3<T> old = at(bend_, K);
+    const Vec3<T> bend = select(bends, off_axis(old, nrm) + dt * off_axis(wj - wi, nrm), old);
+    put(bend_, K, bend);
+    const Vec3<T> couple = -kb * bend;  // on j; its opposite on i
+    on_j = select(bends, moment + couple, moment);
+    on_i = select(bends, moment - couple, moment);
   }
-}
-
-namespace {
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wignored-attributes"
-using wide::D4;
-using Wide4 = wide::Wide<D4>;
-#pragma GCC diagnostic pop
-
-/// p[idx[0]], ..., p[idx[3]] side by side: lane l holds p[idx[l]].
-CLEAVE_LANES Wide4 gather(const Eigen::Vector3d* p, const int* idx) {
-  const __m128d a0 = _mm_loadu_pd(p[idx[0]].data()), a1 = _mm_loadu_pd(p[idx[1]].data());
-  const __m128d a2 = _mm_loadu_pd(p[idx[2]].data()), a3 = _mm_loadu_pd(p[idx[3]].data());
-  const __m256d xy02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a0), a2, 1);
-  const __m256d xy13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a1), a3, 1);
-  return {_mm256_unpacklo_pd(xy02, xy13), _mm256_unpackhi_pd(xy02, xy13),
-          _mm256_set_pd(p[idx[3]].z(), p[idx[2]].z(), p[idx[1]].z(), p[idx[0]].z())};
-}
-
-/// The inverse of gather: lane l of v into p[idx[l]].
-CLEAVE_LANES void scatter(Eigen::Vector3d* p, const int* idx, const Wide4& v) {
-  const __m256d xy02 = _mm256_unpacklo_pd(v.x, v.y), xy13 = _mm256_unpackhi_pd(v.x, v.y);
-  _mm_storeu_pd(p[idx[0]].data(), _mm256_castpd256_pd128(xy02));
-  _mm_storeu_pd(p[idx[1]].data(), _mm256_castpd256_pd128(xy13));
-  _mm_storeu_pd(p[idx[2]].data(), _mm256_extractf128_pd(xy02, 1));
-  _mm_storeu_pd(p[idx[3]].data(), _mm256_extractf128_pd(xy13, 1));
-  alignas(32) double z[4];
-  _mm256_store_pd(z, v.z);
-  for (int l = 0; l < 4; ++l) p[idx[l]].z() = z[l];
-}
-
-/// turn_into_plane lane by lane: a - (a . n) n, rounded as it rounds it.
-CLEAVE_LANES Wide4 off_axis(const Wide4& a, const Wide4& n) {
-  return wide::sub(a, wide::scale(wide::dot(a, n), n));
-}
-
-/// Field f of the four links' classes as lanes (one load when they share their class).
-template <class C>
-CLEAVE_LANES D4 class_field(const C* const* c, double C::*f) {
-  return c[0] == c[1] && c[0] == c[2] && c[0] == c[3]
-             ? _mm256_broadcast_sd(&(c[0]->*f))
-             : _mm256_set_pd(c[3]->*f, c[2]->*f, c[1]->*f, c[0]->*f);
-}
-
-/// All ones in the lanes whose class has flag f set.
-template <class C>
-CLEAVE_LANES D4 class_flag(const C* const* c, bool C::*f) {
-  return _mm256_castsi256_pd(_mm256_set_epi64x(c[3]->*f ? -1 : 0, c[2]->*f ? -1 : 0,
-                                               c[1]->*f ? -1 : 0, c[0]->*f ? -1 : 0));
-}
-
-}  // namespace
-
-/// link_force's connective branch for four links at once, lane l being link k + l, each
-/// rounded as link_force rounds it (Eigen sums a dot product as (a0 b0 + a1 b1) + a2 b2, as
-/// wide::dot does; no multiply-add is fused): the same bits.
-[[gnu::target("avx")]] void CubicLattice::connective_quad(int k, double dt) {
-  using namespace wide;
-  int I[4], J[4];
-  const int K[4] = {k, k + 1, k + 2, k + 3};
-  for (int l = 0; l < 4; ++l) {
-    I[l] = ends_[k + l].i;
-    J[l] = ends_[k + l].j;
-  }
-  // The links' classes: as a rule the four share one (a colour runs along a row of the grid).
-  const LinkClass* c[4];
-  for (int l = 0; l < 4; ++l) c[l] = &classes_[ends_[k + l].cls];
-  const Wide4 xi = gather(x_.data(), I), xj = gather(x_.data(), J);
-  const Wide4 vi = gather(v_.data(), I), vj = gather(v_.data(), J);
-  const Wide4 wi = gather(w_.data(), I), wj = gather(w_.data(), J);
-  const Wide4 d = sub(xj, xi);
-  const D4 dist = root(dot(d, d));
-  const Wide4 nrm = scale(div(splat<D4>(1.0), dist), d);
-  const Wide4 half = scale(splat<D4>(0.5), d);
-  // Eqs 50-52 and 54-55, as in link_force.
-  const Wide4 vrel = sub(sub(vj, vi), cross(add(wj, wi), half));
-  const Wide4 vs = off_axis(vrel, nrm);
-  const Wide4 shear = add(off_axis(gather(shear_.data(), K), nrm), scale(splat<D4>(dt), vs));
-  scatter(shear_.data(), K, shear);
-  const D4 dn = sub(dist, class_field(c, &LinkClass::rest));
-  D4 knv = class_field(c, &LinkClass::kn), ksv = class_field(c, &LinkClass::ks);
-  if (c[0]->faced || c[1]->faced || c[2]->faced || c[3]->faced) {
-    const D4 w =
-        mul(splat<D4>(0.5), lanes<D4>([&](int l) { return freedom_[I[l]] + freedom_[J[l]]; }));
-    const D4 on = class_flag(c, &LinkClass::faced);
-    knv = pick(on, add(knv, mul(w, class_field(c, &LinkClass::face_kn))), knv);
-    ksv = pick(on, add(ksv, mul(w, class_field(c, &LinkClass::face_ks))), ksv);
-  }
-  // Eqs 1 and 5, then eq. 6's moment.
-  const Wide4 fj = sub(scale(mul(flip(knv), dn), nrm), scale(ksv, shear));
-  const Wide4 moment = cross(Wide4{flip(half.x), flip(half.y), flip(half.z)}, fj);
-  scatter(f_.data(), J, add(gather(f_.data(), J), fj));
-  scatter(f_.data(), I, sub(gather(f_.data(), I), fj));
-  Wide4 on_j = moment, on_i = moment;
-  const D4 kb = class_field(c, &LinkClass::kb);
-  const D4 on = greater(kb, splat<D4>(0.0));
-  if (_mm256_movemask_pd(on) != 0) {
-    const Wide4 old_bend = gather(bend_.data(), K);
-    const Wide4 bend =
-        pick(on, add(off_axis(old_bend, nrm), scale(splat<D4>(dt), off_axis(sub(wj, wi), nrm))),
-             old_bend);
-    scatter(bend_.data(), K, bend);
-    const Wide4 couple = scale(flip(kb), bend);
-    on_j = pick(on, add(moment, couple), moment);
-    on_i = pick(on, sub(moment, couple), moment);
-  }
-  scatter(m_.data(), J, add(gather(m_.data(), J), on_j));
-  scatter(m_.data(), I, add(gather(m_.data(), I), on_i));
+  put(m_, J, at(m_, J) + on_j);
+  put(m_, I, at(m_, I) + on_i);
 }
 
 void CubicLattice::face_contacts(double dt) {

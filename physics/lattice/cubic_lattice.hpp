@@ -148,9 +148,6 @@ struct CubicLatticeDef {
   /// Effective areas that tile the plane (see tiled_areas): true by default; false gives the
   /// paper's areas of eq. 10 as they stand.
   bool tiled_areas = true;
-  /// The connective links four at a time in AVX's lanes where the processor has AVX (each
-  /// lane rounded as the scalar code rounds it: the same bits); false: one at a time.
-  bool lanes = true;
 };
 
 /// One link (eq. 1): bodies i < j, rest length, shear separation and its cohesive state.
@@ -226,10 +223,10 @@ class CubicLattice {
 
  private:
   void compute_forces(double dt);
-  /// Link k's forces and moments onto its two bodies (eqs 1-6, 27-29 and 50-55).
-  void link_force(int k, double dt);
-  /// The same for the connective links k .. k + 3 (none breakable), in AVX's lanes.
-  void connective_quad(int k, double dt);
+  /// The forces and moments of links k .. k + W - 1 onto their bodies (eqs 1-6, 27-29 and
+  /// 50-55), side by side (physics/simd.hpp); for W > 1 none may be breakable.
+  template <int W>
+  void links(int k, double dt);
   void face_contacts(double dt);
   /// The energy stored in link k if it is connective (J), else 0.
   [[nodiscard]] double link_elastic_energy(std::size_t k) const;
