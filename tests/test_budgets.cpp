@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_helpers.hpp"
+#include "folder_test.hpp"
 #include "geometry/specimen.hpp"
 #include "io/budget.hpp"
 #include "io/mesh_io.hpp"
@@ -43,23 +44,8 @@ bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-class Budgets : public ::testing::Test {
+class Budgets : public cleave::testing::FolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           (std::string("cleave_budgets_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
   fs::path fifo(const std::string& name) {
     const fs::path p = dir_ / name;
     EXPECT_EQ(::mkfifo(p.c_str(), 0644), 0);
@@ -78,7 +64,6 @@ class Budgets : public ::testing::Test {
     return cleave::testing::run_shell("cd " + dir.string() + " && " + limit + "timeout -s KILL 30 " +
                                       std::string(CLEAVE_BINARY) + " " + args + " 2>&1");
   }
-  fs::path dir_;
 };
 
 std::string lattice_box(const std::string& size, const std::string& r) {

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli_helpers.hpp"
+#include "folder_test.hpp"
 #include "io/exact_store.hpp"
 #include "io/mesh_io.hpp"
 #include "io/result_dir.hpp"
@@ -22,25 +23,7 @@ namespace {
 using Outcome = cleave::testing::CliOutcome;
 using cleave::testing::run_cleave;
 
-class CleaveCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / (std::string("cleave_cli_") + info->name() + "_" +
-                                        std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
-  fs::path dir_;
-};
+class CleaveCli : public cleave::testing::FolderTest {};
 
 const char* kSmallBox = R"(
 [scenario]

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "cli_helpers.hpp"
+#include "folder_test.hpp"
 #include "io/result_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -64,23 +65,8 @@ struct Launch {
   fs::path cwd;
 };
 
-class ResultFolders : public ::testing::Test {
+class ResultFolders : public cleave::testing::FolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           (std::string("cleave_folders_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
-
   /// Starts `cleave ARGS` (stdout and stderr to dir_/log.txt); returns its pid.
   pid_t spawn(const std::vector<std::string>& args, const Launch& how = {}) {
     std::vector<std::string> all = how.prefix;
@@ -126,7 +112,6 @@ class ResultFolders : public ::testing::Test {
     return o;
   }
 
-  fs::path dir_;
 };
 
 /// Every plain file below `dir`, '/'-separated and relative to it.

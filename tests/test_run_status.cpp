@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "cli_helpers.hpp"
+#include "folder_test.hpp"
 #include "io/checkpoint.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
@@ -54,22 +55,8 @@ std::string openssl_sha256(const fs::path& p) {
   return hex;
 }
 
-class RunStatus : public ::testing::Test {
+class RunStatus : public cleave::testing::FolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           (std::string("cleave_status_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
   /// Starts `cleave run SCENARIO --out OUT --quiet` with its output in dir_/log.txt.
   pid_t spawn_run(const fs::path& scenario, const fs::path& out) {
     posix_spawn_file_actions_t actions;
@@ -119,7 +106,6 @@ class RunStatus : public ::testing::Test {
     EXPECT_EQ(listed, on_disk);
   }
 
-  fs::path dir_;
 };
 
 }  // namespace
