@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -384,6 +385,56 @@ TEST(CubicLattice, BitIdenticalForOneAndTwoThreads) {
   const auto one = run(1), two = run(2);
   omp_set_num_threads(2);
   EXPECT_EQ(one, two);
+}
+
+TEST(CubicLattice, TheLinkLawGivesTheSameBitsAtWidthsOneAndFour) {
+  // A coarse DCB loaded through crack initiation, so links carry shear and bending
+  // histories and the face links their compensation. From that state every run of four
+  // connective links that share no body goes once four at a time and once one at a time,
+  // twice over (the second pass reads the histories the first wrote). Each body receives one
+  // addition a run either way, in the same order, so its sums agree bit for bit when each
+  // lane rounds as one link alone.
+  const auto v = cleave::io::load_validation_scenario(std::string(CLEAVE_SOURCE_DIR) +
+                                                      "/scenarios/validation/dcb_coarse.toml");
+  BeamTestRig rig(v.rig);
+  for (int i = 0; i < 1000; ++i) rig.step();
+  CubicLattice one = rig.lattice(), four = rig.lattice();
+  const auto& links = one.links();
+  const double dt = 1e-8;
+  std::vector<int> runs;
+  int faced = 0, bending = 0;
+  for (int k = 0; k + 4 <= static_cast<int>(links.size()); k += 4) {
+    bool ok = true;
+    for (int l = 0; l < 4 && ok; ++l) {
+      ok = !links[k + l].breakable;
+      for (int m = 0; m < l && ok; ++m)
+        ok = links[k + l].i != links[k + m].i && links[k + l].i != links[k + m].j &&
+             links[k + l].j != links[k + m].i && links[k + l].j != links[k + m].j;
+    }
+    if (!ok) continue;
+    runs.push_back(k);
+    for (int l = 0; l < 4; ++l) {
+      faced += links[k + l].face_kn != 0.0;
+      bending += links[k + l].kb > 0.0;
+    }
+  }
+  ASSERT_GT(runs.size(), 1000u);
+  EXPECT_GT(faced, 0) << "no face link among the runs: the compensation went unchecked";
+  EXPECT_GT(bending, 0) << "no bending spring among the runs";
+  for (int pass = 0; pass < 2; ++pass)
+    for (const int k : runs) {
+      for (int l = 0; l < 4; ++l) one.add_link_forces<1>(k + l, dt);
+      four.add_link_forces<4>(k, dt);
+    }
+  int differ = 0;
+  for (int b = 0; b < one.size(); ++b)
+    for (int a = 0; a < 3; ++a) {
+      differ += std::bit_cast<std::uint64_t>(one.forces()[b][a]) !=
+                std::bit_cast<std::uint64_t>(four.forces()[b][a]);
+      differ += std::bit_cast<std::uint64_t>(one.moments()[b][a]) !=
+                std::bit_cast<std::uint64_t>(four.moments()[b][a]);
+    }
+  EXPECT_EQ(differ, 0) << "force or moment components that differ in their bits";
 }
 
 namespace {

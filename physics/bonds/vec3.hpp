@@ -13,6 +13,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <type_traits>
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 #include "physics/simd.hpp"
 
@@ -111,6 +114,72 @@ template <int W, class Get>
           simd::load<W>([&](int i) { return get(i).y(); }),
           simd::load<W>([&](int i) { return get(i).z(); })};
 }
+#if defined(__AVX__)
+/// Four lanes to and from an AVX register, through one aligned store and load (the
+/// compiler keeps them in the register).
+[[gnu::always_inline]] inline simd::Real<4> from_avx(__m256d v) {
+  alignas(32) double t[4];
+  _mm256_store_pd(t, v);
+  return simd::Real<4>(t, simd::stdx::vector_aligned);
+}
+[[gnu::always_inline]] inline __m256d to_avx(const simd::Real<4>& v) {
+  alignas(32) double t[4];
+  v.copy_to(t, simd::stdx::vector_aligned);
+  return _mm256_load_pd(t);
+}
+#endif
+
+/// p[idx[0]], p[idx[1]], ... in lanes 0, 1, ...: load3 over an array of Eigen vectors. With
+/// AVX and W = 4 each vector's x, y pair moves as one 16-byte load and two shuffles make the
+/// x and y lanes, where lane-by-lane loads cost one load and one insert a value.
+template <int W>
+[[gnu::always_inline]] inline Vec3<simd::Real<W>> gather3(const Eigen::Vector3d* p,
+                                                         const int* idx) {
+#if defined(__AVX__)
+  if constexpr (W == 4) {
+    const __m128d a0 = _mm_loadu_pd(p[idx[0]].data()), a1 = _mm_loadu_pd(p[idx[1]].data());
+    const __m128d a2 = _mm_loadu_pd(p[idx[2]].data()), a3 = _mm_loadu_pd(p[idx[3]].data());
+    const __m256d xy02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a0), a2, 1);
+    const __m256d xy13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a1), a3, 1);
+    const __m256d z =
+        _mm256_set_pd(p[idx[3]].z(), p[idx[2]].z(), p[idx[1]].z(), p[idx[0]].z());
+    return {from_avx(_mm256_unpacklo_pd(xy02, xy13)), from_avx(_mm256_unpackhi_pd(xy02, xy13)),
+            from_avx(z)};
+  }
+#endif
+  return load3<W>([&](int i) -> const Eigen::Vector3d& { return p[idx[i]]; });
+}
+
+/// gather3's inverse: lane i of v into p[idx[i]] (the indices distinct).
+template <int W>
+[[gnu::always_inline]] inline void scatter3(Eigen::Vector3d* p, const int* idx,
+                                            const Vec3<simd::Real<W>>& v) {
+  if constexpr (W == 1) {
+    p[idx[0]] = Eigen::Vector3d(v.x, v.y, v.z);
+#if defined(__AVX__)
+  } else if constexpr (W == 4) {
+    const __m256d x = to_avx(v.x), y = to_avx(v.y), z = to_avx(v.z);
+    const __m256d xy02 = _mm256_unpacklo_pd(x, y), xy13 = _mm256_unpackhi_pd(x, y);
+    _mm_storeu_pd(p[idx[0]].data(), _mm256_castpd256_pd128(xy02));
+    _mm_storeu_pd(p[idx[1]].data(), _mm256_castpd256_pd128(xy13));
+    _mm_storeu_pd(p[idx[2]].data(), _mm256_extractf128_pd(xy02, 1));
+    _mm_storeu_pd(p[idx[3]].data(), _mm256_extractf128_pd(xy13, 1));
+    const __m128d z01 = _mm256_castpd256_pd128(z), z23 = _mm256_extractf128_pd(z, 1);
+    _mm_storel_pd(&p[idx[0]].z(), z01);
+    _mm_storeh_pd(&p[idx[1]].z(), z01);
+    _mm_storel_pd(&p[idx[2]].z(), z23);
+    _mm_storeh_pd(&p[idx[3]].z(), z23);
+#endif
+  } else {
+    // Through memory once, not lane by lane out of the registers.
+    alignas(64) double x[W], y[W], z[W];
+    v.x.copy_to(x, simd::stdx::vector_aligned);
+    v.y.copy_to(y, simd::stdx::vector_aligned);
+    v.z.copy_to(z, simd::stdx::vector_aligned);
+    for (int i = 0; i < W; ++i) p[idx[i]] = Eigen::Vector3d(x[i], y[i], z[i]);
+  }
+}
+
 /// The quaternions get(0), get(1), ... in lanes 0, 1, ...
 template <int W, class Get>
 [[gnu::always_inline]] inline Quat<simd::Real<W>> load_quat(Get&& get) {

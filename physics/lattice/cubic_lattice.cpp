@@ -376,9 +376,9 @@ void CubicLattice::compute_forces(double dt) {
 #pragma omp for schedule(static)
       for (int t = 0; t < items; ++t) {
         if (t < quad_count)
-          links<4>(begin + 4 * t, dt);
+          add_link_forces<4>(begin + 4 * t, dt);
         else
-          links<1>(singles + (t - quad_count), dt);
+          add_link_forces<1>(singles + (t - quad_count), dt);
       }
     }
   }
@@ -399,7 +399,7 @@ template <class T>
 }  // namespace
 
 template <int W>
-void CubicLattice::links(int k, double dt) {
+void CubicLattice::add_link_forces(int k, double dt) {
   using T = simd::Real<W>;
   int I[W], J[W], K[W];
   const LinkClass* c[W];
@@ -411,22 +411,9 @@ void CubicLattice::links(int k, double dt) {
   }
   if (W == 1 && c[0]->breakable && links_[k].state.phase == LinkPhase::contact) return;
   auto at = [&](const std::vector<Eigen::Vector3d>& a, const int* idx)
-      __attribute__((always_inline)) {
-    return load3<W>([&](int l) -> const Eigen::Vector3d& { return a[idx[l]]; });
-  };
+      __attribute__((always_inline)) { return gather3<W>(a.data(), idx); };
   auto put = [&](std::vector<Eigen::Vector3d> & a, const int* idx, const Vec3<T>& v)
-      __attribute__((always_inline)) {
-    if constexpr (W == 1) {
-      a[idx[0]] = eigen(v);
-    } else {
-      // Through memory once, not lane by lane out of the registers.
-      alignas(64) double x[W], y[W], z[W];
-      v.x.copy_to(x, simd::stdx::vector_aligned);
-      v.y.copy_to(y, simd::stdx::vector_aligned);
-      v.z.copy_to(z, simd::stdx::vector_aligned);
-      for (int l = 0; l < W; ++l) a[idx[l]] = Eigen::Vector3d(x[l], y[l], z[l]);
-    }
-  };
+      __attribute__((always_inline)) { scatter3<W>(a.data(), idx, v); };
   // The links' classes: as a rule all share one (a colour runs along a row of the grid).
   bool one_class = true;
   for (int l = 1; l < W; ++l) one_class = one_class && c[l] == c[0];
@@ -497,6 +484,9 @@ void CubicLattice::links(int k, double dt) {
   put(m_, J, at(m_, J) + on_j);
   put(m_, I, at(m_, I) + on_i);
 }
+
+template void CubicLattice::add_link_forces<1>(int, double);
+template void CubicLattice::add_link_forces<4>(int, double);
 
 void CubicLattice::face_contacts(double dt) {
   const int up = def_.weak_layer, down = def_.weak_layer - 1;

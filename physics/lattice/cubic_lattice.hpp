@@ -201,6 +201,16 @@ class CubicLattice {
   /// The links, grouped by colour (see the private part): the order is not the grid's.
   [[nodiscard]] const std::vector<LatticeLink>& links() const { return links_; }
 
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& moments() const { return m_; }
+
+  /// Adds the forces and moments of links k .. k + W - 1 (links()' order) onto their bodies
+  /// and advances their shear and bending histories by dt (eqs 1-6, 27-29 and 50-55), the W
+  /// links side by side (physics/simd.hpp; W = 1 or 4). For W = 4 the links share no body
+  /// and none is breakable. step() calls it; it is public so that a test can hold its widths
+  /// against each other.
+  template <int W>
+  void add_link_forces(int k, double dt);
+
   [[nodiscard]] LatticeEnergy energy() const;
   /// Half the elastic energy of body b's connective links (J): its share of the stored energy,
   /// which for a bulk body under a homogeneous strain is the strain energy of its cell.
@@ -223,10 +233,6 @@ class CubicLattice {
 
  private:
   void compute_forces(double dt);
-  /// The forces and moments of links k .. k + W - 1 onto their bodies (eqs 1-6, 27-29 and
-  /// 50-55), side by side (physics/simd.hpp); for W > 1 none may be breakable.
-  template <int W>
-  void links(int k, double dt);
   void face_contacts(double dt);
   /// The energy stored in link k if it is connective (J), else 0.
   [[nodiscard]] double link_elastic_energy(std::size_t k) const;
