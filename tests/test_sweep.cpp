@@ -588,7 +588,8 @@ TEST(SweepCommand, SeedsAreAReplicateAxisWithMeansPerCombination) {
       s.write("drop.toml", cleave::testing::drop_scenario("drop", "duration = 3e-5\nframes = 1\n"));
   const fs::path out = s.dir / "out";
   const Outcome o = run_cleave("sweep -q " + file.string() +
-                               " --set grain.r_bar=0.8,0.9 --seeds 3 --jobs 2 -o " + out.string());
+                               " --set grain.r_bar=0.8,0.9 --seeds 3 --column dynamics_steps"
+                               " --jobs 2 -o " + out.string());
   ASSERT_EQ(o.code, 0) << o.output;
   const auto rows = cleave::testing::read_csv_cells(out / "summary.csv");
   ASSERT_EQ(rows.size(), 7u);
@@ -599,6 +600,8 @@ TEST(SweepCommand, SeedsAreAReplicateAxisWithMeansPerCombination) {
   for (std::size_t r = 1; r < rows.size(); ++r) {
     EXPECT_EQ(rows[r][rbar], r <= 3 ? "0.8" : "0.9");
     EXPECT_EQ(rows[r][seed], std::to_string((r - 1) % 3 + 1));
+    // --column: a fact of each run's run.toml; the drop lasts 3e-5 s of 1.2e-6 s steps.
+    EXPECT_EQ(rows[r][column(h, "dynamics_steps")], "25");
     const toml::table run = toml::parse_file((out / "scenarios" / (rows[r][0] + ".toml")).string());
     EXPECT_EQ(run["orientation"]["seed"].value<std::int64_t>(), (r - 1) % 3 + 1);
   }
@@ -616,6 +619,8 @@ TEST(SweepCommand, SeedsAreAReplicateAxisWithMeansPerCombination) {
     for (double v : x) squares += (v - mean) * (v - mean);
     EXPECT_NEAR(std::stod(means[g][column(mh, "wall_s_mean")]), mean, 1e-6);
     EXPECT_NEAR(std::stod(means[g][column(mh, "wall_s_sd")]), std::sqrt(squares / 2.0), 1e-6);
+    EXPECT_EQ(means[g][column(mh, "dynamics_steps_mean")], "25");
+    EXPECT_EQ(means[g][column(mh, "dynamics_steps_sd")], "0");
   }
   EXPECT_EQ(read_manifest(out).facts.at("seeds"), "3");
   // Zipped keys are one factor: 2 x 3 runs.
