@@ -589,7 +589,8 @@ TEST(SweepCommand, SeedsAreAReplicateAxisWithMeansPerCombination) {
   const fs::path out = s.dir / "out";
   const Outcome o = run_cleave("sweep -q " + file.string() +
                                " --set grain.r_bar=0.8,0.9 --seeds 3 --column dynamics_steps"
-                               " --jobs 2 -o " + out.string());
+                               " --jobs 2 -o " +
+                               out.string());
   ASSERT_EQ(o.code, 0) << o.output;
   const auto rows = cleave::testing::read_csv_cells(out / "summary.csv");
   ASSERT_EQ(rows.size(), 7u);
