@@ -109,12 +109,19 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
 
   sweep_cmd = app.add_subcommand(
       "sweep",
-      "Run a scenario for every combination of --set values (--zip values together), "
-      "in parallel, and summarise");
+      "Run, measure or validate a scenario for every combination of --set values (--zip values "
+      "together, --seeds replicates), in parallel, and summarise");
   sweep_cmd->add_option("scenario", sweep.scenario, "Scenario file (TOML)")->required();
+  sweep_cmd
+      ->add_option("--command,-c", sweep.command,
+                   "What each run is: run (default) | measure (with --test) | validate")
+      ->check(CLI::IsMember({"run", "measure", "validate"}));
+  sweep_cmd->add_option("--test", sweep.test,
+                        "--command measure: elastic | brazilian | flexural | senb");
   sweep_cmd->add_option("--set", sweep.sets,
                         "KEY=VALUES: a key (table.key, stage[N].key) and a comma list or LO..HI; "
-                        "repeat for a product");
+                        "KEY/REF=RATIOS: KEY set to each ratio times REF's value in the "
+                        "scenario; repeat for a product");
   sweep_cmd->add_option(
       "--zip", sweep.zips,
       "KEY=VALUES as --set, but every --zip key takes its i-th value in the same "
@@ -129,6 +136,17 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
                       "Replace an earlier cleave result in the folder, as run --replace does");
   sweep_cmd->add_option("--max-memory", sweep.max_memory, memory_help + " (shared by --jobs)")
       ->type_name("SIZE");
+  sweep_cmd
+      ->add_option("--seeds", sweep.seeds,
+                   "N replicates of every combination, the seed key set to 1..N; their mean "
+                   "and spread in summary_mean.csv")
+      ->check(CLI::Range(1, 100000));
+  sweep_cmd->add_option("--seed-key", sweep.seed_key,
+                        "The key --seeds sets (default orientation.seed; e.g. specimen.seed)");
+  sweep_cmd->add_flag("--cohesive-beam-only", sweep.cohesive_beam_only,
+                      "--command validate: passed to each validate (no lattice run)");
+  sweep_cmd->add_option("--column", sweep.columns,
+                        "A fact of each run's run.toml as one more summary.csv column, repeatable");
 
   validate_cmd = app.add_subcommand(
       "validate",

@@ -68,6 +68,8 @@ struct ValidateOptions {
 int validate_command(const ValidateOptions& options);
 
 struct SweepOptions {
+  std::string command = "run";  ///< what each run is: run | measure | validate
+  std::string test;             ///< --command measure: elastic | brazilian | flexural | senb
   std::filesystem::path scenario;
   std::vector<std::string> sets;  ///< KEY=VALUES, one per --set: a product
   std::vector<std::string> zips;  ///< KEY=VALUES, one per --zip: varied together
@@ -78,15 +80,22 @@ struct SweepOptions {
   bool replace = false;  ///< --replace: an earlier result of another run in `out` is replaced
   /// --max-memory as given (empty: none); each run gets the limit shared by `jobs` runs.
   std::string max_memory;
+  /// Replicates: each combination run with `seed_key` = 1..seeds (0: none), the last and
+  /// fastest-varying factor; summary_mean.csv gives their mean and spread.
+  int seeds = 0;
+  std::string seed_key;              ///< empty: orientation.seed
+  bool cohesive_beam_only = false;   ///< --command validate: passed to each validate
+  std::vector<std::string> columns;  ///< more summary.csv columns: keys of run.toml's facts
 };
 
 /// Runs the scenario once per combination of the --set values (io/sweep.hpp; the --zip
-/// values together, one factor of the product), `jobs` at a
-/// time as child `cleave run`s, and writes summary.csv (one row per run: the values, status,
-/// peak load, strength, bonds broken, splits, time), a plot, and for a seed ensemble the
-/// Weibull fit (weibull.csv, weibull.svg). Exit 0 when every run finished (or stopped by
-/// --max-steps, as asked: status stopped, left out of the fits), 1 when one did
-/// not, 2 on bad input (nothing is run), 130/143 when interrupted.
+/// values together, one factor of the product; the --seeds last), `jobs` at a time as child
+/// `cleave run`s (or `measure`, `validate`), and writes summary.csv (one row per run: the
+/// values, status, the command's results, time), with --seeds summary_mean.csv, a plot, and
+/// for a seed ensemble the Weibull fit (weibull.csv, weibull.svg). Exit 0 when every run
+/// finished (or stopped by --max-steps, as asked: status stopped, left out of the fits; a
+/// validation's fail verdict is a result, not a failure), 1 when one did not, 2 on bad input
+/// (nothing is run), 130/143 when interrupted.
 int sweep_command(const SweepOptions& options);
 
 struct MaterialsOptions {

@@ -1,7 +1,8 @@
 // `cleave sweep`: one scenario run many times with keys set to each combination of values
-// (--set KEY=VALUES ...; --zip KEY=VALUES keys vary together), in parallel over local cores, each
-// run a child `cleave run` in its own result folder; then one table of what each run gave, a plot,
-// and for a seed ensemble a Weibull fit of the strengths.
+// (--set KEY=VALUES ...; --zip KEY=VALUES keys vary together; KEY/REF=RATIOS a key as a multiple
+// of another; --seeds N replicates), in parallel over local cores, each run a child `cleave run`,
+// `measure` or `validate` in its own result folder; then one table of what each run gave, the
+// replicates' means and spreads, a plot, and for a seed ensemble a Weibull fit of the strengths.
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -12,10 +13,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include "cleave_version.hpp"
 #include "commands.hpp"
@@ -24,7 +27,9 @@
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
 #include "io/sweep.hpp"
+#include "io/validation_scenario.hpp"
 #include "run_control.hpp"
+#include "sim/measure.hpp"
 
 extern char** environ;
 
@@ -44,12 +49,82 @@ struct Job {
   double seconds = 0.0;
   io::Manifest manifest;
   bool has_manifest = false;
+  /// What the run gave: its run.toml's facts, and a measurement's measure.toml over them.
+  std::map<std::string, std::string> results;
 };
 
 std::string fact(const Job& j, const std::string& key) {
-  if (!j.has_manifest) return {};
-  const auto it = j.manifest.facts.find(key);
-  return it == j.manifest.facts.end() ? std::string() : it->second;
+  const auto it = j.results.find(key);
+  return it == j.results.end() ? std::string() : it->second;
+}
+
+/// A column of summary.csv after the status: its name and the result key it shows.
+struct Column {
+  std::string name, key;
+};
+
+/// The results each command's rows show. A validation's stage errors depend on the stages
+/// its scenario checks, so they are the keys its runs gave.
+std::vector<Column> result_columns(const SweepOptions& o, const std::vector<Job>& jobs) {
+  std::vector<Column> c;
+  if (o.command == "run") {
+    c = {{"peak_load_N", "peak_load_N"},
+         {"strength_Pa", "brazilian_strength_Pa"},
+         {"bonds_broken", "intergranular_breaks"},
+         {"splits", "transgranular_splits"}};
+  } else if (o.command == "measure") {
+    const sim::Test t = *sim::parse_test(o.test);
+    // The judged value's key carries its unit (tensile_strength_Pa, k_ic_Pa_sqrt_m, ...).
+    c.push_back({sim::judged_key(t), sim::judged_key(t)});
+    if (sim::judged_key(t) != sim::value_key(t))
+      c.push_back({sim::value_key(t), sim::value_key(t)});
+    if (t == sim::Test::elastic) c.push_back({"poisson", "poisson"});
+    for (const char* k : {"peak_load_N", "first_crack_load_N", "kinetic_ratio"})
+      c.push_back({k, k});
+    c.push_back({"bonds_broken", "intergranular_breaks"});
+    c.push_back({"splits", "transgranular_splits"});
+  } else {
+    c.push_back({"verdict", "validation"});
+    std::set<std::tuple<int, int, std::string>> stages;  // by stage, then mean, max, slope
+    for (const Job& j : jobs)
+      for (const auto& entry : j.results) {
+        const std::string& k = entry.first;
+        int n = 0;
+        char kind[16] = {};
+        if (std::sscanf(k.c_str(), "stage%d_%15[a-z]_error", &n, kind) != 2 ||
+            k != fmt::format("stage{}_{}_error", n, kind))
+          continue;
+        const std::string m = kind;
+        stages.insert({n, m == "mean" ? 0 : m == "max" ? 1 : 2, k});
+      }
+    for (const auto& st : stages) c.push_back({std::get<2>(st), std::get<2>(st)});
+    for (const char* k : {"peak_error", "peak_load_N", "closed_form_peak_N"}) c.push_back({k, k});
+  }
+  for (const auto& k : o.columns)
+    if (std::none_of(c.begin(), c.end(),
+                     [&](const Column& x) { return x.key == k || x.name == k; }))
+      c.push_back({k, k});
+  return c;
+}
+
+/// A usage error of the options alone (empty: none).
+std::string usage_error(const SweepOptions& o) {
+  if (o.command == "measure" && !sim::parse_test(o.test))
+    return o.test.empty()
+               ? "--command measure needs --test elastic|brazilian|flexural|senb"
+               : fmt::format("--test {}: the tests are elastic, brazilian, flexural, senb", o.test);
+  if (o.command != "measure" && !o.test.empty())
+    return fmt::format("--test {} is for --command measure", o.test);
+  if (o.command != "run" && o.max_steps > 0)
+    return fmt::format("--max-steps is for --command run; cleave {} runs to its end", o.command);
+  if (o.command != "validate" && o.cohesive_beam_only)
+    return "--cohesive-beam-only is for --command validate";
+  if (o.seeds == 0 && !o.seed_key.empty())
+    return "--seed-key names the key --seeds sets: give --seeds N";
+  if (o.seeds > 0 && o.command == "validate" && o.seed_key.empty())
+    return "--seeds: a validation's lattice draws nothing at random; name the key to vary with "
+           "--seed-key";
+  return {};
 }
 
 double number(const std::string& s) {
@@ -66,16 +141,21 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
-/// Starts `cleave run SCENARIO --out DIR -q` with stdout and stderr into LOG.
+/// Starts `cleave COMMAND [TEST] SCENARIO --out DIR -q` with stdout and stderr into LOG.
 pid_t spawn_run(const Job& job, const SweepOptions& o, int threads) {
-  std::vector<std::string> args = {"cleave", "run", job.scenario.string(), "--out",
-                                   job.dir.string(), "--quiet"};
+  std::vector<std::string> args = {"cleave", o.command};
+  if (o.command == "measure") args.push_back(o.test);
+  for (const std::string& a :
+       {job.scenario.string(), std::string("--out"), job.dir.string(), std::string("--quiet")})
+    args.push_back(a);
   if (o.max_steps > 0) {
     args.push_back("--max-steps");
     args.push_back(std::to_string(o.max_steps));
   }
+  if (o.cohesive_beam_only) args.push_back("--cohesive-beam-only");
+  // cleave measure takes no memory limit.
   if (const io::MemoryLimit limit = io::memory_limit();
-      limit.bytes > 0 && (o.jobs > 1 || !o.max_memory.empty())) {
+      o.command != "measure" && limit.bytes > 0 && (o.jobs > 1 || !o.max_memory.empty())) {
     args.push_back("--max-memory");
     args.push_back(std::to_string(limit.bytes));
   }
@@ -163,15 +243,34 @@ void write_size_effect(const std::filesystem::path& out, const std::string& key,
 int sweep_command(const SweepOptions& o) {
   const auto t0 = Clock::now();
   // Everything about the inputs is checked before any run starts.
+  if (const std::string e = usage_error(o); !e.empty()) {
+    fmt::print(stderr, "cleave: error: command line: {}\n", e);
+    return 2;
+  }
   std::vector<io::SweepAxis> axes;
   std::vector<io::SweepPoint> points;
   std::string text;
-  io::Scenario base;
+  std::string base_name;
+  bool dynamics = true;
+  // Each command's reader of its scenario format.
+  const io::ScenarioReader read = [&](const std::string& t, const std::string& source) {
+    if (o.command == "validate")
+      (void)io::parse_validation_scenario(t, source);
+    else
+      (void)io::parse_scenario(t, source);
+  };
+  int replicate = -1;  // the --seeds axis
   try {
     for (const auto& spec : o.sets) axes.push_back(io::parse_sweep_axis(spec));
     for (const auto& spec : o.zips) {
       axes.push_back(io::parse_sweep_axis(spec));
       axes.back().zipped = true;
+    }
+    if (o.seeds > 0) {
+      // Last, so that a combination's replicates are neighbouring rows.
+      axes.push_back(io::parse_sweep_axis(fmt::format(
+          "{}=1..{}", o.seed_key.empty() ? std::string("orientation.seed") : o.seed_key, o.seeds)));
+      replicate = static_cast<int>(axes.size()) - 1;
     }
     points = io::sweep_points(axes);
     // Runs side by side share the memory: each point is checked against its part.
@@ -181,7 +280,13 @@ int sweep_command(const SweepOptions& o) {
                                        o.max_memory.empty() ? "the memory available now"
                                                             : "--max-memory " + o.max_memory,
                                        o.jobs));
-    base = io::load_scenario(o.scenario);
+    if (o.command == "validate") {
+      base_name = io::load_validation_scenario(o.scenario).name;
+    } else {
+      const io::Scenario base = io::load_scenario(o.scenario);
+      base_name = base.name;
+      dynamics = base.dynamics.enabled;
+    }
     text = io::read_file(o.scenario);
   } catch (const io::ScenarioError& e) {
     fmt::print(stderr, "cleave: error: {}\n", e.what());
@@ -190,7 +295,7 @@ int sweep_command(const SweepOptions& o) {
     fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
     return 2;
   }
-  if (!base.dynamics.enabled) {
+  if (!dynamics) {
     fmt::print(stderr, "cleave: error: sweep: {} has no [dynamics]: nothing to compare\n",
                o.scenario.string());
     return 2;
@@ -199,10 +304,10 @@ int sweep_command(const SweepOptions& o) {
     fmt::print(stderr, "cleave: error: command line: --jobs must be at least 1\n");
     return 2;
   }
-  const fs::path out = o.out.empty() ? fs::path("results") / (base.name + "_sweep") : o.out;
+  const fs::path out = o.out.empty() ? fs::path("results") / (base_name + "_sweep") : o.out;
   io::FolderPlan plan;
   try {
-    plan = io::check_result_folder(out, io::FolderClaim{"sweep", base.name, o.replace, false});
+    plan = io::check_result_folder(out, io::FolderClaim{"sweep", base_name, o.replace, false});
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "cleave: error: command line: {}\n", e.what());
     return 2;
@@ -210,6 +315,7 @@ int sweep_command(const SweepOptions& o) {
   const fs::path base_dir = fs::absolute(o.scenario).parent_path();
   std::vector<Job> jobs(points.size());
   std::vector<std::string> texts(points.size());
+  std::vector<io::SweepPoint> absolute(points.size());  // each axis' value as written
   for (std::size_t i = 0; i < points.size(); ++i) {
     Job& j = jobs[i];
     j.index = i;
@@ -220,11 +326,13 @@ int sweep_command(const SweepOptions& o) {
     // A key the scenario cannot take fails here, before anything runs, naming the value.
     std::vector<std::string> shown;
     for (std::size_t k = 0; k < axes.size(); ++k)
-      shown.push_back(
-          fmt::format("--{} {}={}", axes[k].zipped ? "zip" : "set", axes[k].key, points[i][k]));
+      shown.push_back(static_cast<int>(k) == replicate
+                          ? fmt::format("--seeds {} ({}={})", o.seeds, axes[k].key, points[i][k])
+                          : fmt::format("--{} {}={}", axes[k].zipped ? "zip" : "set",
+                                        axes[k].name(), points[i][k]));
     try {
-      (void)io::read_sweep_point(text, o.scenario.string(), axes, points[i], shown, base_dir,
-                                 &texts[i]);
+      texts[i] = io::check_sweep_point(text, o.scenario.string(), axes, points[i], shown, base_dir,
+                                       read, &absolute[i]);
     } catch (const io::ScenarioError& e) {
       fmt::print(stderr, "cleave: error: sweep: {}\n", e.what());
       return 2;
@@ -238,11 +346,19 @@ int sweep_command(const SweepOptions& o) {
   record.manifest.provenance["cleave_version"] = CLEAVE_VERSION;
   record.manifest.provenance["command"] = "sweep";
   record.manifest.facts["scenario"] = o.scenario.string();
-  record.manifest.facts["scenario_name"] = base.name;
-  for (const auto& a : axes) {
+  record.manifest.facts["scenario_name"] = base_name;
+  record.manifest.facts["command"] = o.command;
+  if (o.command == "measure") record.manifest.facts["test"] = o.test;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const auto& a = axes[k];
+    if (static_cast<int>(k) == replicate) {
+      record.manifest.facts["seeds"] = std::to_string(o.seeds);
+      record.manifest.facts["seed_key"] = a.key;
+      continue;
+    }
     std::string v;
-    for (std::size_t k = 0; k < a.values.size(); ++k) v += (k ? "," : "") + a.values[k];
-    record.manifest.facts[(a.zipped ? "zip." : "set.") + a.key] = v;
+    for (std::size_t i = 0; i < a.values.size(); ++i) v += (i ? "," : "") + a.values[i];
+    record.manifest.facts[(a.zipped ? "zip." : "set.") + a.name()] = v;
   }
   record.manifest.facts["runs"] = std::to_string(points.size());
   try {
@@ -267,8 +383,9 @@ int sweep_command(const SweepOptions& o) {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const int threads = std::max(1, static_cast<int>(cores) / o.jobs);
   if (!o.quiet)
-    fmt::print("cleave sweep: {} runs of {} ({} at a time, {} thread(s) each) -> {}\n",
-               points.size(), o.scenario.string(), o.jobs, threads, out.string());
+    fmt::print("cleave sweep: {} {}s of {} ({} at a time, {} thread(s) each) -> {}\n",
+               points.size(), o.command == "measure" ? "measurement" : o.command,
+               o.scenario.string(), o.jobs, threads, out.string());
   std::size_t next = 0, done = 0;
   std::map<pid_t, std::size_t> running;
   bool stopped = false;
@@ -306,51 +423,107 @@ int sweep_command(const SweepOptions& o) {
     try {
       j.manifest = io::read_manifest(j.dir);
       j.has_manifest = true;
+      j.results = j.manifest.facts;
     } catch (const std::exception&) {
     }
+    if (o.command == "measure")
+      for (const auto& [k, v] : io::read_flat_toml(j.dir / "measure.toml")) j.results[k] = v;
     if (!o.quiet) {
       std::string set;
       for (std::size_t k = 0; k < axes.size(); ++k)
-        set += fmt::format("{}{}={}", k ? " " : "", axes[k].key, points[j.index][k]);
+        set += fmt::format("{}{}={}", k ? " " : "", axes[k].name(), points[j.index][k]);
+      std::string got;
+      for (const Column& c : result_columns(o, {j}))
+        got += fmt::format(", {} {}", c.name, fact(j, c.key).empty() ? "-" : fact(j, c.key));
       const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
       const double eta = elapsed / done * (jobs.size() - done);
-      fmt::print("  {:>3}/{} {} ({}): {}, peak {} N, strength {} Pa, {} bonds broken, {} splits "
-                 "[{:.1f} s]  ETA {:.0f} s\n",
-                 done, jobs.size(), j.dir.filename().string(), set,
-                 j.has_manifest ? j.manifest.status : fmt::format("exit {}", j.exit_code),
-                 fact(j, "peak_load_N").empty() ? "-" : fact(j, "peak_load_N"),
-                 fact(j, "brazilian_strength_Pa").empty() ? "-" : fact(j, "brazilian_strength_Pa"),
-                 fact(j, "intergranular_breaks").empty() ? "-" : fact(j, "intergranular_breaks"),
-                 fact(j, "transgranular_splits").empty() ? "-" : fact(j, "transgranular_splits"),
+      fmt::print("  {:>3}/{} {} ({}): {}{} [{:.1f} s]  ETA {:.0f} s\n", done, jobs.size(),
+                 j.dir.filename().string(), set,
+                 j.has_manifest ? j.manifest.status : fmt::format("exit {}", j.exit_code), got,
                  j.seconds, eta);
     }
   }
   if (stop_signal() != 0) stopped = true;
 
-  // One row per run.
-  std::string csv = "run";
-  for (const auto& a : axes) csv += "," + csv_field(a.key);
-  csv += ",status,exit_code,peak_load_N,strength_Pa,bonds_broken,splits,wall_s,folder\n";
+  // One row per run: the axes (a ratio's with the absolute value beside it), then the results.
+  const std::vector<Column> columns = result_columns(o, jobs);
+  std::vector<std::string> header = {"run"};
+  std::vector<std::size_t> group_columns;  // the axes but the replicates'
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    if (static_cast<int>(k) != replicate) group_columns.push_back(header.size());
+    header.push_back(axes[k].name());
+    if (!axes[k].reference.empty()) {
+      if (static_cast<int>(k) != replicate) group_columns.push_back(header.size());
+      header.push_back(axes[k].key);
+    }
+  }
+  header.insert(header.end(), {"status", "exit_code"});
+  std::vector<std::size_t> value_columns;
+  for (const Column& c : columns) {
+    value_columns.push_back(header.size());
+    header.push_back(c.name);
+  }
+  value_columns.push_back(header.size());
+  header.insert(header.end(), {"wall_s", "folder"});
+  std::vector<std::vector<std::string>> rows;
+  std::vector<bool> counted;
   int failed = 0, cut = 0;  // cut: stopped by --max-steps, as asked (no strength counted)
+  int verdicts_failed = 0;
   std::vector<double> strengths;
   for (const Job& j : jobs) {
-    csv += j.dir.filename().string();
-    for (const auto& v : points[j.index]) csv += "," + csv_field(v);
+    std::vector<std::string> row = {j.dir.filename().string()};
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      row.push_back(points[j.index][k]);
+      if (!axes[k].reference.empty()) row.push_back(absolute[j.index][k]);
+    }
     const std::string status =
         j.pid < 0 ? "not started" : (j.has_manifest ? j.manifest.status : "no manifest");
+    // A validation that ran and failed its bounds exits 1: its verdict is the result.
+    const bool judged = o.command == "validate" && j.exit_code == 1 &&
+                        status == io::run_status::finished && fact(j, "validation") == "fail";
     if (j.pid >= 0 && j.exit_code == 0 && status == io::run_status::stopped)
       ++cut;
-    else if (j.pid >= 0 && (j.exit_code != 0 || status != io::run_status::finished))
+    else if (j.pid >= 0 && !judged && (j.exit_code != 0 || status != io::run_status::finished))
       ++failed;
-    csv += fmt::format(",{},{},{},{},{},{},{:.3f},{}\n", csv_field(status), j.exit_code,
-                       fact(j, "peak_load_N"), fact(j, "brazilian_strength_Pa"),
-                       fact(j, "intergranular_breaks"), fact(j, "transgranular_splits"),
-                       j.seconds, csv_field(j.dir.string()));
+    if (o.command == "validate" && fact(j, "validation") == "fail") ++verdicts_failed;
+    row.push_back(status);
+    row.push_back(std::to_string(j.exit_code));
+    for (const Column& c : columns) row.push_back(fact(j, c.key));
+    row.push_back(fmt::format("{:.3f}", j.seconds));
+    row.push_back(j.dir.string());
+    rows.push_back(std::move(row));
+    counted.push_back(status == io::run_status::finished);
     const double s = number(fact(j, "brazilian_strength_Pa"));
-    if (status == io::run_status::finished && std::isfinite(s) && s > 0) strengths.push_back(s);
+    if (o.command == "run" && status == io::run_status::finished && std::isfinite(s) && s > 0)
+      strengths.push_back(s);
+  }
+  std::string csv;
+  for (std::size_t c = 0; c < header.size(); ++c) csv += (c ? "," : "") + csv_field(header[c]);
+  csv += "\n";
+  for (const auto& row : rows) {
+    for (std::size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + csv_field(row[c]);
+    csv += "\n";
   }
   try {
     io::write_file_atomically(out / "summary.csv", csv);
+    if (replicate >= 0) {
+      // Only the numeric results: a column no run gave a number in is left out.
+      std::vector<std::size_t> numeric;
+      for (std::size_t c : value_columns)
+        for (std::size_t r = 0; r < rows.size(); ++r)
+          if (counted[r] && std::isfinite(number(rows[r][c]))) {
+            numeric.push_back(c);
+            break;
+          }
+      io::write_file_atomically(
+          out / "summary_mean.csv",
+          io::replicate_means_csv(header, rows, group_columns, numeric, counted));
+      if (!o.quiet)
+        fmt::print(
+            "  {} replicates of each combination: mean, sample standard deviation and count "
+            "of each result -> summary_mean.csv\n",
+            o.seeds);
+    }
     // The picture: the first swept key against the peak load (and strength), or for a seed
     // ensemble the Weibull plot.
     // Keys given one value (a longer stage for every run, a strength scatter, say) do not
@@ -359,11 +532,13 @@ int sweep_command(const SweepOptions& o) {
     std::vector<std::size_t> varied;
     for (std::size_t k = 0; k < axes.size(); ++k)
       if (axes[k].values.size() > 1) varied.push_back(k);
-    const bool seeds = varied.size() == 1 && axes[varied[0]].key.find("seed") != std::string::npos;
+    const bool seeds = varied.size() == 1 && o.command == "run" &&
+                       axes[varied[0]].key.find("seed") != std::string::npos;
     int seed_axis = -1, size_axis = -1;
-    if (varied.size() == 2) {
+    if (varied.size() == 2 && o.command == "run") {
       for (int a = 0; a < 2; ++a)
-        if (axes[varied[a]].key.find("seed") != std::string::npos) {
+        if (axes[varied[a]].key.find("seed") != std::string::npos &&
+            axes[varied[1 - a]].reference.empty()) {
           seed_axis = static_cast<int>(varied[a]);
           size_axis = static_cast<int>(varied[1 - a]);
         }
@@ -412,24 +587,30 @@ int sweep_command(const SweepOptions& o) {
                    "weibull.csv, weibull.svg\n",
                    fit.sorted.size(), fit.modulus, fit.scale, fit.r_squared);
     } else {
-      std::vector<double> x, peak, strength;
+      // The first axis against the command's headline result.
+      const std::string shown_key =
+          columns.front().key == "validation" ? "peak_load_N" : columns.front().key;
+      std::vector<double> x, y;
       bool numeric = true;
       for (const Job& j : jobs) {
         const double v = number(points[j.index][0]);
         numeric = numeric && std::isfinite(v);
         x.push_back(std::isfinite(v) ? v : static_cast<double>(j.index + 1));
-        peak.push_back(number(fact(j, "peak_load_N")));
-        strength.push_back(number(fact(j, "brazilian_strength_Pa")));
+        y.push_back(number(fact(j, shown_key)));
       }
       io::Plot p;
-      p.title = fmt::format("{} runs of {}", jobs.size(), base.name);
-      p.x_label = numeric ? axes[0].key : "run";
-      p.y_label = "peak load (N)";
-      p.series.push_back({"peak load", x, peak, "", true, false, 1.5});
+      p.title = fmt::format("{} {}s of {}", jobs.size(),
+                            o.command == "measure" ? "measurement" : o.command, base_name);
+      p.x_label = numeric ? axes[0].name() : "run";
+      p.y_label = shown_key == "peak_load_N" ? "peak load (N)" : shown_key;
+      p.series.push_back(
+          {shown_key == "peak_load_N" ? "peak load" : shown_key, x, y, "", true, false, 1.5});
       io::write_plot_svg(out / "summary.svg", p);
     }
     record.manifest.facts["runs_failed"] = std::to_string(failed);
     record.manifest.facts["runs_stopped"] = std::to_string(cut);
+    if (o.command == "validate")
+      record.manifest.facts["validations_failed"] = std::to_string(verdicts_failed);
     if (stopped) {
       const int sig = stop_signal();
       record.close(io::run_status::interrupted,
@@ -455,8 +636,12 @@ int sweep_command(const SweepOptions& o) {
     return 1;
   }
   if (!o.quiet)
-    fmt::print("cleave sweep: {} runs, {} failed{}, {:.1f} s -> {}\n", jobs.size(), failed,
+    fmt::print("cleave sweep: {} runs, {} failed{}{}, {:.1f} s -> {}\n", jobs.size(), failed,
                cut > 0 ? fmt::format(", {} stopped by --max-steps", cut) : std::string(),
+               o.command == "validate"
+                   ? fmt::format(" ({} of the validations within their bounds)",
+                                 static_cast<int>(jobs.size()) - failed - verdicts_failed)
+                   : std::string(),
                std::chrono::duration<double>(Clock::now() - t0).count(),
                (out / "summary.csv").string());
   return failed > 0 ? 1 : 0;

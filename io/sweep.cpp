@@ -80,6 +80,79 @@ void assign(toml::table& table, const std::string& name, const std::string& valu
     table.insert_or_assign(name, value);
 }
 
+/// The node at a dotted key path, or null (nothing is created).
+const toml::node* find_key(const toml::table& root, const std::vector<PathStep>& steps) {
+  const toml::node* node = &root;
+  for (const PathStep& step : steps) {
+    const toml::table* t = node->as_table();
+    if (t == nullptr) return nullptr;
+    node = t->get(step.name);
+    if (node == nullptr) return nullptr;
+    if (step.index > 0) {
+      const toml::array* arr = node->as_array();
+      if (arr == nullptr || static_cast<std::size_t>(step.index) > arr->size()) return nullptr;
+      node = arr->get(static_cast<std::size_t>(step.index - 1));
+    }
+  }
+  return node;
+}
+
+/// Shortest text that reads back as `v` (fmt's default for a double).
+std::string exact(double v) {
+  return fmt::format("{}", v);
+}
+
+/// Axis k's value: its ratio times its reference's value in `root` (a number, or a number
+/// with its unit, the unit kept).
+std::string ratio_value(const toml::table& root, const std::string& source,
+                        const std::vector<SweepAxis>& axes, std::size_t k,
+                        const std::string& ratio_text) {
+  const SweepAxis& axis = axes[k];
+  double ratio = 0.0;
+  if (!parse_double(ratio_text, ratio))
+    throw SweepError(
+        fmt::format("--set {}: a ratio is a number, found '{}'", axis.name(), ratio_text));
+  const toml::node* ref = find_key(root, split_key(axis.reference));
+  if (ref == nullptr)
+    throw SweepError(fmt::format(
+        "--set {}: {} is not in {}: a ratio's reference must be written in the scenario (or "
+        "set by another --set); its default is not read",
+        axis.name(), axis.reference, source));
+  // Where the reference's value came from, for an error about it.
+  std::string where;
+  for (const auto& other : axes)
+    if (other.key == axis.reference && other.reference.empty()) where = " (as --set gives it)";
+  if (where.empty() && ref->source().begin.line > 0)
+    where = fmt::format(" at {}:{}", source, ref->source().begin.line);
+  if (where.empty()) where = fmt::format(" in {}", source);
+  if (const auto i = ref->value_exact<std::int64_t>()) {
+    const double v = ratio * static_cast<double>(*i);
+    if (std::trunc(v) == v && std::abs(v) < 9e15)
+      return std::to_string(static_cast<std::int64_t>(v));
+    return exact(v);
+  }
+  if (const auto d = ref->value_exact<double>()) return exact(ratio * *d);
+  if (const auto text = ref->value_exact<std::string>()) {
+    // "250 MPa": the number, then its unit.
+    const std::string t = trim(*text);
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(t, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used > 0 && std::isfinite(v) && used < t.size() && (t[used] == ' ' || t[used] == '\t'))
+      return exact(ratio * v) + " " + trim(t.substr(used));
+    throw SweepError(
+        fmt::format("--set {}: {}{} is \"{}\", not a number (nor a number with "
+                    "its unit)",
+                    axis.name(), axis.reference, where, *text));
+  }
+  throw SweepError(
+      fmt::format("--set {}: {}{} is not a number", axis.name(), axis.reference, where));
+}
+
 }  // namespace
 
 SweepAxis parse_sweep_axis(const std::string& spec) {
@@ -90,6 +163,16 @@ SweepAxis parse_sweep_axis(const std::string& spec) {
                                  spec));
   SweepAxis axis;
   axis.key = trim(spec.substr(0, eq));
+  if (const auto slash = axis.key.find('/'); slash != std::string::npos) {
+    axis.reference = trim(axis.key.substr(slash + 1));
+    axis.key = trim(axis.key.substr(0, slash));
+    if (axis.reference.empty() || axis.key.empty() || axis.reference.find('/') != std::string::npos)
+      throw SweepError(
+          fmt::format("--set '{}': a ratio is KEY/REFERENCE=RATIOS, e.g. "
+                      "bond.tbn/fracture.sigma_f=0.1,1,10",
+                      spec));
+    split_key(axis.reference);
+  }
   split_key(axis.key);  // validates the shape of the key
   const std::string values = trim(spec.substr(eq + 1));
   const auto dots = values.find("..");
@@ -114,6 +197,12 @@ SweepAxis parse_sweep_axis(const std::string& spec) {
     }
   }
   if (axis.values.empty()) throw SweepError(fmt::format("--set '{}': no values", spec));
+  if (!axis.reference.empty())
+    for (const auto& v : axis.values) {
+      double d = 0.0;
+      if (!parse_double(v, d))
+        throw SweepError(fmt::format("--set '{}': a ratio is a number, found '{}'", spec, v));
+    }
   return axis;
 }
 
@@ -220,34 +309,35 @@ ScenarioError blame_sweep_point(const ScenarioError& e, const std::vector<SweepA
   return ScenarioError(e.file(), 0, 0, e.key(), fmt::format("{} (with {})", e.message(), with));
 }
 
-Scenario read_sweep_point(const std::string& text, const std::string& source,
-                          const std::vector<SweepAxis>& axes, const SweepPoint& point,
-                          const std::vector<std::string>& shown,
-                          const std::filesystem::path& base_dir, std::string* text_as_run) {
+std::string check_sweep_point(const std::string& text, const std::string& source,
+                              const std::vector<SweepAxis>& axes, const SweepPoint& point,
+                              const std::vector<std::string>& shown,
+                              const std::filesystem::path& base_dir, const ScenarioReader& read,
+                              std::vector<std::string>* absolute) {
   std::string applied;
   try {
-    applied = axes.empty() ? text : apply_sweep_point(text, source, axes, point, base_dir);
+    applied =
+        axes.empty() ? text : apply_sweep_point(text, source, axes, point, base_dir, absolute);
   } catch (const SweepError& e) {
     // apply_sweep_point names a key as "--set KEY"; an override is named by its own text,
     // as it was given ("--set KEY=VALUE", "override KEY=VALUE").
     const std::string message = e.what();
     for (std::size_t k = 0; k < axes.size() && k < shown.size(); ++k) {
-      const std::string prefix = "--set " + axes[k].key + ":";
+      const std::string prefix = "--set " + axes[k].name() + ":";
       if (message.rfind(prefix, 0) == 0)
         throw SweepError(shown[k] + ":" + message.substr(prefix.size()));
     }
     throw;
   }
   try {
-    Scenario s = parse_scenario(applied, source);
-    if (text_as_run != nullptr) *text_as_run = std::move(applied);
-    return s;
+    read(applied, source);
+    return applied;
   } catch (const ScenarioError& e) {
     if (axes.empty()) throw;
     if (blamed_axis(e, axes) < 0) {
       // An error of the file itself is reported at its line in the file.
       try {
-        (void)parse_scenario(text, source);
+        read(text, source);
       } catch (const ScenarioError& original) {
         if (original.key() == e.key()) throw;
       }
@@ -256,9 +346,22 @@ Scenario read_sweep_point(const std::string& text, const std::string& source,
   }
 }
 
+Scenario read_sweep_point(const std::string& text, const std::string& source,
+                          const std::vector<SweepAxis>& axes, const SweepPoint& point,
+                          const std::vector<std::string>& shown,
+                          const std::filesystem::path& base_dir, std::string* text_as_run) {
+  Scenario s;
+  std::string applied = check_sweep_point(
+      text, source, axes, point, shown, base_dir,
+      [&](const std::string& t, const std::string& src) { s = parse_scenario(t, src); });
+  if (text_as_run != nullptr) *text_as_run = std::move(applied);
+  return s;
+}
+
 std::string apply_sweep_point(const std::string& scenario_text, const std::string& source,
                               const std::vector<SweepAxis>& axes, const SweepPoint& point,
-                              const std::filesystem::path& base_dir) {
+                              const std::filesystem::path& base_dir,
+                              std::vector<std::string>* absolute) {
   toml::table root;
   try {
     root = toml::parse(scenario_text, std::string_view(source));
@@ -266,7 +369,8 @@ std::string apply_sweep_point(const std::string& scenario_text, const std::strin
     const auto& b = e.source().begin;
     throw SweepError(fmt::format("{}:{}:{}: {}", source, b.line, b.column, e.description()));
   }
-  for (std::size_t k = 0; k < axes.size(); ++k) {
+  // The table that holds a key (created when missing), and the key's last name.
+  const auto holder = [&](const std::size_t k) -> std::pair<toml::table*, std::string> {
     const auto steps = split_key(axes[k].key);
     toml::table* t = &root;
     for (std::size_t s = 0; s + 1 < steps.size(); ++s) {
@@ -275,24 +379,38 @@ std::string apply_sweep_point(const std::string& scenario_text, const std::strin
       if (step.index > 0) {
         toml::array* arr = node ? node->as_array() : nullptr;
         if (arr == nullptr)
-          throw SweepError(fmt::format("--set {}: {} has no [[{}]] tables", axes[k].key, source,
-                                       step.name));
+          throw SweepError(
+              fmt::format("--set {}: {} has no [[{}]] tables", axes[k].name(), source, step.name));
         if (static_cast<std::size_t>(step.index) > arr->size())
-          throw SweepError(fmt::format("--set {}: {} has only {} [[{}]] table(s)", axes[k].key,
+          throw SweepError(fmt::format("--set {}: {} has only {} [[{}]] table(s)", axes[k].name(),
                                        source, arr->size(), step.name));
         t = arr->get(static_cast<std::size_t>(step.index - 1))->as_table();
         if (t == nullptr)
-          throw SweepError(fmt::format("--set {}: {}[{}] is not a table", axes[k].key, step.name,
+          throw SweepError(fmt::format("--set {}: {}[{}] is not a table", axes[k].name(), step.name,
                                        step.index));
       } else {
         if (node == nullptr) node = t->insert(step.name, toml::table{}).first->second.as_table();
         if (node == nullptr || !node->is_table())
-          throw SweepError(fmt::format("--set {}: '{}' in {} is not a table", axes[k].key,
+          throw SweepError(fmt::format("--set {}: '{}' in {} is not a table", axes[k].name(),
                                        step.name, source));
         t = node->as_table();
       }
     }
-    assign(*t, steps.back().name, point[k]);
+    return {t, steps.back().name};
+  };
+  if (absolute != nullptr) *absolute = point;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    if (!axes[k].reference.empty()) continue;
+    const auto [t, name] = holder(k);
+    assign(*t, name, point[k]);
+  }
+  // Ratios after the plain values, so that a swept reference is the value each run has.
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    if (axes[k].reference.empty()) continue;
+    const std::string value = ratio_value(root, source, axes, k, point[k]);
+    const auto [t, name] = holder(k);
+    assign(*t, name, value);
+    if (absolute != nullptr) (*absolute)[k] = value;
   }
   // Mesh files named relative to the original scenario stay found from anywhere.
   if (toml::array* grains = root["mesh_grain"].as_array())
@@ -398,6 +516,108 @@ SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_st
       std::any_of(normalised.begin(), normalised.end(), [&](double s) { return s != normalised.front(); }))
     e.pooled = fit_weibull(normalised);
   return e;
+}
+
+SampleStats sample_stats(const std::vector<double>& values) {
+  SampleStats st;
+  double sum = 0.0;
+  for (double v : values)
+    if (std::isfinite(v)) {
+      sum += v;
+      ++st.count;
+    }
+  if (st.count == 0) return {0, NAN, NAN};
+  st.mean = sum / static_cast<double>(st.count);
+  double squares = 0.0;
+  for (double v : values)
+    if (std::isfinite(v)) squares += (v - st.mean) * (v - st.mean);
+  st.stddev = st.count > 1 ? std::sqrt(squares / static_cast<double>(st.count - 1)) : NAN;
+  return st;
+}
+
+namespace {
+
+std::string csv_cell(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+double cell_number(const std::string& s) {
+  double v = 0.0;
+  return parse_double(trim(s), v) ? v : NAN;
+}
+
+}  // namespace
+
+std::string replicate_means_csv(const std::vector<std::string>& header,
+                                const std::vector<std::vector<std::string>>& rows,
+                                const std::vector<std::size_t>& group_columns,
+                                const std::vector<std::size_t>& value_columns,
+                                const std::vector<bool>& counted) {
+  const auto cell = [](const std::vector<std::string>& row, std::size_t c) {
+    return c < row.size() ? row[c] : std::string();
+  };
+  std::vector<std::vector<std::string>> keys;
+  std::vector<std::vector<std::size_t>> members;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    std::vector<std::string> key;
+    for (std::size_t c : group_columns) key.push_back(cell(rows[r], c));
+    const auto it = std::find(keys.begin(), keys.end(), key);
+    if (it == keys.end()) {
+      keys.push_back(key);
+      members.push_back({r});
+    } else {
+      members[static_cast<std::size_t>(it - keys.begin())].push_back(r);
+    }
+  }
+  std::string csv;
+  for (std::size_t c : group_columns) csv += csv_cell(cell(header, c)) + ",";
+  csv += "runs,counted";
+  for (std::size_t c : value_columns) {
+    const std::string n = cell(header, c);
+    csv += fmt::format(",{},{},{}", csv_cell(n + "_mean"), csv_cell(n + "_sd"), csv_cell(n + "_n"));
+  }
+  csv += "\n";
+  const auto num = [](double v) {
+    return std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string();
+  };
+  for (std::size_t g = 0; g < keys.size(); ++g) {
+    for (const auto& k : keys[g]) csv += csv_cell(k) + ",";
+    std::size_t used = 0;
+    for (std::size_t r : members[g]) used += r < counted.size() && counted[r] ? 1 : 0;
+    csv += fmt::format("{},{}", members[g].size(), used);
+    for (std::size_t c : value_columns) {
+      std::vector<double> v;
+      for (std::size_t r : members[g])
+        if (r < counted.size() && counted[r]) v.push_back(cell_number(cell(rows[r], c)));
+      const SampleStats st = sample_stats(v);
+      csv += fmt::format(",{},{},{}", num(st.mean), num(st.stddev), st.count);
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+std::map<std::string, std::string> read_flat_toml(const std::filesystem::path& file) {
+  std::map<std::string, std::string> values;
+  try {
+    const toml::table t = toml::parse_file(file.string());
+    for (const auto& [k, node] : t) {
+      if (const auto d = node.value_exact<double>())
+        values[std::string(k.str())] = fmt::format("{:.9g}", *d);
+      else if (const auto i = node.value_exact<std::int64_t>())
+        values[std::string(k.str())] = std::to_string(*i);
+      else if (const auto s = node.value_exact<std::string>())
+        values[std::string(k.str())] = *s;
+      else if (const auto b = node.value_exact<bool>())
+        values[std::string(k.str())] = *b ? "true" : "false";
+    }
+  } catch (const std::exception&) {
+    values.clear();
+  }
+  return values;
 }
 
 }  // namespace cleave::io

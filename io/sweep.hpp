@@ -12,10 +12,17 @@
 ///
 /// `--set` axes combine as a product; `--zip` axes vary together (the i-th value of each in
 /// the same run), the zipped group being one factor of the product.
+///
+/// A ratio axis `KEY/REF=VALUES` (`bond.tbn/fracture.sigma_f=0.1,1,10`) sets KEY to each value
+/// times REF's value as the scenario holds it after the plain axes are set: a dimensionless
+/// axis. REF must be written in the file (or set by another axis) as a number or a number with
+/// its unit ("250 MPa": KEY gets "25 MPa").
 /// `cleave run --set KEY=VALUE` and Python's `overrides=` take one value per key.
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -36,6 +43,10 @@ struct SweepAxis {
   std::string key;                  ///< as given, e.g. "orientation.seed"
   std::vector<std::string> values;  ///< as given, e.g. {"1", "2", "3"}
   bool zipped = false;              ///< a --zip axis: varies together with the other zipped ones
+  /// A ratio axis: the key its values multiply (e.g. "fracture.sigma_f"); empty: plain values.
+  std::string reference;
+  /// "key", or for a ratio axis "key/reference": its name in errors and summary.csv.
+  std::string name() const { return reference.empty() ? key : key + "/" + reference; }
 };
 
 /// Parses "KEY=VALUES"; throws SweepError naming the specification.
@@ -54,9 +65,12 @@ std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes,
 /// missing; an array of tables must exist and be long enough). Relative `file` paths of
 /// `[[mesh_grain]]` tables are made absolute against `base_dir` (the original scenario's
 /// folder), so the text can be written anywhere. `source` names the scenario in errors.
+/// Ratio axes are set after the plain ones, in their order; `absolute`, when given, gets each
+/// axis' value as written (a ratio axis': its ratio times the reference's value).
 std::string apply_sweep_point(const std::string& scenario_text, const std::string& source,
                               const std::vector<SweepAxis>& axes, const SweepPoint& point,
-                              const std::filesystem::path& base_dir);
+                              const std::filesystem::path& base_dir,
+                              std::vector<std::string>* absolute = nullptr);
 
 /// Overrides ("KEY=VALUE", one value each, as `cleave run --set` takes them) as axes and
 /// the one point they make. `label` names them in errors ("--set"). Throws SweepError.
@@ -73,6 +87,42 @@ Scenario read_sweep_point(const std::string& text, const std::string& source,
                           const std::vector<std::string>& shown,
                           const std::filesystem::path& base_dir,
                           std::string* text_as_run = nullptr);
+
+/// Reads a scenario text (named `source`), throwing ScenarioError: parse_scenario, or another
+/// format's reader (parse_validation_scenario).
+using ScenarioReader = std::function<void(const std::string& text, const std::string& source)>;
+
+/// read_sweep_point for any format: the text as run, checked by `read` with the same blame
+/// of errors; `absolute` as apply_sweep_point's.
+std::string check_sweep_point(const std::string& text, const std::string& source,
+                              const std::vector<SweepAxis>& axes, const SweepPoint& point,
+                              const std::vector<std::string>& shown,
+                              const std::filesystem::path& base_dir, const ScenarioReader& read,
+                              std::vector<std::string>* absolute = nullptr);
+
+/// Count, mean and sample standard deviation of the finite values (NaN skipped):
+/// mean = sum x_i / n, sd = sqrt(sum (x_i - mean)^2 / (n - 1)); sd is NaN for n < 2, and
+/// mean too for n = 0.
+struct SampleStats {
+  std::size_t count = 0;
+  double mean = 0.0, stddev = 0.0;
+};
+SampleStats sample_stats(const std::vector<double>& values);
+
+/// summary_mean.csv from summary.csv's cells: the rows grouped by equal cells in
+/// `group_columns` (groups in order of first appearance), only rows with `counted[r]` taking
+/// part; a row per group with its group cells, `runs` (rows in the group), `counted`, and for
+/// each of `value_columns` NAME_mean, NAME_sd, NAME_n (sample_stats of its numeric cells;
+/// empty where undefined).
+std::string replicate_means_csv(const std::vector<std::string>& header,
+                                const std::vector<std::vector<std::string>>& rows,
+                                const std::vector<std::size_t>& group_columns,
+                                const std::vector<std::size_t>& value_columns,
+                                const std::vector<bool>& counted);
+
+/// The scalar values of a flat TOML file (measure.toml) as text, numbers as written by
+/// {:.9g}; an empty map when it cannot be read.
+std::map<std::string, std::string> read_flat_toml(const std::filesystem::path& file);
 
 /// `e`, an error of a scenario read with the point's values set, told about them as
 /// read_sweep_point does (the rewritten text's lines mean nothing to a user).
