@@ -171,7 +171,7 @@ class FragmentOutputs : public cleave::testing::FolderTest {};
 
 TEST_F(FragmentOutputs, TheFragmentsOfARunSumToTheSpecimensVolume) {
   const auto r = cleave::testing::run_cleave(
-      fmt::format("run {}/scenarios/impact.toml --out {} --quiet --set specimen.diameter=6 "
+      fmt::format("run {}/scenarios/impact.toml --out {} --quiet --set specimen.diameter=6 --set dynamics.dt=1.2e-5 "
                   "--set 'stage[2].rate_scale=8' --set 'stage[2].time=0.2'",
                   CLEAVE_SOURCE_DIR, (dir_ / "run").string()));
   ASSERT_EQ(r.code, 0) << r.output;
@@ -200,7 +200,8 @@ TEST_F(FragmentOutputs, ASweepPoolsEachCombinationsSeedsAsReplicates) {
   const fs::path out = dir_ / "sweep";
   const auto r = cleave::testing::run_cleave(fmt::format(
       "sweep {}/scenarios/impact.toml -o {} --quiet --jobs 2 --set specimen.diameter=6 "
-      "--set 'stage[2].time=0.2' --set 'stage[2].rate_scale=4,8' --set orientation.seed=1,2",
+      "--set dynamics.dt=1.2e-5 --set 'stage[2].time=0.2' --set 'stage[2].rate_scale=4,8' "
+      "--set orientation.seed=1,2",
       CLEAVE_SOURCE_DIR, out.string()));
   ASSERT_EQ(r.code, 0) << r.output;
   const auto rows = cleave::testing::read_csv_cells(out / "fragments_pooled.csv");
