@@ -6,6 +6,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,6 +24,7 @@
 #include "cleave_version.hpp"
 #include "commands.hpp"
 #include "io/budget.hpp"
+#include "io/fragment_sizes.hpp"
 #include "io/plot.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
@@ -236,6 +238,32 @@ void write_size_effect(const std::filesystem::path& out, const std::string& key,
                "size_effect.svg\n",
                e.groups.size(), key, e.exponent);
   }
+}
+
+/// The fragment size distributions of the finished runs pooled per combination of the keys
+/// that are not seeds (seeds are replicates), io::write_pooled_fragment_sizes.
+void pool_fragments(const fs::path& out, const std::vector<io::SweepAxis>& axes,
+                    const std::vector<io::SweepPoint>& points, const std::vector<Job>& jobs,
+                    io::ResultRecord& record, bool quiet) {
+  std::vector<std::pair<std::string, std::vector<fs::path>>> groups;
+  for (const Job& j : jobs) {
+    if (!j.has_manifest || j.manifest.status != io::run_status::finished) continue;
+    std::string label;
+    for (std::size_t k = 0; k < axes.size(); ++k)
+      if (axes[k].values.size() > 1 && axes[k].key.find("seed") == std::string::npos)
+        label += fmt::format("{}{}={}", label.empty() ? "" : " ", axes[k].key, points[j.index][k]);
+    if (label.empty()) label = "all";
+    auto it =
+        std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == label; });
+    if (it == groups.end()) it = groups.insert(groups.end(), {label, {}});
+    it->second.push_back(j.dir);
+  }
+  const auto files = io::write_pooled_fragment_sizes(out, groups);
+  if (!files.empty())
+    record.manifest.facts["fragments_pooled_groups"] = std::to_string(groups.size());
+  if (!quiet && !files.empty())
+    fmt::print("  fragment sizes pooled over {} group(s) of runs -> {}\n", groups.size(),
+               fmt::format("{}", fmt::join(files, ", ")));
 }
 
 }  // namespace
@@ -607,6 +635,7 @@ int sweep_command(const SweepOptions& o) {
           {shown_key == "peak_load_N" ? "peak load" : shown_key, x, y, "", true, false, 1.5});
       io::write_plot_svg(out / "summary.svg", p);
     }
+    pool_fragments(out, axes, points, jobs, record, o.quiet);
     record.manifest.facts["runs_failed"] = std::to_string(failed);
     record.manifest.facts["runs_stopped"] = std::to_string(cut);
     if (o.command == "validate")

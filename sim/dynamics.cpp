@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 
 #include "io/result_dir.hpp"
 #include "physics/dem/world.hpp"
@@ -14,6 +15,7 @@
 #include "physics/transgranular/transgranular.hpp"
 #include "sim/boundary_conditions.hpp"
 #include "sim/checkpoint_policy.hpp"
+#include "sim/fragments.hpp"
 #include "sim/frames.hpp"
 #include "sim/run_history.hpp"
 #include "sim/stage_plan.hpp"
@@ -224,6 +226,7 @@ class Dynamics::Runner {
         sum_.final_pieces.push_back({e.lineage, e.shape, grain.site.centre, grain.orientation});
       }
     }
+    collect_fragments();
     for (const auto& st : sum_.stages) sum_.peak_load = std::max(sum_.peak_load, st.peak_load);
     const geometry::Outline& outline = specimen_.def.outline;
     if (outline.kind == geometry::Outline::Kind::disc && sum_.peak_load > 0.0) {
@@ -234,6 +237,35 @@ class Dynamics::Runner {
     sum_.wall_seconds = seconds_since(t0_);
     finished_ = true;
     return sum_;
+  }
+
+  /// The fragments at the end (clusters of bodies joined by intact bonds), each body's
+  /// volume exact from its shape: the book's piece, or its grain's shape without [fracture].
+  void collect_fragments() {
+    std::map<const geometry::ExactPolyhedron*, geometry::ExactScalar> volumes;
+    auto volume_of = [&](const geometry::ExactPolyhedron& shape) {
+      auto it = volumes.find(&shape);
+      if (it == volumes.end()) it = volumes.emplace(&shape, shape.volume()).first;
+      return it->second;
+    };
+    std::map<std::uint32_t, const geometry::ExactPolyhedron*> pieces;
+    if (book_) {
+      for (const auto& e : book_->entries(world_)) pieces[e.id.index] = e.shape.get();
+    }
+    const auto& infos = world_.slot_infos();
+    const auto fragments = bonded_fragments(world_, [&](std::uint32_t slot) {
+      if (const auto it = pieces.find(slot); it != pieces.end()) return volume_of(*it->second);
+      if (infos[slot].grain_id < 0) return geometry::ExactScalar();  // no grain: no specimen volume
+      const auto& grain = specimen_.grains.at(static_cast<std::size_t>(infos[slot].grain_id));
+      return volume_of(specimen_.shape_of(grain));
+    });
+    geometry::ExactScalar total, specimen;
+    for (const auto& f : fragments) {
+      sum_.fragments.push_back({f.slots.size(), f.volume.to_double(), f.mass});
+      total = total + f.volume;
+    }
+    for (const auto& g : specimen_.grains) specimen = specimen + volume_of(specimen_.shape_of(g));
+    sum_.fragment_volume_exact = total == specimen;
   }
 
   const physics::World& world() const { return world_; }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/specimen.hpp"
+#include "io/fragment_sizes.hpp"
 #include "io/scenario.hpp"
 #include "physics/dem/world.hpp"
 #include "physics/transgranular/fracture_book.hpp"
@@ -132,6 +133,11 @@ struct DynamicsSummary {
   /// With [fracture]: every live piece at the end (exact shape in its grain's frame,
   /// placed at the grain's lattice centre), for geometry.exact and the volume check.
   std::vector<geometry::Piece> final_pieces;
+  /// The fragments at the end: clusters of the bodies joined by intact bonds
+  /// (sim/fragments.hpp), each with its bodies, exact volume (rounded) and mass.
+  std::vector<io::FragmentRecord> fragments;
+  /// The fragments' exact volumes sum exactly to the specimen's grains' (no body was lost).
+  bool fragment_volume_exact = false;
   /// Disc specimens: the Brazilian tensile strength 2P/(pi D t) of the peak load (sec. 2.5.4).
   std::optional<double> brazilian_strength;
   /// physics::World::state_hash of the final state: a run restarted from a checkpoint ends

@@ -13,14 +13,16 @@
 #include "cleave_version.hpp"
 #include "io/checkpoint.hpp"
 #include "io/exact_store.hpp"
+#include "io/fragment_sizes.hpp"
 #include "io/mesh_io.hpp"
+#include "io/plot.hpp"
 #include "io/provenance.hpp"
 #include "io/result_dir.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 #include "io/sweep.hpp"
-#include "sim/world_assembly.hpp"
 #include "sim/specimen_picture.hpp"
+#include "sim/world_assembly.hpp"
 
 namespace cleave::sim {
 
@@ -437,6 +439,31 @@ RunReport Simulation::State::finish() {
         manifest.facts["transgranular_splits"] = std::to_string(d.splits);
         manifest.facts["intergranular_breaks"] = std::to_string(d.bond_counts.broken());
         manifest.facts["final_pieces"] = std::to_string(d.final_pieces.size());
+      }
+      if (writes_results() && !d.fragments.empty()) {
+        // Fragments in the fragmentation sense: clusters of bodies joined by intact bonds.
+        const io::FragmentSizes sizes = io::analyse_fragment_sizes(d.fragments);
+        io::write_file_atomically(out / "fragment_sizes.csv", io::fragment_sizes_csv(sizes));
+        io::write_plot_svg(
+            out / "fragment_sizes.svg",
+            io::fragment_sizes_plot(
+                sizes, fmt::format("{}: {} fragments", scenario.name, sizes.fragments.size())));
+        io::add_fragment_facts(manifest.facts, sizes);
+        manifest.facts["fragments.volume_equals_specimen"] =
+            d.fragment_volume_exact ? "true" : "false";
+        std::string fits;
+        if (sizes.rosin_rammler)
+          fits += fmt::format("; Rosin-Rammler d0 = {:.4g} mm, n = {:.3g}",
+                              sizes.rosin_rammler->d0 * 1e3, sizes.rosin_rammler->n);
+        if (sizes.power_law)
+          fits += fmt::format("; N(>d) ~ d^-{:.3g} over d >= {:.4g} mm", sizes.power_law->b,
+                              sizes.power_law->d_min * 1e3);
+        say(fmt::format(
+            "  fragments  {} (bodies joined by intact bonds), the largest {:.3g} of the mass{}; "
+            "volumes {} -> fragment_sizes.csv, fragment_sizes.svg",
+            sizes.fragments.size(), sizes.largest_mass_fraction, fits,
+            d.fragment_volume_exact ? "sum exactly to the specimen's"
+                                    : "do not sum to the specimen's (bodies were lost)"));
       }
       if (d.peak_load > 0.0) manifest.facts["peak_load_N"] = fmt::format("{:.9g}", d.peak_load);
       if (d.brazilian_strength) {

@@ -396,13 +396,14 @@ namespace {
 bool names_its_unit(const std::string& name) {
   static const std::vector<std::string> suffixes = {
       "_s",   "_J",  "_m",         "_m3",      "_N",         "_Pa",         "_K",
-      "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step"};
+      "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step", "_kg"};
   static const std::set<std::string> dimensionless = {
       "stage", "step", "steps", "contacts", "intact", "broken_tension", "broken_shear",
       "broken_bending", "broken_torsion", "bonds_intact", "bonds_broken", "grain_splits", "grain",
       "parent", "pieces", "plane", "nx", "ny", "nz", "criterion", "bond", "body_a", "body_b",
       "grain_a", "grain_b", "mode", "grain_id", "row", "i", "j", "k", "family", "slabs", "name",
       "path", "strain_x", "strain_y", "strain_z", "axis", "strain", "poisson", "part", "share",
+      "bodies", "passing",
       // VTK fields
       "body_index", "link_index", "body_id", "family_11_20", "c_axis", "normal", "with_wall",
       "failure_mode", "periodic", "wall_index", "crack_index", "kind"};

@@ -97,6 +97,29 @@ def cracks(res, ax=None, path=None, plane="xy"):
     return _finish(ax, path)
 
 
+def fragment_sizes(res, ax=None, path=None):
+    """The fragment size distribution (fragment_sizes.csv): cumulative mass fraction passing
+    against the equivalent diameter, log d, with run.toml's Rosin-Rammler fit."""
+    res = _result(res)
+    t = res.table("fragment_sizes")
+    ax = _setup(ax)
+    import numpy as np
+
+    d = t["diameter_m"].astype(float) * 1e3
+    ax.semilogx(d, t["passing"].astype(float), "o-", ms=3, label=f"{len(d)} fragments")
+    facts = res.facts
+    if "fragments.rosin_rammler_d0_m" in facts:
+        d0 = float(facts["fragments.rosin_rammler_d0_m"]) * 1e3
+        n = float(facts["fragments.rosin_rammler_n"])
+        x = np.geomspace(min(d.min(), d0) / 1.5, max(d.max(), d0) * 1.3, 200)
+        ax.semilogx(x, 1 - np.exp(-((x / d0) ** n)), "--", label=f"Rosin-Rammler d0 = {d0:.3g} mm, n = {n:.3g}")
+    ax.set_xlabel("equivalent diameter (mm)")
+    ax.set_ylabel("cumulative mass fraction passing")
+    ax.set_ylim(0, 1.02)
+    ax.legend()
+    return _finish(ax, path)
+
+
 def weibull_fit(strengths):
     """Least-squares Weibull fit on ln(-ln(1-F)) against ln(s) with Bernard's median ranks
     F_i = (i - 0.3)/(n + 0.4), as `cleave sweep` does; returns (modulus m, scale s0)."""

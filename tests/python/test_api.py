@@ -293,6 +293,10 @@ def test_load_result_reads_the_tables_and_plots(root, tmp_path, monkeypatch):
     png = tmp_path / "energy.png"
     cleave.plot.energy(res, path=png)
     assert png.stat().st_size > 5000
+    sizes = res["fragment_sizes"]
+    assert len(sizes) == int(res.facts["fragments.count"]) and np.all(np.diff(sizes["passing"]) >= 0)
+    cleave.plot.fragment_sizes(res, path=tmp_path / "sizes.png")
+    assert (tmp_path / "sizes.png").stat().st_size > 5000
     with pytest.raises(KeyError):
         res.table("nope")
 

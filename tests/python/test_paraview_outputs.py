@@ -318,3 +318,40 @@ def test_meshio_and_vtk_read_the_stl(demo, fmt):
     reader.SetFileName(str(path))
     reader.Update()
     assert reader.GetOutput().GetNumberOfCells() == sum(len(b.data) for b in mesh.cells)
+
+
+def test_fragments_are_the_components_of_the_last_frames_intact_bonds(result):
+    """fragment_sizes.csv against the last ParaView frames read with VTK: the bodies joined
+    by intact bond lines (their ends are the bodies' centroids) make one fragment each, and
+    a body on no intact line is a fragment of its own."""
+    last_bonds = pvd_entries(result / "bonds.pvd")[-1][1]
+    last_bodies = pvd_entries(result / "bodies.pvd")[-1][1]
+    bonds = read_vtp(result / last_bonds)
+    intact = cell_array(bonds, "intact")
+    parent = {}
+
+    def root(p):
+        while parent.setdefault(p, p) != p:
+            p = parent[p]
+        return p
+
+    for c in range(bonds.GetNumberOfCells()):
+        if intact[c] != 1:
+            continue
+        ends = [tuple(p) for p in cell_points(bonds, c)]
+        a, b = root(ends[0]), root(ends[1])
+        if a != b:
+            parent[max(a, b)] = min(a, b)
+    joined = {root(p) for p in list(parent)}
+    bodies = len(set(cell_array(read_vtp(result / last_bodies), "body_id").tolist()))
+    expected = len(joined) + bodies - len(parent)
+    rows = [r for r in read_csv(result / "fragment_sizes.csv") if not r["bodies"].startswith("#")]
+    with open(result / "run.toml", "rb") as f:
+        facts = tomllib.load(f)["facts"]
+    assert len(rows) == expected == int(facts["fragments.count"])
+    assert sum(int(r["bodies"]) for r in rows) == bodies
+    sizes = sorted(int(r["bodies"]) for r in rows if int(r["bodies"]) > 1)
+    counts = {}
+    for p in parent:
+        counts[root(p)] = counts.get(root(p), 0) + 1
+    assert sizes == sorted(counts.values())
