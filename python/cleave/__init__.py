@@ -46,7 +46,7 @@ from ._cleave import (  # noqa: F401
     total_volume,
 )
 from .results import Result, load_result  # noqa: F401
-from . import plot  # noqa: F401
+from . import maps, plot  # noqa: F401
 
 
 def run(scenario, out=None, overrides=None, quiet=True, max_steps=0, replace=False):
