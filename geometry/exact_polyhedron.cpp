@@ -179,7 +179,9 @@ int dominant_axis(const Plane3& plane) {
   return k;
 }
 
-FT component(const Plane3& plane, int k) { return k == 0 ? plane.a() : k == 1 ? plane.b() : plane.c(); }
+FT component(const Plane3& plane, int k) {
+  return k == 0 ? plane.a() : k == 1 ? plane.b() : plane.c();
+}
 }  // namespace
 
 double ExactPlane::area_of_projection(const ExactScalar& projected) const {

@@ -201,8 +201,9 @@ BodyFrame crack_frame(const physics::World& world, const physics::FractureBook* 
       const double exact = book->section_area(id, static_cast<int>(k));
       const double opened = book->opened_at(id, static_cast<int>(k));
       for (auto& m : faces) {
-        const double share = faces.size() == 1 || !(drawn > 0.0) ? 1.0 / static_cast<double>(faces.size())
-                                                                 : polygon_area(m.vertices) / drawn;
+        const double share = faces.size() == 1 || !(drawn > 0.0)
+                                 ? 1.0 / static_cast<double>(faces.size())
+                                 : polygon_area(m.vertices) / drawn;
         add(std::move(m), 2, 5, std::numeric_limits<double>::quiet_NaN(), opened, exact * share,
             grain, grain, n);
       }

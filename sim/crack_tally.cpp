@@ -20,7 +20,8 @@ std::optional<double> CrackTotals::intergranular_area_fraction() const {
   return t ? std::optional(1.0 - *t) : std::nullopt;
 }
 std::optional<double> CrackTotals::transgranular_count_fraction() const {
-  return share(static_cast<double>(transgranular), static_cast<double>(intergranular + transgranular));
+  return share(static_cast<double>(transgranular),
+               static_cast<double>(intergranular + transgranular));
 }
 std::optional<double> CrackTotals::intergranular_count_fraction() const {
   const auto t = transgranular_count_fraction();
@@ -52,7 +53,8 @@ CrackTotals get_totals(physics::StateReader& r) {
 void CrackTally::add_breaks(const physics::World& world) {
   const auto& breaks = world.bond_breaks();
   if (breaks_seen_ == breaks.size()) return;
-  for (; breaks_seen_ < breaks.size(); ++breaks_seen_) intergranular_.add(breaks[breaks_seen_].face_area);
+  for (; breaks_seen_ < breaks.size(); ++breaks_seen_)
+    intergranular_.add(breaks[breaks_seen_].face_area);
   intergranular_area_ = intergranular_.value();
 }
 

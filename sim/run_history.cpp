@@ -31,10 +31,12 @@ RunHistory::RunHistory(const io::Scenario& scenario, const physics::World& world
 }
 
 std::vector<CsvTable*> RunHistory::tables() {
-  return {&energy_, &walls_, &loads_, &bond_counts_, &cracks_, &splits_, &thermal_, &cell_, &modulus_};
+  return {&energy_, &walls_,   &loads_, &bond_counts_, &cracks_,
+          &splits_, &thermal_, &cell_,  &modulus_};
 }
 std::vector<const CsvTable*> RunHistory::tables() const {
-  return {&energy_, &walls_, &loads_, &bond_counts_, &cracks_, &splits_, &thermal_, &cell_, &modulus_};
+  return {&energy_, &walls_,   &loads_, &bond_counts_, &cracks_,
+          &splits_, &thermal_, &cell_,  &modulus_};
 }
 
 std::optional<std::string> RunHistory::record(const physics::World& world, const std::string& stage,

@@ -65,7 +65,9 @@ class RunHistory {
   [[nodiscard]] double start_potential() const { return pe0_; }
 
   /// Whether the run writes cracks.csv (it has bonds or [fracture]).
-  [[nodiscard]] bool writes_cracks() const { return scenario_.bond.enabled || scenario_.fracture.enabled; }
+  [[nodiscard]] bool writes_cracks() const {
+    return scenario_.bond.enabled || scenario_.fracture.enabled;
+  }
 
   /// A checkpoint's run state, in its order: the start (origins, potential), the tables,
   /// then the cell's start and the stages' break counts.

@@ -78,8 +78,8 @@ TEST(CrackArea, BasalCutIsTheHexagonAndATiltedCutTheHexagonOverTheCosine) {
   ASSERT_TRUE(flat.ok());
   EXPECT_NEAR(flat.below->area_on(basal), kHexagon, kRel * kHexagon);
   // The prism's own top face lies on z = t/2 with its outward normal +z.
-  EXPECT_NEAR(prism.area_on(ExactPlane::from_normal_offset({0.0, 0.0, 1.0}, kThick / 2.0)), kHexagon,
-              kRel * kHexagon);
+  EXPECT_NEAR(prism.area_on(ExactPlane::from_normal_offset({0.0, 0.0, 1.0}, kThick / 2.0)),
+              kHexagon, kRel * kHexagon);
   // Normal (1, 0, 2): cos(theta) = 2 / sqrt(5); the plane z = -x/2 stays within
   // +-sqrt(3)/4 a < t/2, so it crosses the six side faces and its section projects onto the
   // hexagon. Its

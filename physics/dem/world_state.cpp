@@ -13,9 +13,9 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 8;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures;
-                                           // 5: beam bonds; 6: periodic cells; 7: expansion centres;
-                                           // 8: a bond break's face area
+// 2: contact manifolds; 3: orientations at the search; 4: temperatures; 5: beam bonds;
+// 6: periodic cells; 7: expansion centres; 8: a bond break's face area.
+constexpr std::uint32_t kWorldLayout = 8;
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);

@@ -63,7 +63,8 @@ const geometry::ExactScalar& FractureBook::projected(std::uint32_t shape,
   auto key = std::pair{shape, plane.to_string()};
   auto it = projected_.find(key);
   if (it == projected_.end()) {
-    it = projected_.emplace(std::move(key), shapes_.at(shape).exact->projected_area_on(plane)).first;
+    it =
+        projected_.emplace(std::move(key), shapes_.at(shape).exact->projected_area_on(plane)).first;
   }
   return it->second;
 }
@@ -90,7 +91,8 @@ double FractureBook::grain_section_area(const World& world, int grain_id) const 
     if (r.lineage.grain_id != grain_id || r.lineage.path.empty()) continue;
     planes = r.planes.get();
     sums.resize(planes->size());
-    for (std::size_t k = 0; k < planes->size(); ++k) sums[k] = sums[k] + projected(r.shape, (*planes)[k]);
+    for (std::size_t k = 0; k < planes->size(); ++k)
+      sums[k] = sums[k] + projected(r.shape, (*planes)[k]);
   }
   ExactSum area;
   for (std::size_t k = 0; k < sums.size(); ++k) area.add((*planes)[k].area_of_projection(sums[k]));

@@ -141,7 +141,8 @@ class FractureBook {
   };
   const Record& record(BodyId id) const;
   /// Shape `shape`'s projected area on `plane` (ExactPolyhedron::projected_area_on), once.
-  const geometry::ExactScalar& projected(std::uint32_t shape, const geometry::ExactPlane& plane) const;
+  const geometry::ExactScalar& projected(std::uint32_t shape,
+                                         const geometry::ExactPlane& plane) const;
   Record& record(BodyId id);
 
   double dilation_;
