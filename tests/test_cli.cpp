@@ -395,14 +395,16 @@ namespace {
 /// of dimensionless names (counts, ids, labels, ratios, unit vectors).
 bool names_its_unit(const std::string& name) {
   static const std::vector<std::string> suffixes = {
-      "_s",   "_J",  "_m",         "_m3",      "_N",         "_Pa",         "_K",
-      "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step"};
+      "_s", "_J",   "_m",  "_m2",        "_m3",      "_N",         "_Pa",
+      "_K", "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step"};
   static const std::set<std::string> dimensionless = {
       "stage", "step", "steps", "contacts", "intact", "broken_tension", "broken_shear",
       "broken_bending", "broken_torsion", "bonds_intact", "bonds_broken", "grain_splits", "grain",
       "parent", "pieces", "plane", "nx", "ny", "nz", "criterion", "bond", "body_a", "body_b",
       "grain_a", "grain_b", "mode", "grain_id", "row", "i", "j", "k", "family", "slabs", "name",
       "path", "strain_x", "strain_y", "strain_z", "axis", "strain", "poisson", "part", "share",
+      "intergranular_count", "transgranular_count", "transgranular_area_fraction",
+      "transgranular_count_fraction",
       // VTK fields
       "body_index", "link_index", "body_id", "family_11_20", "c_axis", "normal", "with_wall",
       "failure_mode", "periodic", "wall_index", "crack_index", "kind"};
@@ -475,7 +477,7 @@ TEST_F(CleaveCli, EveryOutputColumnAndFieldNamesItsUnit) {
   EXPECT_NE(xml.find("Name=\"overlap_m\""), std::string::npos) << "no contact in the last frame";
   for (const char* f :
        {"energy.csv", "walls.csv", "load_displacement.csv", "bonds.csv", "bond_breaks.csv",
-        "splits.csv", "timing.csv", "specimen.csv", "fragments.csv"})
+        "splits.csv", "cracks.csv", "timing.csv", "specimen.csv", "fragments.csv"})
     EXPECT_TRUE(fs::exists(fracture / f)) << f;
   EXPECT_TRUE(fs::exists(thermal / "thermal.csv"));
   for (const fs::path& dir : {fracture, thermal, contacts}) {
