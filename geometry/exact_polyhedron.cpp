@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -165,6 +166,31 @@ double ExactPlane::offset_approx() const {
   const auto& pl = impl_->plane;
   Eigen::Vector3d n(CGAL::to_double(pl.a()), CGAL::to_double(pl.b()), CGAL::to_double(pl.c()));
   return -CGAL::to_double(pl.d()) / n.norm();
+}
+
+namespace {
+/// The axis of the largest component of `plane`'s normal, exactly.
+int dominant_axis(const Plane3& plane) {
+  const std::array<FT, 3> n{CGAL::abs(plane.a()), CGAL::abs(plane.b()), CGAL::abs(plane.c())};
+  int k = 0;
+  for (int i = 1; i < 3; ++i) {
+    if (n[i] > n[k]) k = i;
+  }
+  return k;
+}
+
+FT component(const Plane3& plane, int k) {
+  return k == 0 ? plane.a() : k == 1 ? plane.b() : plane.c();
+}
+}  // namespace
+
+double ExactPlane::area_of_projection(const ExactScalar& projected) const {
+  const Plane3& pl = impl_->plane;
+  const FT nk = component(pl, dominant_axis(pl));
+  const FT& p = ExactAccess::value(projected);
+  // A^2 = P^2 (a^2 + b^2 + c^2) / n_k^2, exact; one rounding, then the square root.
+  const FT squared = p * p * (pl.a() * pl.a() + pl.b() * pl.b() + pl.c() * pl.c()) / (nk * nk);
+  return std::sqrt(CGAL::to_double(squared.exact()));
 }
 
 std::string ExactPlane::to_string() const {
@@ -412,6 +438,34 @@ bool ExactPolyhedron::is_inside(const ExactPolyhedron& container) const {
     }
   }
   return true;
+}
+
+ExactScalar ExactPolyhedron::projected_area_on(const ExactPlane& exact_plane) const {
+  const Impl& p = *impl_;
+  const Plane3& plane = ExactAccess::plane(exact_plane);
+  const int k = dominant_axis(plane);
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const bool positive = CGAL::is_positive(component(plane, k));
+  FT sum = 0;
+  for (const auto& face : p.faces) {
+    bool on = true;
+    for (int v : face) on = on && plane.has_on(p.vertices[static_cast<std::size_t>(v)]);
+    if (!on) continue;
+    // Twice the k component of the vector area (shoelace in the (i, j) plane): its sign
+    // is that of the face's outward normal's k component.
+    FT twice = 0;
+    for (std::size_t m = 0; m < face.size(); ++m) {
+      const Point3& a = p.vertices[static_cast<std::size_t>(face[m])];
+      const Point3& b = p.vertices[static_cast<std::size_t>(face[(m + 1) % face.size()])];
+      twice += a[i] * b[j] - a[j] * b[i];
+    }
+    if (CGAL::is_positive(twice) == positive) sum += (positive ? twice : -twice) / 2;
+  }
+  return ExactAccess::make_scalar(FT(sum.exact()));
+}
+
+double ExactPolyhedron::area_on(const ExactPlane& plane) const {
+  return plane.area_of_projection(projected_area_on(plane));
 }
 
 ExactPolyhedron ExactPolyhedron::translated(const Eigen::Vector3d& offset) const {

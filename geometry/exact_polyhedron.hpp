@@ -78,6 +78,12 @@ class ExactPlane {
   static ExactPlane bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& shift);
 
   [[nodiscard]] ExactPlane opposite() const;
+  /// The area of a region of this plane whose projection (ExactPolyhedron::
+  /// projected_area_on) has exact area `projected`: with normal n = (a, b, c) and k the axis
+  /// of n's largest |n_k|, A = P |n| / |n_k|. |n| is a square root, so A^2 = P^2 |n|^2 /
+  /// n_k^2 is formed exactly and rounded to double once before the square root: A is
+  /// within an ulp or two of the true area.
+  [[nodiscard]] double area_of_projection(const ExactScalar& projected) const;
   /// Approximate unit normal and offset (n . x = offset) in doubles.
   [[nodiscard]] Eigen::Vector3d normal_approx() const;
   [[nodiscard]] double offset_approx() const;
@@ -183,6 +189,19 @@ class ExactPolyhedron {
   /// (offsets from the rounded vertices, then taken exactly).
   [[nodiscard]] std::vector<ExactPlane> cleavage_planes(
       const CrystalOrientation& orientation) const;
+
+  /// The faces of this shape lying on `plane` whose outward normal is the plane's own
+  /// normal (the shape lies on the plane's negative side there: a cut's `below` piece has
+  /// its section there), their area projected onto the coordinate plane across the axis k
+  /// of the plane normal's largest |n_k| (the k component of the faces' vector area
+  /// 1/2 sum v_i x v_i+1, sign n_k), exactly. Zero when no face lies there. Projected areas
+  /// of faces on one plane add exactly; ExactPlane::area_of_projection turns a sum into an
+  /// area.
+  [[nodiscard]] ExactScalar projected_area_on(const ExactPlane& plane) const;
+  /// The area of those faces, m^2 when the coordinates are m:
+  /// plane.area_of_projection(projected_area_on(plane)). For a split's `below` piece and
+  /// its plane: the exact section of the cut, rounded once.
+  [[nodiscard]] double area_on(const ExactPlane& plane) const;
 
   /// A copy moved by `offset` (exactly).
   [[nodiscard]] ExactPolyhedron translated(const Eigen::Vector3d& offset) const;

@@ -63,6 +63,11 @@ void put_book(StateWriter& w, const physics::FractureBook& book) {
     w.put<std::int32_t>(b.plane_set);
     w.count(b.candidates.size());
     for (int c : b.candidates) w.put<std::int32_t>(c);
+    w.count(b.opened.size());
+    for (const auto& [plane, time] : b.opened) {
+      w.put<std::int32_t>(plane);
+      w.put(time);
+    }
   }
 }
 
@@ -123,6 +128,11 @@ physics::FractureBook get_book(StateReader& r, const physics::World& world, cons
     b.plane_set = r.get<std::int32_t>();
     b.candidates.resize(r.count(4));
     for (int& c : b.candidates) c = r.get<std::int32_t>();
+    b.opened.resize(r.count(12));
+    for (auto& [plane, time] : b.opened) {
+      plane = r.get<std::int32_t>();
+      time = r.get<double>();
+    }
   }
   try {
     return physics::FractureBook::restore(s, world);

@@ -37,7 +37,8 @@
 
 namespace cleave::io {
 
-inline constexpr std::uint32_t kCheckpointVersion = 2;  // 2: each bond's strength factor
+inline constexpr std::uint32_t kCheckpointVersion = 3;  // 2: each bond's strength factor;
+                                                        // 3: crack areas and the cuts' times
 inline constexpr std::string_view kCheckpointMagic = "CLEAVECK";
 /// The checkpoint's name in a result folder.
 inline constexpr const char* kCheckpointName = "checkpoint";

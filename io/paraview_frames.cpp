@@ -71,6 +71,14 @@ geometry::PolygonMesh octagon(const Vector3d& c, const Vector3d& n, double area)
   return m;
 }
 
+/// The area of the planar polygon `corners` (in order): half the norm of its vector area.
+double polygon_area(const std::vector<Vector3d>& corners) {
+  Vector3d twice = Vector3d::Zero();
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    twice += corners[i].cross(corners[(i + 1) % corners.size()]);
+  return 0.5 * twice.norm();
+}
+
 }  // namespace
 
 BodyFrame wall_frame(const physics::World& world, int segments) {
@@ -132,29 +140,34 @@ BodyFrame crack_frame(const physics::World& world, const physics::FractureBook* 
   auto& f = frame.body_fields;
   // Declared up front, so an empty frame still has every field.
   for (const char* name : {"kind", "mode", "grain_a", "grain_b"}) f.ids[name];
-  f.scalars["broken_at_s"];
+  for (const char* name : {"broken_at_s", "opened_at_s", "area_m2"}) f.scalars[name];
   f.vectors["normal"];
-  auto add = [&](geometry::PolygonMesh m, int kind, int mode, double time, int grain_a, int grain_b,
-                 const Vector3d& normal) {
+  auto add = [&](geometry::PolygonMesh m, int kind, int mode, double broken_at, double opened_at,
+                 double area, int grain_a, int grain_b, const Vector3d& normal) {
     frame.meshes.push_back(std::move(m));
     f.ids["kind"].push_back(kind);
     f.ids["mode"].push_back(mode);
     f.ids["grain_a"].push_back(grain_a);
     f.ids["grain_b"].push_back(grain_b);
-    f.scalars["broken_at_s"].push_back(time);
+    f.scalars["broken_at_s"].push_back(broken_at);
+    f.scalars["opened_at_s"].push_back(opened_at);
+    f.scalars["area_m2"].push_back(area);
     f.vectors["normal"].push_back(normal);
   };
-  // Broken bonds, at their material point and normal as A carries them now.
+  // Broken bonds, at their material point and normal as A carries them now; the octagon's
+  // area is the bond's face area, the crack area reported for it (BondBreak::face_area).
   for (const physics::Bond& bd : world.bonds()) {
     if (bd.intact()) continue;
     const physics::BodyState& a = world.state(world.id_at(bd.a));
     const Vector3d point = a.x + a.q * bd.arm_a;
     const Vector3d normal = (a.q * bd.normal_a).normalized();
     add(octagon(point, normal, bd.transmission), 1, static_cast<int>(bd.failure), bd.broken_at,
-        world.slot_infos()[bd.a].grain_id, world.slot_infos()[bd.b].grain_id, normal);
+        bd.broken_at, bd.transmission, world.slot_infos()[bd.a].grain_id,
+        world.slot_infos()[bd.b].grain_id, normal);
   }
   if (book == nullptr) return frame;
   // Split sections: the faces of fragments that lie on one of their grain's cleavage planes.
+  std::vector<geometry::PolygonMesh> faces;
   for (const physics::BodyId id : world.body_ids()) {
     if (!book->knows(id) || book->lineage(id).path.empty()) continue;
     const physics::BodyState& s = world.state(id);
@@ -165,6 +178,8 @@ BodyFrame crack_frame(const physics::World& world, const physics::FractureBook* 
     const int grain = book->lineage(id).grain_id;
     for (std::size_t k = 0; k < book->planes(id).size(); ++k) {
       const auto [n, on] = book->world_plane(world, id, static_cast<int>(k));
+      faces.clear();
+      double drawn = 0.0;  // the faces' areas as drawn (rounded corners)
       for (const auto& face : prim.faces) {
         if ((s.q * face.normal).dot(n) < 1.0 - 1e-9) continue;
         geometry::PolygonMesh m;
@@ -177,7 +192,20 @@ BodyFrame crack_frame(const physics::World& world, const physics::FractureBook* 
         m.faces.emplace_back();
         for (std::size_t i = 0; i < face.vertices.size(); ++i)
           m.faces.back().push_back(static_cast<int>(i));
-        add(std::move(m), 2, 5, std::numeric_limits<double>::quiet_NaN(), grain, grain, n);
+        drawn += polygon_area(m.vertices);
+        faces.push_back(std::move(m));
+      }
+      if (faces.empty()) continue;
+      // The exact area of the piece's faces on the plane (one face: a piece is convex),
+      // shared among the faces drawn by their drawn areas should there be several.
+      const double exact = book->section_area(id, static_cast<int>(k));
+      const double opened = book->opened_at(id, static_cast<int>(k));
+      for (auto& m : faces) {
+        const double share = faces.size() == 1 || !(drawn > 0.0)
+                                 ? 1.0 / static_cast<double>(faces.size())
+                                 : polygon_area(m.vertices) / drawn;
+        add(std::move(m), 2, 5, std::numeric_limits<double>::quiet_NaN(), opened, exact * share,
+            grain, grain, n);
       }
     }
   }

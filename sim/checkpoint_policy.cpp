@@ -10,7 +10,8 @@ namespace cleave::sim {
 namespace {
 
 /// The layout of the run state in a checkpoint.
-constexpr std::uint32_t kRunStateLayout = 3;  // 2: thermal.csv; 3: cell.csv, modulus.csv
+constexpr std::uint32_t kRunStateLayout = 4;  // 2: thermal.csv; 3: cell.csv, modulus.csv;
+                                              // 4: cracks.csv, the stages' crack totals
 
 }  // namespace
 

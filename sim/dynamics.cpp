@@ -145,6 +145,7 @@ class Dynamics::Runner {
     if (resuming_) {
       resumed_.emplace(decode_run_state(resume_state_, run_state(), scenario_, world_));
       next_stage_ = stage_index_;
+      cracks_.rebuild(world_, book(), sum_.splits);
     } else {
       write_frame();
     }
@@ -220,6 +221,8 @@ class Dynamics::Runner {
     sum_.released_energy = history_.start_potential() - world_.potential_energy();
     sum_.lowest_point = lowest_vertex(world_);
     sum_.bond_counts = world_.bond_counts();
+    cracks_.add_breaks(world_);
+    sum_.cracks = cracks_.totals();
     if (book_) {
       for (const auto& e : book_->entries(world_)) {
         const auto& grain = specimen_.grains.at(static_cast<std::size_t>(e.lineage.grain_id));
@@ -227,7 +230,10 @@ class Dynamics::Runner {
       }
     }
     collect_fragments();
-    for (const auto& st : sum_.stages) sum_.peak_load = std::max(sum_.peak_load, st.peak_load);
+    for (const auto& st : sum_.stages) {
+      if (st.peak_load > sum_.peak_load) sum_.cracks_at_peak = st.cracks_at_peak;
+      sum_.peak_load = std::max(sum_.peak_load, st.peak_load);
+    }
     const geometry::Outline& outline = specimen_.def.outline;
     if (outline.kind == geometry::Outline::Kind::disc && sum_.peak_load > 0.0) {
       /// Brazilian tensile strength sigma = 2P / (pi D t), sec. 2.5.4 of the dissertation.
@@ -289,6 +295,8 @@ class Dynamics::Runner {
       progress.st.kind = stage.kind;
       progress.st.start = world_.time();
       progress.breaks0 = world_.bond_breaks().size();
+      cracks_.add_breaks(world_);
+      progress.st.cracks_start = progress.st.cracks_end = cracks_.totals();
     }
     stage_ = stage.name;
     if (stage.kind == StageDef::Kind::bond) {
@@ -348,6 +356,7 @@ class Dynamics::Runner {
     StageRun& r = *stage_run_;
     const std::uint64_t i = r.i++;
     if (!take_step(r)) return;
+    cracks_.add_breaks(world_);
     take_splits(r);
     const double overlap =
         checks_.verdict().overlap ? *checks_.verdict().overlap : max_overlap(world_);
@@ -398,6 +407,7 @@ class Dynamics::Runner {
     const std::vector<physics::TransgranularEvent> events = fracture_->take_events();
     if (events.empty()) return;
     history_.add_splits(world_, stage_, events);
+    cracks_.add_splits(world_, *book_, events);
     sum_.splits += events.size();
     r.progress.st.splits += events.size();
     warn_light_pieces(events);
@@ -410,6 +420,7 @@ class Dynamics::Runner {
     if (!r.load_walls.empty() && m.load > st.peak_load) {
       st.peak_load = m.load;
       st.peak_displacement = m.displacement;
+      st.cracks_at_peak = cracks_.totals();
     }
     return m;
   }
@@ -471,6 +482,8 @@ class Dynamics::Runner {
     const auto& load_walls = r.load_walls;
     st.end = world_.time();
     st.bonds_broken = world_.bond_breaks().size() - r.progress.breaks0;
+    cracks_.add_breaks(world_);
+    st.cracks_end = cracks_.totals();
     st.ended_by = event ? (plain ? "settled" : io::to_string(stage.until)) : "limit";
     if (sum_.ending == RunEnding::interrupted) st.ended_by = "interrupted";
     if (sum_.ending == RunEnding::blew_up) st.ended_by = "blew_up";
@@ -579,7 +592,8 @@ class Dynamics::Runner {
   /// run fails there (non_finite). Returns whether the row was written.
   bool record(double overlap, std::optional<std::pair<double, double>> reading) {
     const WorldReadings now{kinetic_energy(), potential_energy(), contact_count(), overlap};
-    if (const auto bad = history_.record(world_, stage_, now, reading, sum_.splits)) {
+    cracks_.add_breaks(world_);
+    if (const auto bad = history_.record(world_, stage_, now, reading, cracks_.totals())) {
       non_finite(*bad);
       return false;
     }
@@ -647,6 +661,7 @@ class Dynamics::Runner {
   RunHistory history_;
   FrameWriter frames_;
   CheckpointPolicy checkpoints_;
+  CrackTally cracks_;  // the crack areas so far (made again from the world on a restart)
   std::optional<physics::FractureBook> book_;
   std::optional<physics::TransgranularCheck> fracture_;  // with book_, run through checks_
   std::string stage_;

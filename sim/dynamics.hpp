@@ -17,6 +17,7 @@
 #include "io/scenario.hpp"
 #include "physics/dem/world.hpp"
 #include "physics/transgranular/fracture_book.hpp"
+#include "sim/crack_tally.hpp"
 #include "sim/world_assembly.hpp"
 
 namespace cleave::sim {
@@ -35,6 +36,9 @@ struct StageSummary {
   std::size_t bonds_broken = 0;
   std::size_t splits = 0;      ///< grains or fragments split (transgranular cracks)
   std::string plot;            ///< load-displacement picture written for it (file name)
+  /// The run's cracks so far (CrackTally) when the stage began, when it ended and at its
+  /// peak load (when it has one); `cracks_end.since(cracks_start)` opened in the stage.
+  CrackTotals cracks_start, cracks_end, cracks_at_peak;
 };
 
 /// What a testing machine reads off the loading walls. Walls whose load axes agree are one
@@ -130,6 +134,9 @@ struct DynamicsSummary {
   physics::BondCounts bond_counts;
   double peak_load = 0.0;            ///< largest load of any stage, N
   std::size_t splits = 0;            ///< transgranular cracks (grain splits)
+  CrackTotals cracks;                ///< the crack areas and counts at the end
+  /// The cracks at the peak load (peak_load's stage's cracks_at_peak); none without a peak.
+  std::optional<CrackTotals> cracks_at_peak;
   /// With [fracture]: every live piece at the end (exact shape in its grain's frame,
   /// placed at the grain's lattice centre), for geometry.exact and the volume check.
   std::vector<geometry::Piece> final_pieces;

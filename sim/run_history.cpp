@@ -20,6 +20,7 @@ RunHistory::RunHistory(const io::Scenario& scenario, const physics::World& world
   walls_ = CsvTable("walls.csv", WallsRow::columns(world.walls()));
   loads_ = CsvTable("load_displacement.csv", LoadsRow::columns(world.walls()));
   bond_counts_ = CsvTable("bonds.csv", BondCountsRow::columns());
+  if (writes_cracks()) cracks_ = CsvTable("cracks.csv", CracksRow::columns());
   if (scenario_.thermal.enabled) thermal_ = CsvTable("thermal.csv", ThermalRow::columns());
   if (const physics::PeriodicCell* cell = world.cell()) {
     cell_ = CsvTable("cell.csv", CellRow::columns());
@@ -30,16 +31,18 @@ RunHistory::RunHistory(const io::Scenario& scenario, const physics::World& world
 }
 
 std::vector<CsvTable*> RunHistory::tables() {
-  return {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_, &cell_, &modulus_};
+  return {&energy_, &walls_,   &loads_, &bond_counts_, &cracks_,
+          &splits_, &thermal_, &cell_,  &modulus_};
 }
 std::vector<const CsvTable*> RunHistory::tables() const {
-  return {&energy_, &walls_, &loads_, &bond_counts_, &splits_, &thermal_, &cell_, &modulus_};
+  return {&energy_, &walls_,   &loads_, &bond_counts_, &cracks_,
+          &splits_, &thermal_, &cell_,  &modulus_};
 }
 
 std::optional<std::string> RunHistory::record(const physics::World& world, const std::string& stage,
                                               const WorldReadings& now,
                                               std::optional<std::pair<double, double>> reading,
-                                              std::size_t splits) {
+                                              const CrackTotals& cracks) {
   const double time = world.time();
   // Every table's row first, then checked, then written: a step's rows are written whole.
   std::vector<std::pair<CsvTable*, std::vector<Cell>>> rows;
@@ -57,6 +60,7 @@ std::optional<std::string> RunHistory::record(const physics::World& world, const
   rows.emplace_back(&loads_, loads.cells());
   if (!world.bonds().empty())
     rows.emplace_back(&bond_counts_, BondCountsRow{time, stage, world.bond_counts()}.cells());
+  if (writes_cracks()) rows.emplace_back(&cracks_, CracksRow{time, stage, cracks}.cells());
   if (scenario_.thermal.enabled) {
     double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
     std::size_t bodies = 0;
@@ -70,7 +74,7 @@ std::optional<std::string> RunHistory::record(const physics::World& world, const
     const physics::BondCounts c = world.bond_counts();
     rows.emplace_back(&thermal_,
                       ThermalRow{time, stage, bodies == 0 ? 0.0 : sum / static_cast<double>(bodies),
-                                 lo, hi, c.intact, c.broken(), splits}
+                                 lo, hi, c.intact, c.broken(), cracks.transgranular}
                           .cells());
   }
   if (const physics::PeriodicCell* cell = world.cell()) {
@@ -101,7 +105,7 @@ void RunHistory::add_splits(const physics::World& world, const std::string& stag
     splits_.add(SplitRow{e.split.time, world.steps(), stage, e.split.parent.grain_id,
                          e.split.parent.path_string(), pieces, e.split.plane, e.split.normal,
                          e.split.point, r.mean_stress, e.cause.stresses.sigma, e.cause.stresses.tau,
-                         r.k_i, r.k_ii, r.criterion}
+                         r.k_i, r.k_ii, r.criterion, e.split.section_area}
                     .cells());
   }
 }
@@ -236,6 +240,7 @@ void RunHistory::write(const physics::World& world, bool fracture, const std::st
   io::write_file_atomically(out_ / "walls.csv", walls_.text());
   io::write_file_atomically(out_ / "load_displacement.csv", loads_.text());
   if (fracture) io::write_file_atomically(out_ / "splits.csv", splits_.text());
+  if (writes_cracks()) io::write_file_atomically(out_ / "cracks.csv", cracks_.text());
   if (scenario_.thermal.enabled) io::write_file_atomically(out_ / "thermal.csv", thermal_.text());
   if (!cell_.text().empty()) io::write_file_atomically(out_ / "cell.csv", cell_.text());
   if (modulus_.has_rows()) {

@@ -32,14 +32,15 @@ class RunHistory {
   /// must outlive the history.
   RunHistory(const io::Scenario& scenario, const physics::World& world, std::filesystem::path out);
 
-  /// One row of every history at the world's present step, `stage` the stage's name and
-  /// `reading` its (load, load-point displacement) when it has load walls. A row holding a
+  /// One row of every history at the world's present step, `stage` the stage's name,
+  /// `reading` its (load, load-point displacement) when it has load walls, `cracks` the
+  /// cracks so far (CrackTally). A row holding a
   /// value that is not finite is not written (on several processes: on any of them):
   /// returns the sentence naming the first such column; nullopt when written.
   std::optional<std::string> record(const physics::World& world, const std::string& stage,
                                     const WorldReadings& now,
                                     std::optional<std::pair<double, double>> reading,
-                                    std::size_t splits);
+                                    const CrackTotals& cracks);
   /// splits.csv rows of a step's transgranular cracks.
   void add_splits(const physics::World& world, const std::string& stage,
                   const std::vector<physics::TransgranularEvent>& events);
@@ -63,6 +64,11 @@ class RunHistory {
   [[nodiscard]] const std::vector<Eigen::Vector3d>& wall_origins() const { return origin0_; }
   [[nodiscard]] double start_potential() const { return pe0_; }
 
+  /// Whether the run writes cracks.csv (it has bonds or [fracture]).
+  [[nodiscard]] bool writes_cracks() const {
+    return scenario_.bond.enabled || scenario_.fracture.enabled;
+  }
+
   /// A checkpoint's run state, in its order: the start (origins, potential), the tables,
   /// then the cell's start and the stages' break counts.
   void put_start(physics::StateWriter& w) const;
@@ -82,7 +88,7 @@ class RunHistory {
   double pe0_ = 0.0;
   Eigen::Vector3d cell0_ = Eigen::Vector3d::Ones();  // the cell's edge lengths at the start
   std::vector<std::pair<std::size_t, std::string>> breaks_by_stage_;  // (end index, stage)
-  CsvTable energy_, walls_, loads_, bond_counts_, splits_, thermal_, cell_, modulus_;
+  CsvTable energy_, walls_, loads_, bond_counts_, cracks_, splits_, thermal_, cell_, modulus_;
 };
 
 }  // namespace cleave::sim

@@ -143,6 +143,27 @@ std::vector<Cell> BondCountsRow::cells() const {
           integer(counts.torsion)};
 }
 
+std::vector<Column> CracksRow::columns() {
+  return {{"time_s"},
+          {"stage", Format::text},
+          {"intergranular_area_m2"},
+          {"transgranular_area_m2"},
+          {"transgranular_area_fraction"},
+          {"intergranular_count", Format::integer},
+          {"transgranular_count", Format::integer},
+          {"transgranular_count_fraction"}};
+}
+std::vector<Cell> CracksRow::cells() const {
+  return {time_s,
+          stage,
+          cracks.intergranular_area,
+          cracks.transgranular_area,
+          number_or_empty(cracks.transgranular_area_fraction()),
+          integer(cracks.intergranular),
+          integer(cracks.transgranular),
+          number_or_empty(cracks.transgranular_count_fraction())};
+}
+
 std::vector<Column> ThermalRow::columns() {
   return {{"time_s"},
           {"stage", Format::text},
@@ -220,7 +241,8 @@ std::vector<Column> SplitRow::columns() {
           {"tau_Pa", Format::brief},
           {"K_I_Pa_sqrt_m", Format::brief},
           {"K_II_Pa_sqrt_m", Format::brief},
-          {"criterion", Format::brief}};
+          {"criterion", Format::brief},
+          {"section_area_m2"}};
 }
 std::vector<Cell> SplitRow::cells() const {
   return {time_s,        static_cast<long long>(step),
@@ -232,7 +254,7 @@ std::vector<Cell> SplitRow::cells() const {
           point_m.z(),   mean_stress_Pa,
           sigma_Pa,      tau_Pa,
           K_I_Pa_sqrt_m, K_II_Pa_sqrt_m,
-          criterion};
+          criterion,     section_area_m2};
 }
 
 std::vector<Column> BondBreakRow::columns() {
@@ -254,7 +276,8 @@ std::vector<Column> BondBreakRow::columns() {
           {"normal_force_N"},
           {"shear_force_N"},
           {"bending_moment_Nm"},
-          {"torsion_moment_Nm"}};
+          {"torsion_moment_Nm"},
+          {"face_area_m2"}};
 }
 std::vector<Cell> BondBreakRow::cells() const {
   const physics::BondBreak& b = *bond;
@@ -276,7 +299,8 @@ std::vector<Cell> BondBreakRow::cells() const {
           b.loads.normal,
           b.loads.shear.norm(),
           b.loads.bending.norm(),
-          std::abs(b.loads.torsion)};
+          std::abs(b.loads.torsion),
+          b.face_area};
 }
 
 }  // namespace cleave::sim

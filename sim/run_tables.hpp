@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The tables a dynamic run writes (energy.csv, walls.csv, load_displacement.csv, bonds.csv,
-/// bond_breaks.csv, splits.csv, thermal.csv, cell.csv, modulus.csv): one row struct per
+/// cracks.csv, bond_breaks.csv, splits.csv, thermal.csv, cell.csv, modulus.csv): one row struct per
 /// table, its columns named with their units, and one CSV writer for all of them that
 /// formats every number by its column's precision and finds the first value that is not
 /// finite.
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "physics/dem/world.hpp"
+#include "sim/crack_tally.hpp"
 
 namespace cleave::sim {
 
@@ -99,6 +100,16 @@ struct BondCountsRow {
   [[nodiscard]] std::vector<Cell> cells() const;
 };
 
+/// cracks.csv: the crack areas and counts so far, and the transgranular fractions (empty
+/// before the first crack).
+struct CracksRow {
+  double time_s = 0.0;
+  std::string stage;
+  CrackTotals cracks;
+  static std::vector<Column> columns();
+  [[nodiscard]] std::vector<Cell> cells() const;
+};
+
 /// thermal.csv
 struct ThermalRow {
   double time_s = 0.0;
@@ -143,6 +154,7 @@ struct SplitRow {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero(), point_m = Eigen::Vector3d::Zero();
   double mean_stress_Pa = 0.0, sigma_Pa = 0.0, tau_Pa = 0.0, K_I_Pa_sqrt_m = 0.0,
          K_II_Pa_sqrt_m = 0.0, criterion = 0.0;
+  double section_area_m2 = 0.0;  ///< SplitEvent::section_area
   static std::vector<Column> columns();
   [[nodiscard]] std::vector<Cell> cells() const;
 };

@@ -72,6 +72,27 @@ std::string describe_outline(const geometry::Outline& o) {
   }
 }
 
+/// run.toml's crack facts under `prefix` (sec. 1.3 of seed 000: which way a polycrystal
+/// cracks): the areas (m^2) and counts of both kinds and their fractions, "nan" before the
+/// first crack (0/0); each kind's fraction and the other's sum to one.
+void put_cracks(io::Manifest& manifest, const std::string& prefix, const CrackTotals& c) {
+  auto fraction = [](std::optional<double> v) {
+    return v ? fmt::format("{:.9g}", *v) : std::string("nan");
+  };
+  manifest.facts[prefix + "intergranular_area_m2"] = fmt::format("{:.9g}", c.intergranular_area);
+  manifest.facts[prefix + "transgranular_area_m2"] = fmt::format("{:.9g}", c.transgranular_area);
+  manifest.facts[prefix + "intergranular_area_fraction"] =
+      fraction(c.intergranular_area_fraction());
+  manifest.facts[prefix + "transgranular_area_fraction"] =
+      fraction(c.transgranular_area_fraction());
+  manifest.facts[prefix + "intergranular_count"] = std::to_string(c.intergranular);
+  manifest.facts[prefix + "transgranular_count"] = std::to_string(c.transgranular);
+  manifest.facts[prefix + "intergranular_count_fraction"] =
+      fraction(c.intergranular_count_fraction());
+  manifest.facts[prefix + "transgranular_count_fraction"] =
+      fraction(c.transgranular_count_fraction());
+}
+
 }  // namespace
 
 
@@ -376,6 +397,8 @@ RunReport Simulation::State::finish() {
       if (scenario.bond.enabled || scenario.fracture.enabled) files += ", cracks.pvd";
       files += ", energy.csv, walls.csv, load_displacement.csv";
       if (scenario.bond.enabled) files += ", bonds.csv, bond_breaks.csv";
+      const bool cracks = scenario.bond.enabled || scenario.fracture.enabled;
+      if (cracks) files += ", cracks.csv";
       if (scenario.thermal.enabled) files += ", thermal.csv";
       if (scenario.thermal.enabled && scenario.bond.enabled) files += ", microcracks.svg";
       if (scenario.periodic.enabled) files += ", cell.csv, cell.pvd";
@@ -409,6 +432,26 @@ RunReport Simulation::State::finish() {
         manifest.facts[key + "_ended_by"] = st.ended_by;
         manifest.facts[key + "_peak_load_N"] = fmt::format("{:.9g}", st.peak_load);
         manifest.facts[key + "_bonds_broken"] = std::to_string(st.bonds_broken);
+        if (cracks) {
+          put_cracks(manifest, key + "_cracks_", st.cracks_end.since(st.cracks_start));
+          if (st.peak_load > 0.0)
+            put_cracks(manifest, key + "_cracks_at_peak_",
+                       st.cracks_at_peak.since(st.cracks_start));
+        }
+      }
+      if (cracks) {
+        const CrackTotals& c = d.cracks;
+        auto percent = [](std::optional<double> v) {
+          return v ? fmt::format("{:.1f} %", 100.0 * *v) : std::string("none yet");
+        };
+        say(fmt::format(
+            "  crack area {:.4g} mm^2 intergranular ({} bonds), {:.4g} mm^2 transgranular ({} "
+            "splits): transgranular {} by area, {} by count -> cracks.csv, cracks.pvd",
+            c.intergranular_area * 1e6, c.intergranular, c.transgranular_area * 1e6,
+            c.transgranular, percent(c.transgranular_area_fraction()),
+            percent(c.transgranular_count_fraction())));
+        put_cracks(manifest, "cracks_", c);
+        if (d.cracks_at_peak) put_cracks(manifest, "cracks_at_peak_", *d.cracks_at_peak);
       }
       if (scenario.bond.enabled) {
         const auto& c = d.bond_counts;

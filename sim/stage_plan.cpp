@@ -22,6 +22,8 @@ void put_summary(physics::StateWriter& w, const StageSummary& st) {
   w.put<std::uint64_t>(st.bonds_broken);
   w.put<std::uint64_t>(st.splits);
   w.put(st.plot);
+  for (const CrackTotals* c : {&st.cracks_start, &st.cracks_end, &st.cracks_at_peak})
+    put_totals(w, *c);
 }
 
 StageSummary get_summary(physics::StateReader& r) {
@@ -38,6 +40,7 @@ StageSummary get_summary(physics::StateReader& r) {
   st.bonds_broken = r.get<std::uint64_t>();
   st.splits = r.get<std::uint64_t>();
   st.plot = r.string();
+  for (CrackTotals* c : {&st.cracks_start, &st.cracks_end, &st.cracks_at_peak}) *c = get_totals(r);
   return st;
 }
 

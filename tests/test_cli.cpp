@@ -395,8 +395,8 @@ namespace {
 /// of dimensionless names (counts, ids, labels, ratios, unit vectors).
 bool names_its_unit(const std::string& name) {
   static const std::vector<std::string> suffixes = {
-      "_s",   "_J",  "_m",         "_m3",      "_N",         "_Pa",         "_K",
-      "_deg", "_Nm", "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step", "_kg"};
+      "_s",   "_J",  "_m",         "_m2",      "_m3",        "_N",          "_Pa",
+      "_K",   "_deg", "_Nm",       "_Pa_sqrt_m", "_m_per_s", "_rad_per_s", "_ms_per_step", "_kg"};
   static const std::set<std::string> dimensionless = {
       "stage", "step", "steps", "contacts", "intact", "broken_tension", "broken_shear",
       "broken_bending", "broken_torsion", "bonds_intact", "bonds_broken", "grain_splits", "grain",
@@ -404,6 +404,8 @@ bool names_its_unit(const std::string& name) {
       "grain_a", "grain_b", "mode", "grain_id", "row", "i", "j", "k", "family", "slabs", "name",
       "path", "strain_x", "strain_y", "strain_z", "axis", "strain", "poisson", "part", "share",
       "bodies", "passing",
+      "intergranular_count", "transgranular_count", "transgranular_area_fraction",
+      "transgranular_count_fraction",
       // VTK fields
       "body_index", "link_index", "body_id", "family_11_20", "c_axis", "normal", "with_wall",
       "failure_mode", "periodic", "wall_index", "crack_index", "kind"};
@@ -476,7 +478,7 @@ TEST_F(CleaveCli, EveryOutputColumnAndFieldNamesItsUnit) {
   EXPECT_NE(xml.find("Name=\"overlap_m\""), std::string::npos) << "no contact in the last frame";
   for (const char* f :
        {"energy.csv", "walls.csv", "load_displacement.csv", "bonds.csv", "bond_breaks.csv",
-        "splits.csv", "timing.csv", "specimen.csv", "fragments.csv"})
+        "splits.csv", "cracks.csv", "timing.csv", "specimen.csv", "fragments.csv"})
     EXPECT_TRUE(fs::exists(fracture / f)) << f;
   EXPECT_TRUE(fs::exists(thermal / "thermal.csv"));
   for (const fs::path& dir : {fracture, thermal, contacts}) {

@@ -330,7 +330,7 @@ void Bonds::log_breaks(const std::vector<BodyInfo>& infos, double time, std::uin
       bd.force.setZero();
       bd.moment.setZero();
       breaks_.push_back({time, step, f.bond, bd.a, bd.b, infos[bd.a].grain_id, infos[bd.b].grain_id,
-                         bd.point, bd.normal, f.failure, f.at});
+                         bd.point, bd.normal, f.failure, f.at, bd.transmission});
     }
   }
 }

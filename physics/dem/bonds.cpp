@@ -164,7 +164,7 @@ std::size_t Bonds::break_by_stress(const std::vector<Eigen::Matrix3d>& stress,
     if (k < push_.size()) push_[k].live = false;
     ++broke;
     breaks_.push_back({time, step, k, bd.a, bd.b, infos[bd.a].grain_id, infos[bd.b].grain_id,
-                       bd.point, bd.normal, BondFailure::tension, at});
+                       bd.point, bd.normal, BondFailure::tension, at, bd.transmission});
   }
   return broke;
 }

@@ -97,6 +97,11 @@ struct BondBreak {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   BondFailure mode = BondFailure::none;
   BondState loads;  ///< the bond's forces and moments when it broke
+  /// The grain-boundary face the bond stood for, its intergranular crack's area (m^2):
+  /// Bond::transmission, the touching faces' polygon at bonding (the bond section's area
+  /// where the grains touched at an edge or a corner). Taken at the break, since `bond`
+  /// indexes the list as it was then (a split re-sorts it).
+  double face_area = 0.0;
 };
 
 /// Intact bonds and broken ones by mode.

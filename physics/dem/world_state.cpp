@@ -13,8 +13,9 @@ namespace {
 
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
-constexpr std::uint32_t kWorldLayout = 7;  // 2: contact manifolds; 3: orientations at the search; 4: temperatures;
-                                           // 5: beam bonds; 6: periodic cells; 7: expansion centres
+// 2: contact manifolds; 3: orientations at the search; 4: temperatures; 5: beam bonds;
+// 6: periodic cells; 7: expansion centres; 8: a bond break's face area.
+constexpr std::uint32_t kWorldLayout = 8;
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -343,6 +344,7 @@ void put_bonds(StateWriter& w, const Bonds& bonds, bool cell) {
     w.put(b.normal);
     w.put(b.mode);
     put_bond_state(w, b.loads);
+    w.put(b.face_area);
   }
 }
 
@@ -612,6 +614,7 @@ LoadedBonds get_bonds(StateReader& r, std::size_t slots, bool cell_on, const Per
     b.normal = r.vec3();
     b.mode = r.get_enum(BondFailure::torsion);
     b.loads = get_bond_state(r);
+    b.face_area = r.get<double>();
   }
   return {std::move(bonds), std::move(offsets), bp, std::move(breaks)};
 }

@@ -1,7 +1,10 @@
 #include "physics/transgranular/fracture_book.hpp"
 
+#include <limits>
 #include <map>
 #include <stdexcept>
+
+#include "physics/dem/exact_sum.hpp"
 
 namespace cleave::physics {
 
@@ -55,6 +58,47 @@ const geometry::ExactPolyhedron& FractureBook::exact_shape(BodyId id) const {
   return *shapes_.at(record(id).shape).exact;
 }
 
+const geometry::ExactScalar& FractureBook::projected(std::uint32_t shape,
+                                                     const geometry::ExactPlane& plane) const {
+  auto key = std::pair{shape, plane.to_string()};
+  auto it = projected_.find(key);
+  if (it == projected_.end()) {
+    it =
+        projected_.emplace(std::move(key), shapes_.at(shape).exact->projected_area_on(plane)).first;
+  }
+  return it->second;
+}
+
+double FractureBook::section_area(BodyId id, int plane) const {
+  const Record& r = record(id);
+  const geometry::ExactPlane& p = r.planes->at(static_cast<std::size_t>(plane));
+  return p.area_of_projection(projected(r.shape, p));
+}
+
+double FractureBook::opened_at(BodyId id, int plane) const {
+  for (const auto& [p, time] : record(id).opened) {
+    if (p == plane) return time;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+double FractureBook::grain_section_area(const World& world, int grain_id) const {
+  const std::vector<geometry::ExactPlane>* planes = nullptr;
+  std::vector<geometry::ExactScalar> sums;
+  for (const BodyId id : world.body_ids()) {
+    if (!knows(id)) continue;
+    const Record& r = record(id);
+    if (r.lineage.grain_id != grain_id || r.lineage.path.empty()) continue;
+    planes = r.planes.get();
+    sums.resize(planes->size());
+    for (std::size_t k = 0; k < planes->size(); ++k)
+      sums[k] = sums[k] + projected(r.shape, (*planes)[k]);
+  }
+  ExactSum area;
+  for (std::size_t k = 0; k < sums.size(); ++k) area.add((*planes)[k].area_of_projection(sums[k]));
+  return area.value();
+}
+
 std::pair<Eigen::Vector3d, Eigen::Vector3d> FractureBook::world_plane(const World& world, BodyId id,
                                                                       int plane) const {
   const Record& r = record(id);
@@ -98,6 +142,7 @@ SplitEvent FractureBook::split(World& world, BodyId id, int plane) {
   const auto [normal, point] = world_plane(world, id, plane);
   event.normal = normal;
   event.point = world.state(id).x;
+  event.section_area = cut.area_of_projection(projected(found->second[0], cut));
   const RigidShape parent_shape = world.shape(r.shape);
   std::vector<Fragment> pieces;
   for (std::uint32_t index : found->second) {
@@ -116,6 +161,8 @@ SplitEvent FractureBook::split(World& world, BodyId id, int plane) {
     c.lineage.path.push_back(static_cast<int>(k));
     c.shape = found->second[k];
     c.planes = parent.planes;
+    c.opened = parent.opened;
+    c.opened.emplace_back(plane, event.time);
     // The plane just used is spent; the others stay candidates while they cut the piece
     // (a refused cut drops them later).
     for (int p : parent.candidates) {
@@ -153,6 +200,7 @@ FractureBook::Saved FractureBook::save() const {
     b.lineage = r.lineage;
     b.shape = r.shape;
     b.candidates = r.candidates;
+    b.opened = r.opened;
     if (r.planes) {
       auto [it, fresh] = set_index.try_emplace(r.planes.get(), static_cast<int>(saved.plane_sets.size()));
       if (fresh) saved.plane_sets.push_back(r.planes);
@@ -179,6 +227,7 @@ FractureBook FractureBook::restore(const Saved& saved, const World& world) {
     r.lineage = b.lineage;
     r.shape = b.shape;
     r.candidates = b.candidates;
+    r.opened = b.opened;
     if (b.plane_set >= 0) {
       if (static_cast<std::size_t>(b.plane_set) >= saved.plane_sets.size()) {
         throw std::invalid_argument("FractureBook::restore: a plane set index is out of range");

@@ -33,6 +33,9 @@ struct SplitEvent {
   int plane = -1;                           ///< index into the grain's cleavage planes
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< the crack plane's normal, world
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< the parent's centroid, world
+  /// The transgranular crack's area (m^2): the exact section of the cut (the `below`
+  /// piece's face on the plane, ExactPolyhedron::area_on), rounded once.
+  double section_area = 0.0;
 };
 
 class FractureBook {
@@ -60,6 +63,21 @@ class FractureBook {
                                                                        int plane) const;
   [[nodiscard]] const geometry::Lineage& lineage(BodyId id) const;
   [[nodiscard]] const geometry::ExactPolyhedron& exact_shape(BodyId id) const;
+
+  /// The area (m^2) of body `id`'s faces on its cleavage plane `plane` with the body on the
+  /// plane's lower side (ExactPolyhedron::area_on): its share of the sections cut along
+  /// that plane (each section is drawn and counted once, by the pieces below it). Zero
+  /// when it has no such face. Memoised by shape and plane.
+  [[nodiscard]] double section_area(BodyId id, int plane) const;
+  /// When the cut along `plane` in body `id`'s lineage was made (s): its faces on that
+  /// plane opened then. NaN when no cut of its lineage ran along it.
+  [[nodiscard]] double opened_at(BodyId id, int plane) const;
+  /// Grain `grain_id`'s transgranular crack area (m^2): per cleavage plane the exact sum
+  /// of its live pieces' projected section areas (ExactPolyhedron::projected_area_on),
+  /// turned into an area once per plane (ExactPlane::area_of_projection), then summed.
+  /// The pieces' faces partition every section, so this is the sum of the sections of the
+  /// grain's splits.
+  [[nodiscard]] double grain_section_area(const World& world, int grain_id) const;
 
   /// Cuts body `id` exactly along its cleavage plane `plane` and replaces it in `world` by
   /// the two pieces (World::split_body: momentum kept, bonds follow their points). Returns
@@ -98,6 +116,7 @@ class FractureBook {
       std::uint32_t shape = 0;
       int plane_set = -1;  ///< index into plane_sets; -1 for an unused slot
       std::vector<int> candidates;
+      std::vector<std::pair<int, double>> opened;  ///< its lineage's cuts: (plane, time)
     };
     std::vector<Body> bodies;  ///< by slot
   };
@@ -118,8 +137,12 @@ class FractureBook {
     std::uint32_t shape = 0;  // world shape index
     std::shared_ptr<const std::vector<geometry::ExactPlane>> planes;
     std::vector<int> candidates;
+    std::vector<std::pair<int, double>> opened;  // the cuts of its lineage: (plane, time)
   };
   const Record& record(BodyId id) const;
+  /// Shape `shape`'s projected area on `plane` (ExactPolyhedron::projected_area_on), once.
+  const geometry::ExactScalar& projected(std::uint32_t shape,
+                                         const geometry::ExactPlane& plane) const;
   Record& record(BodyId id);
 
   double dilation_;
@@ -129,6 +152,8 @@ class FractureBook {
   /// the cut is refused.
   std::map<std::pair<std::uint32_t, std::string>, std::vector<std::uint32_t>> cuts_;
   std::vector<Record> by_slot_;
+  /// (shape, plane text) -> projected_area_on; made again after a restore.
+  mutable std::map<std::pair<std::uint32_t, std::string>, geometry::ExactScalar> projected_;
 };
 
 }  // namespace cleave::physics

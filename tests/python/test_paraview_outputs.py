@@ -88,6 +88,12 @@ def up_to(rows, time):
     return [r for r in rows if float(r["time_s"]) <= time * (1 + 1e-8) + 1e-15]
 
 
+def breaks_in(rows, time):
+    """bond_breaks.csv's rows of breaks in the steps up to `time`: a break is stamped with the
+    time its step began (the force evaluation's), so one stamped `time` is in the next step."""
+    return [r for r in rows if float(r["time_s"]) < time * (1 - 1e-8)]
+
+
 def polygon_area(points):
     """Area of a planar polygon: half the norm of the sum of its corners' cross products."""
     p = np.asarray(points)
@@ -227,7 +233,7 @@ def test_cracks_are_the_broken_bonds_and_split_sections_so_far(result):
         poly = read_vtp(result / file)
         assert poly.GetCellData().GetScalars().GetName() == "mode"  # ParaView colours by it
         kind = cell_array(poly, "kind") if poly.GetNumberOfCells() else np.array([], int)
-        bonds_so_far = up_to(breaks, time)
+        bonds_so_far = breaks_in(breaks, time)
         assert int(np.sum(kind == 1)) == len(bonds_so_far), f"frame at t = {time}"
         # Each split leaves one section face at least (more once a piece splits again).
         assert int(np.sum(kind == 2)) >= len(up_to(splits, time))
@@ -242,6 +248,118 @@ def test_cracks_are_the_broken_bonds_and_split_sections_so_far(result):
                 sorted(float(r["time_s"]) for r in bonds_so_far), rel=1e-8)
         seen_cracks = max(seen_cracks, len(kind))
     assert seen_cracks > 0
+
+
+def run_facts(folder):
+    with open(folder / "run.toml", "rb") as f:
+        return tomllib.load(f)["facts"]
+
+
+def test_crack_areas_are_the_bonds_faces_and_the_exact_sections(result):
+    """cracks.csv sums the broken bonds' face areas and the splits' section areas; its
+    transgranular fractions, with the intergranular ones formed from its areas and counts,
+    sum to one, and are empty before the first crack."""
+    breaks = read_csv(result / "bond_breaks.csv")
+    splits = read_csv(result / "splits.csv")
+    rows = read_csv(result / "cracks.csv")
+    assert rows and breaks and splits
+    assert list(rows[0]) == ["time_s", "stage", "intergranular_area_m2", "transgranular_area_m2",
+                             "transgranular_area_fraction", "intergranular_count",
+                             "transgranular_count", "transgranular_count_fraction"]
+    for r in rows:
+        t = float(r["time_s"])
+        inter = sum(float(b["face_area_m2"]) for b in breaks_in(breaks, t))
+        trans = sum(float(s["section_area_m2"]) for s in up_to(splits, t))
+        assert float(r["intergranular_area_m2"]) == pytest.approx(inter, rel=1e-8, abs=1e-30)
+        assert float(r["transgranular_area_m2"]) == pytest.approx(trans, rel=1e-8, abs=1e-30)
+        ni, nt = int(r["intergranular_count"]), int(r["transgranular_count"])
+        assert (ni, nt) == (len(breaks_in(breaks, t)), len(up_to(splits, t)))
+        if ni + nt == 0:
+            assert r["transgranular_area_fraction"] == r["transgranular_count_fraction"] == ""
+            continue
+        a_i, a_t = float(r["intergranular_area_m2"]), float(r["transgranular_area_m2"])
+        assert float(r["transgranular_area_fraction"]) + a_i / (a_i + a_t) == pytest.approx(1.0, abs=1e-8)
+        assert float(r["transgranular_count_fraction"]) + ni / (ni + nt) == pytest.approx(1.0, abs=1e-8)
+    # A grain's first split cuts the whole prism (side r_bar, thickness t_bar) through two of
+    # its corners: a section of t_bar x 2 r_bar (<10-10>) or t_bar x sqrt(3) r_bar (<11-20>);
+    # a piece's split cuts part of that.
+    t_bar, r_bar = 5.0 * MM, 0.5 * MM
+    sections = [t_bar * 2 * r_bar, t_bar * math.sqrt(3) * r_bar]
+    assert any("." not in s["parent"] for s in splits)
+    for s in splits:
+        a = float(s["section_area_m2"])
+        if "." not in s["parent"]:
+            assert min(abs(a / want - 1) for want in sections) < 1e-8, s
+        else:
+            assert 0 < a <= sections[0] * (1 + 1e-8), s
+
+
+def test_crack_surfaces_in_vtk_carry_the_areas_run_toml_reports(result):
+    """Read by VTK, every frame of cracks.pvd has cell data area_m2 (a bond's octagon and a
+    section's polygon of that area), opened_at_s and kind; the areas of a frame sum to the
+    breaks and splits up to its time, and the last frame's to run.toml's totals."""
+    breaks = read_csv(result / "bond_breaks.csv")
+    splits = read_csv(result / "splits.csv")
+    split_times = [float(s["time_s"]) for s in splits]
+    last = None
+    for time, file in pvd_entries(result / "cracks.pvd"):
+        poly = read_vtp(result / file)
+        if poly.GetNumberOfCells() == 0:
+            continue
+        kind = cell_array(poly, "kind")
+        area = cell_array(poly, "area_m2")
+        opened = cell_array(poly, "opened_at_s")
+        broken = cell_array(poly, "broken_at_s")
+        drawn = np.array([polygon_area(cell_points(poly, c)) for c in range(poly.GetNumberOfCells())])
+        assert np.all(area > 0)
+        assert drawn == pytest.approx(area, rel=1e-6)
+        assert np.all(np.isfinite(opened)) and np.all(opened <= time * (1 + 1e-12))
+        assert np.array_equal(opened[kind == 1], broken[kind == 1])
+        for t in opened[kind == 2]:
+            assert min(abs(t - s) for s in split_times) <= 1e-8 * t
+        assert area[kind == 1].sum() == pytest.approx(
+            sum(float(b["face_area_m2"]) for b in breaks_in(breaks, time)), rel=1e-8)
+        assert area[kind == 2].sum() == pytest.approx(
+            sum(float(s["section_area_m2"]) for s in up_to(splits, time)), rel=1e-8, abs=1e-30)
+        last = (time, kind, area)
+    assert last is not None
+    facts = run_facts(result)
+    time, kind, area = last
+    assert time == pytest.approx(float(facts["dynamics_time_s"]), rel=1e-8)
+    assert area[kind == 1].sum() == pytest.approx(float(facts["cracks_intergranular_area_m2"]), rel=1e-8)
+    assert area[kind == 2].sum() == pytest.approx(float(facts["cracks_transgranular_area_m2"]), rel=1e-8)
+
+
+def test_run_toml_reports_crack_areas_per_stage_and_at_the_peak(result):
+    facts = run_facts(result)
+    rows = read_csv(result / "cracks.csv")
+    end = rows[-1]
+    for key in ["intergranular_area_m2", "transgranular_area_m2", "transgranular_area_fraction",
+                "intergranular_count", "transgranular_count", "transgranular_count_fraction"]:
+        assert float(facts["cracks_" + key]) == pytest.approx(float(end[key]), rel=1e-8)
+    for at in ["cracks_", "cracks_at_peak_", "stage_loading_cracks_", "stage_loading_cracks_at_peak_"]:
+        for by in ["area", "count"]:
+            inter = float(facts[f"{at}intergranular_{by}_fraction"])
+            trans = float(facts[f"{at}transgranular_{by}_fraction"])
+            if math.isnan(inter) or math.isnan(trans):  # no crack yet: both
+                assert math.isnan(inter) and math.isnan(trans) and \
+                    int(facts[f"{at}intergranular_count"]) + int(facts[f"{at}transgranular_count"]) == 0
+                continue
+            assert inter + trans == pytest.approx(1.0, abs=2e-9), at
+    # The stages' own cracks add up to the run's.
+    stages = ["bonding", "approach", "loading"]
+    for key in ["intergranular_area_m2", "transgranular_area_m2", "intergranular_count",
+                "transgranular_count"]:
+        assert sum(float(facts[f"stage_{s}_cracks_{key}"]) for s in stages) == \
+            pytest.approx(float(facts["cracks_" + key]), rel=1e-8)
+    # Before the first crack the fractions are nan (0/0): the bonding stage breaks nothing.
+    assert math.isnan(float(facts["stage_bonding_cracks_transgranular_area_fraction"]))
+    # At the peak (the loading stage's: the run's peak), the cracks so far: no more than at
+    # the end, and the row of cracks.csv at the peak's time has them.
+    assert float(facts["peak_load_N"]) == pytest.approx(float(facts["stage_loading_peak_load_N"]))
+    for key in ["intergranular_count", "transgranular_count"]:
+        assert int(facts["cracks_at_peak_" + key]) <= int(facts["cracks_" + key])
+        assert int(facts["stage_loading_cracks_at_peak_" + key]) <= int(facts["stage_loading_cracks_" + key])
 
 
 # ------------------------------------------------------------------------------------------
