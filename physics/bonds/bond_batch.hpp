@@ -52,10 +52,10 @@ struct BondMotion {
 template <int W>
 [[gnu::always_inline]] inline BondMotion<simd::Real<W>> bond_motion(const BondLane* in) {
   using T = simd::Real<W>;
-  auto vec = [&](const Eigen::Vector3d* BondLane::*f) {
+  auto vec = [&](const Eigen::Vector3d* BondLane::*f) __attribute__((always_inline)) {
     return load3<W>([&](int i) -> const Eigen::Vector3d& { return *(in[i].*f); });
   };
-  auto quat = [&](const Eigen::Quaterniond* BondLane::*f) {
+  auto quat = [&](const Eigen::Quaterniond* BondLane::*f) __attribute__((always_inline)) {
     return load_quat<W>([&](int i) -> const Eigen::Quaterniond& { return *(in[i].*f); });
   };
   const Quat<T> qa = quat(&BondLane::qa), qb = quat(&BondLane::qb);
@@ -106,13 +106,13 @@ template <int W>
 inline void bond_batch(const BondLane* in, BondLaneResult* out, double dt) {
   using T = simd::Real<W>;
   const BondMotion<T> m = bond_motion<W>(in);
-  auto state = [&](double BondState::*f) {
+  auto state = [&](double BondState::*f) __attribute__((always_inline)) {
     return simd::load<W>([&](int i) { return (*in[i].state).*f; });
   };
-  auto state3 = [&](Eigen::Vector3d BondState::*f) {
+  auto state3 = [&](Eigen::Vector3d BondState::*f) __attribute__((always_inline)) {
     return load3<W>([&](int i) -> const Eigen::Vector3d& { return (*in[i].state).*f; });
   };
-  auto constant = [&](double BondConstants::*f) {
+  auto constant = [&](double BondConstants::*f) __attribute__((always_inline)) {
     return simd::load<W>([&](int i) { return (*in[i].constants).*f; });
   };
   const BondLoads<T> b = bond_increment<T>(

@@ -107,13 +107,6 @@ template <class T>
   return rotated(Quat<double>{q.x(), q.y(), q.z(), q.w()}, v);
 }
 
-/// The vectors get(0), get(1), ... (Eigen vectors) in lanes 0, 1, ...
-template <int W, class Get>
-[[gnu::always_inline]] inline Vec3<simd::Real<W>> load3(Get&& get) {
-  return {simd::load<W>([&](int i) { return get(i).x(); }),
-          simd::load<W>([&](int i) { return get(i).y(); }),
-          simd::load<W>([&](int i) { return get(i).z(); })};
-}
 #if defined(__AVX__)
 /// Four lanes to and from an AVX register, through one aligned store and load (the
 /// compiler keeps them in the register).
@@ -129,24 +122,56 @@ template <int W, class Get>
 }
 #endif
 
-/// p[idx[0]], p[idx[1]], ... in lanes 0, 1, ...: load3 over an array of Eigen vectors. With
-/// AVX and W = 4 each vector's x, y pair moves as one 16-byte load and two shuffles make the
-/// x and y lanes, where lane-by-lane loads cost one load and one insert a value.
+/// The vectors get(0), get(1), ... (Eigen vectors) in lanes 0, 1, ... With AVX and W = 4
+/// each vector's x, y pair moves as one 16-byte load and two shuffles make the x and y
+/// lanes, where lane-by-lane loads cost one load and one insert a value.
+template <int W, class Get>
+[[gnu::always_inline]] inline Vec3<simd::Real<W>> load3(Get&& get) {
+#if defined(__AVX__)
+  if constexpr (W == 4) {
+    const Eigen::Vector3d &p0 = get(0), &p1 = get(1), &p2 = get(2), &p3 = get(3);
+    const __m128d a0 = _mm_loadu_pd(p0.data()), a1 = _mm_loadu_pd(p1.data());
+    const __m128d a2 = _mm_loadu_pd(p2.data()), a3 = _mm_loadu_pd(p3.data());
+    const __m256d xy02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a0), a2, 1);
+    const __m256d xy13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a1), a3, 1);
+    return {from_avx(_mm256_unpacklo_pd(xy02, xy13)), from_avx(_mm256_unpackhi_pd(xy02, xy13)),
+            from_avx(_mm256_set_pd(p3.z(), p2.z(), p1.z(), p0.z()))};
+  }
+#endif
+  return {simd::load<W>([&](int i) { return get(i).x(); }),
+          simd::load<W>([&](int i) { return get(i).y(); }),
+          simd::load<W>([&](int i) { return get(i).z(); })};
+}
+
+/// The quaternions get(0), get(1), ... in lanes 0, 1, ... (with AVX and W = 4: four 32-byte
+/// loads and a 4 x 4 transpose).
+template <int W, class Get>
+[[gnu::always_inline]] inline Quat<simd::Real<W>> load_quat(Get&& get) {
+#if defined(__AVX__)
+  if constexpr (W == 4) {
+    // Eigen stores x, y, z, w.
+    const __m256d r0 = _mm256_loadu_pd(get(0).coeffs().data());
+    const __m256d r1 = _mm256_loadu_pd(get(1).coeffs().data());
+    const __m256d r2 = _mm256_loadu_pd(get(2).coeffs().data());
+    const __m256d r3 = _mm256_loadu_pd(get(3).coeffs().data());
+    const __m256d xz01 = _mm256_unpacklo_pd(r0, r1), yw01 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d xz23 = _mm256_unpacklo_pd(r2, r3), yw23 = _mm256_unpackhi_pd(r2, r3);
+    return {from_avx(_mm256_permute2f128_pd(xz01, xz23, 0x20)),
+            from_avx(_mm256_permute2f128_pd(yw01, yw23, 0x20)),
+            from_avx(_mm256_permute2f128_pd(xz01, xz23, 0x31)),
+            from_avx(_mm256_permute2f128_pd(yw01, yw23, 0x31))};
+  }
+#endif
+  return {simd::load<W>([&](int i) { return get(i).x(); }),
+          simd::load<W>([&](int i) { return get(i).y(); }),
+          simd::load<W>([&](int i) { return get(i).z(); }),
+          simd::load<W>([&](int i) { return get(i).w(); })};
+}
+
+/// p[idx[0]], p[idx[1]], ... in lanes 0, 1, ...: load3 over an array of Eigen vectors.
 template <int W>
 [[gnu::always_inline]] inline Vec3<simd::Real<W>> gather3(const Eigen::Vector3d* p,
                                                          const int* idx) {
-#if defined(__AVX__)
-  if constexpr (W == 4) {
-    const __m128d a0 = _mm_loadu_pd(p[idx[0]].data()), a1 = _mm_loadu_pd(p[idx[1]].data());
-    const __m128d a2 = _mm_loadu_pd(p[idx[2]].data()), a3 = _mm_loadu_pd(p[idx[3]].data());
-    const __m256d xy02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a0), a2, 1);
-    const __m256d xy13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(a1), a3, 1);
-    const __m256d z =
-        _mm256_set_pd(p[idx[3]].z(), p[idx[2]].z(), p[idx[1]].z(), p[idx[0]].z());
-    return {from_avx(_mm256_unpacklo_pd(xy02, xy13)), from_avx(_mm256_unpackhi_pd(xy02, xy13)),
-            from_avx(z)};
-  }
-#endif
   return load3<W>([&](int i) -> const Eigen::Vector3d& { return p[idx[i]]; });
 }
 
@@ -180,14 +205,6 @@ template <int W>
   }
 }
 
-/// The quaternions get(0), get(1), ... in lanes 0, 1, ...
-template <int W, class Get>
-[[gnu::always_inline]] inline Quat<simd::Real<W>> load_quat(Get&& get) {
-  return {simd::load<W>([&](int i) { return get(i).x(); }),
-          simd::load<W>([&](int i) { return get(i).y(); }),
-          simd::load<W>([&](int i) { return get(i).z(); }),
-          simd::load<W>([&](int i) { return get(i).w(); })};
-}
 /// Lane i of a vector.
 template <class T>
 [[gnu::always_inline]] inline V3 lane(const Vec3<T>& v, int i) {
