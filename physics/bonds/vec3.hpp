@@ -175,25 +175,27 @@ template <int W>
   return load3<W>([&](int i) -> const Eigen::Vector3d& { return p[idx[i]]; });
 }
 
-/// gather3's inverse: lane i of v into p[idx[i]] (the indices distinct).
-template <int W>
-[[gnu::always_inline]] inline void scatter3(Eigen::Vector3d* p, const int* idx,
-                                            const Vec3<simd::Real<W>>& v) {
+/// load3's inverse: lane i of v into put(i) (an Eigen vector each, all distinct). With AVX
+/// and W = 4, two shuffles make the x, y pairs and each vector takes one 16-byte and one
+/// 8-byte store, where lane-by-lane stores extract every value on its own.
+template <int W, class Put>
+[[gnu::always_inline]] inline void store3(const Vec3<simd::Real<W>>& v, Put&& put) {
   if constexpr (W == 1) {
-    p[idx[0]] = Eigen::Vector3d(v.x, v.y, v.z);
+    put(0) = Eigen::Vector3d(v.x, v.y, v.z);
 #if defined(__AVX__)
   } else if constexpr (W == 4) {
     const __m256d x = to_avx(v.x), y = to_avx(v.y), z = to_avx(v.z);
     const __m256d xy02 = _mm256_unpacklo_pd(x, y), xy13 = _mm256_unpackhi_pd(x, y);
-    _mm_storeu_pd(p[idx[0]].data(), _mm256_castpd256_pd128(xy02));
-    _mm_storeu_pd(p[idx[1]].data(), _mm256_castpd256_pd128(xy13));
-    _mm_storeu_pd(p[idx[2]].data(), _mm256_extractf128_pd(xy02, 1));
-    _mm_storeu_pd(p[idx[3]].data(), _mm256_extractf128_pd(xy13, 1));
     const __m128d z01 = _mm256_castpd256_pd128(z), z23 = _mm256_extractf128_pd(z, 1);
-    _mm_storel_pd(&p[idx[0]].z(), z01);
-    _mm_storeh_pd(&p[idx[1]].z(), z01);
-    _mm_storel_pd(&p[idx[2]].z(), z23);
-    _mm_storeh_pd(&p[idx[3]].z(), z23);
+    Eigen::Vector3d &p0 = put(0), &p1 = put(1), &p2 = put(2), &p3 = put(3);
+    _mm_storeu_pd(p0.data(), _mm256_castpd256_pd128(xy02));
+    _mm_storeu_pd(p1.data(), _mm256_castpd256_pd128(xy13));
+    _mm_storeu_pd(p2.data(), _mm256_extractf128_pd(xy02, 1));
+    _mm_storeu_pd(p3.data(), _mm256_extractf128_pd(xy13, 1));
+    _mm_storel_pd(&p0.z(), z01);
+    _mm_storeh_pd(&p1.z(), z01);
+    _mm_storel_pd(&p2.z(), z23);
+    _mm_storeh_pd(&p3.z(), z23);
 #endif
   } else {
     // Through memory once, not lane by lane out of the registers.
@@ -201,8 +203,15 @@ template <int W>
     v.x.copy_to(x, simd::stdx::vector_aligned);
     v.y.copy_to(y, simd::stdx::vector_aligned);
     v.z.copy_to(z, simd::stdx::vector_aligned);
-    for (int i = 0; i < W; ++i) p[idx[i]] = Eigen::Vector3d(x[i], y[i], z[i]);
+    for (int i = 0; i < W; ++i) put(i) = Eigen::Vector3d(x[i], y[i], z[i]);
   }
+}
+
+/// gather3's inverse: lane i of v into p[idx[i]] (the indices distinct).
+template <int W>
+[[gnu::always_inline]] inline void scatter3(Eigen::Vector3d* p, const int* idx,
+                                            const Vec3<simd::Real<W>>& v) {
+  store3<W>(v, [&](int i) -> Eigen::Vector3d& { return p[idx[i]]; });
 }
 
 /// Lane i of a vector.

@@ -99,19 +99,19 @@ void contact_forces(const ContactParams& p, const ContactKinematics* const k[],
     moment = (rolling - coefficient(&ContactDamping::cr) * wr) +
              (torsion - coefficient(&ContactDamping::ct) * wt) * n;
   }
+  store3<W>(shear, [&](int i) -> Eigen::Vector3d& { return h[i]->shear; });
+  store3<W>(force, [&](int i) -> Eigen::Vector3d& { return out[i]->force; });
+  if (resists) {
+    store3<W>(rolling, [&](int i) -> Eigen::Vector3d& { return h[i]->rolling; });
+    store3<W>(moment, [&](int i) -> Eigen::Vector3d& { return out[i]->moment; });
+  }
   for (int i = 0; i < W; ++i) {
-    ContactHistory& hi = *h[i];
-    ContactForce& o = *out[i];
-    hi.max_overlap = simd::lane(max_overlap, i);
-    hi.shear = eigen(lane(shear, i));
-    o.force = eigen(lane(force, i));
-    o.sliding = simd::lane(sliding, i);
+    h[i]->max_overlap = simd::lane(max_overlap, i);
+    out[i]->sliding = simd::lane(sliding, i);
     if (resists) {
-      hi.rolling = eigen(lane(rolling, i));
-      hi.torsion = simd::lane(torsion, i);
-      o.moment = eigen(lane(moment, i));
+      h[i]->torsion = simd::lane(torsion, i);
     } else {
-      o.moment.setZero();
+      out[i]->moment.setZero();
     }
   }
 }
