@@ -68,6 +68,54 @@ struct FragmentInertia {
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  ///< dH/dt about the fragment centroid
 };
 
+/// Mass properties per unit density of a closed polyhedron: volume, centroid and the inertia
+/// tensor about the centroid (world axes).
+struct SolidMass {
+  double volume = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+};
+
+/// Sums a closed polyhedron face by face (divergence theorem: signed tetrahedra from
+/// `origin`, a point near the solid, to each face's fan of triangles), exact for any
+/// polyhedron up to round-off. Each face is a planar polygon with its outward normal; the
+/// vertex order may run either way (it is taken about the normal).
+class SolidMassSum {
+ public:
+  explicit SolidMassSum(const Eigen::Vector3d& origin) : origin_(origin) {}
+  void add_face(std::span<const Eigen::Vector3d> polygon, const Eigen::Vector3d& outward);
+  [[nodiscard]] SolidMass result() const;
+
+ private:
+  Eigen::Vector3d origin_;
+  double six_volume_ = 0.0;                           // sum of det
+  Eigen::Vector3d first_ = Eigen::Vector3d::Zero();   // 24 x integral of r dV
+  Eigen::Matrix3d second_ = Eigen::Matrix3d::Zero();  // 120 x integral of r r^T dV
+};
+
+/// The part of a convex polyhedron (faces with outward normals) on the fragment's side of
+/// `plane`, closed by `section` (the plane's cut through it, in order): its mass properties
+/// per unit density.
+SolidMass fragment_mass(std::span<const std::vector<Eigen::Vector3d>> faces,
+                        std::span<const Eigen::Vector3d> outward,
+                        std::span<const Eigen::Vector3d> section, const CrackPlane& plane);
+
+/// A rigid body's motion at one instant, as a fragment of it shares it.
+struct RigidMotion {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();      ///< the body's centroid G, world
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  ///< of G: a_G
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero();         ///< angular velocity
+  Eigen::Vector3d alpha = Eigen::Vector3d::Zero();         ///< angular acceleration
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();       ///< body force per mass on it
+};
+
+/// The d'Alembert terms of a fragment of density `rho` and mass properties `fragment` that
+/// moves rigidly with `body`: m (a_G + alpha x r + omega x (omega x r) - g), r from G to the
+/// fragment's centroid, and dH/dt = J alpha + omega x (J omega) about its centroid. The
+/// fragment's weight is taken off its m a: gravity acts on it as a body force, not through
+/// a face, so its faces and the section alone balance m (a - g).
+FragmentInertia fragment_inertia(const RigidMotion& body, double rho, const SolidMass& fragment);
+
 /// What the crack section carries (sec. 3.3).
 struct CrackPlaneLoad {
   /// The crack section, normal out of the fragment, origin at its centroid.
