@@ -22,7 +22,8 @@
 /// - Equilibrium is d'Alembert's, as in eq. 3.8: F_crack = m a - F_faces and, about g,
 ///   M_crack = dH/dt - M_faces, where m a and dH/dt are the fragment's (FragmentInertia,
 ///   zero by default: the quasi-static balance printed in sec. 3.3). This is where the m a
-///   terms of eqs 3.8-3.19 belong (see face_traction.hpp).
+///   terms of eqs 3.8-3.19 belong (see face_traction.hpp); the check (transgranular.hpp)
+///   passes them from the grain's rigid motion (fragment_mass, fragment_inertia).
 /// - Eq. 3.21 prints t = F(k) / Area_crack times a local axis, i.e. the components of the
 ///   crack force on the section axes divided by the section area. Those are the mean
 ///   tractions; t_x, t_y and t_o (the normal traction at the section centroid) keep exactly
