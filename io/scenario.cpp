@@ -676,8 +676,8 @@ void read_bond_table(const TableReader& t, BondDef& b) {
   b.strength_modulus = t.number("strength_modulus", Range::positive(), 0.0).value;
 }
 
-constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic", "c", "crack_length",
-                                              "check_every", "criterion", "sigma_f"};
+constexpr std::string_view kFractureKeys[] = {"sigma_f_hyd", "k_ic",      "c",       "crack_length",
+                                              "check_every", "criterion", "sigma_f", "inertia"};
 
 void read_fracture_table(const TableReader& t, bool dynamics, FractureDef& f) {
   t.reject_unknown(kFractureKeys);
@@ -691,7 +691,7 @@ void read_fracture_table(const TableReader& t, bool dynamics, FractureDef& f) {
       physics::GrainCriterion::lefm);
   f.check_every = t.int_integer("check_every", 1, 1);
   if (f.params.criterion != physics::GrainCriterion::lefm) {
-    for (std::string_view key : {"sigma_f_hyd", "k_ic", "c", "crack_length"}) {
+    for (std::string_view key : {"sigma_f_hyd", "k_ic", "c", "crack_length", "inertia"}) {
       if (t.find(key) != nullptr)
         t.fail(*t.find(key), key, "belongs to criterion = \"lefm\" (sec. 3.4); a stress criterion takes sigma_f");
     }
@@ -705,6 +705,7 @@ void read_fracture_table(const TableReader& t, bool dynamics, FractureDef& f) {
   f.params.k_ic = t.number("k_ic", Range::positive()).value;
   f.params.c = t.number("c", Range::positive(), 0.816).value;
   f.params.crack_length = t.number("crack_length", Range::positive()).value;
+  f.params.inertia = t.boolean("inertia", true);
 }
 
 constexpr std::string_view kMotionStageKeys[] = {"name",  "kind",      "wall_velocity",

@@ -180,9 +180,11 @@ std::string scenario_to_toml(const Scenario& s) {
   if (s.fracture.enabled) {
     const physics::FractureParams& f = s.fracture.params;
     if (f.criterion == physics::GrainCriterion::lefm) {
-      out += fmt::format("\n[fracture]\nsigma_f_hyd = {}\nk_ic = {}\nc = {}\ncrack_length = {}\ncheck_every = {}\n",
-                         num(f.sigma_f_hyd), num(f.k_ic), num(f.c), num(f.crack_length),
-                         s.fracture.check_every);
+      out += fmt::format(
+          "\n[fracture]\nsigma_f_hyd = {}\nk_ic = {}\nc = {}\ncrack_length = {}\ncheck_every = {}\n"
+          "inertia = {}\n",
+          num(f.sigma_f_hyd), num(f.k_ic), num(f.c), num(f.crack_length), s.fracture.check_every,
+          f.inertia);
     } else {
       out += fmt::format("\n[fracture]\ncriterion = \"{}\"\nsigma_f = {}\ncheck_every = {}\n",
                          f.criterion == physics::GrainCriterion::rankine ? "rankine" : "hydrostatic", num(f.sigma_f),
@@ -379,6 +381,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("fracture.check_every", a.fracture.check_every, b.fracture.check_every);
   d.same("fracture.criterion", a.fracture.params.criterion, b.fracture.params.criterion);
   d.same("fracture.sigma_f", a.fracture.params.sigma_f, b.fracture.params.sigma_f);
+  d.same("fracture.inertia", a.fracture.params.inertia, b.fracture.params.inertia);
 
   d.same("thermal", a.thermal.enabled, b.thermal.enabled);
   d.same("thermal.temperature", a.thermal.temperature, b.thermal.temperature);

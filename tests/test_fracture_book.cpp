@@ -308,3 +308,91 @@ TEST_P(GrainStressCriterion, AChainPulledApartSplitsAnInnerGrainWhenItsStressRea
 
 INSTANTIATE_TEST_SUITE_P(RankineAndHydrostatic, GrainStressCriterion,
                          ::testing::Values(GrainCriterion::rankine, GrainCriterion::hydrostatic));
+
+// --- The d'Alembert terms of eqs 3.8-3.19 in the check -------------------------------------
+
+namespace {
+
+/// The <10-10> orientation whose cleavage plane is x = 0 through the grain's centre (through
+/// two opposite corners of the hexagon, whose flats face +-x).
+int angle_with_plane_along_x() {
+  for (const int a : {0, 60, 120}) {
+    Rig probe;
+    const BodyId g = probe.grain(0, {0, 0, 0}, {geometry::CleavageFamily::m_10_10, a});
+    if (std::abs(probe.book.world_plane(probe.world, g, 0).first.x()) > 1.0 - 1e-12) return a;
+  }
+  return -1;
+}
+
+/// Only the section load matters here: the gate is open and nothing can fail.
+FractureParams section_probe() {
+  FractureParams p;
+  p.sigma_f_hyd = -1e30;
+  p.k_ic = 1e30;
+  p.crack_length = 0.1e-3;
+  return p;
+}
+
+}  // namespace
+
+TEST(DAlembert, ASpinningGrainsSectionCarriesTheCentripetalForceOfItsHalf) {
+  // A free grain spinning about its prism axis at omega, no contact, no gravity: each half
+  // (a trapezoidal prism cut through two opposite corners, centroid d = 2 sqrt(3) s / 9 from
+  // the axis) turns on a circle, and the other half must pull it in with m/2 omega^2 d
+  // through the section, a uniform tension over A_c = 2 s t. Without the d'Alembert term
+  // the section carries nothing.
+  const int angle = angle_with_plane_along_x();
+  ASSERT_GE(angle, 0);
+  Rig s;
+  const double omega = 2000.0;
+  const BodyId g =
+      s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(),
+                       Eigen::Vector3d::Zero(), {0, 0, omega}, 0);
+  s.book.add_grain(s.world, g, 0, {geometry::CleavageFamily::m_10_10, angle});
+  s.world.step();
+  const auto found = assess(s.world, s.book, g, section_probe(), s.world.body_stresses());
+  ASSERT_EQ(found.size(), 1u);
+  const CrackAssessment& a = found.front();
+  const Eigen::Vector3d n = s.book.world_plane(s.world, g, a.plane).first;
+  const double mass = kRho * 1.5 * std::sqrt(3.0) * kSide * kSide * kThick;
+  const double d = 2.0 * std::sqrt(3.0) * kSide / 9.0;
+  const double centripetal = 0.5 * mass * omega * omega * d;
+  EXPECT_LT((a.section_force - centripetal * n).norm(), 1e-9 * centripetal)
+      << a.section_force.transpose() << " vs " << centripetal;
+  // It pulls through the section's centroid: no bending, so sigma = F / A_c.
+  EXPECT_LT(a.section_moment.norm(), 1e-9 * centripetal * kSide);
+  EXPECT_NEAR(a.stresses.sigma, centripetal / (2 * kSide * kThick),
+              1e-9 * centripetal / (2 * kSide * kThick));
+  // Switched off, the quasi-static balance of sec. 3.3 sees no load at all.
+  FractureParams off = section_probe();
+  off.inertia = false;
+  EXPECT_EQ(assess(s.world, s.book, g, off, s.world.body_stresses()).front().section_force.norm(),
+            0.0);
+}
+
+TEST(DAlembert, APushedGrainsSectionDrivesTheFarHalfWithItsMassTimesTheAcceleration) {
+  // A free grain pushed on its -x face by a platen (force F along x, through the face's
+  // centre): it accelerates at a = F / m without turning, and the section x = 0 must give
+  // the far half m/2 a = F / 2, a compression of F / 2 on either side's section (the near
+  // half passes F on and keeps F / 2). Quasi-statically the near half would carry all of F
+  // and the far half none.
+  const int angle = angle_with_plane_along_x();
+  ASSERT_GE(angle, 0);
+  Rig s;
+  const BodyId g =
+      s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(),
+                       Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0);
+  s.book.add_grain(s.world, g, 0, {geometry::CleavageFamily::m_10_10, angle});
+  const double reach = std::sqrt(3.0) / 2.0 * kSide + kDilation;
+  s.world.add_wall(Wall::platen("pusher", {-reach + 2e-6, 0, 0}, {1, 0, 0}, {0, 1, 0}, 2e-3, 2e-3));
+  s.world.step();
+  const double push = s.world.state(g).f.x();
+  ASSERT_GT(push, 0.0);
+  ASSERT_LT(s.world.state(g).f.tail<2>().norm(), 1e-9 * push);
+  const auto found = assess(s.world, s.book, g, section_probe(), s.world.body_stresses());
+  ASSERT_EQ(found.size(), 1u);
+  const CrackAssessment& a = found.front();
+  const Eigen::Vector3d n = s.book.world_plane(s.world, g, a.plane).first;
+  EXPECT_LT((a.section_force + 0.5 * push * n).norm(), 1e-6 * push)
+      << a.section_force.transpose() << " vs " << (-0.5 * push * n).transpose();
+}

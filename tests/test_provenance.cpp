@@ -307,6 +307,7 @@ TEST(ScenarioAsRun, TheComparisonSeesAChangeInAnyTable) {
   EXPECT_EQ(changed([](Scenario& t) { t.dynamics.dt = 1.24e-7; }), V{"dynamics.dt"});
   EXPECT_EQ(changed([](Scenario& t) { t.bond.params.g_c = 1; }), V{"bond.g_c"});
   EXPECT_EQ(changed([](Scenario& t) { t.fracture.check_every = 1; }), V{"fracture.check_every"});
+  EXPECT_EQ(changed([](Scenario& t) { t.fracture.params.inertia = false; }), V{"fracture.inertia"});
   EXPECT_EQ(changed([](Scenario& t) { t.walls[2].load_axis = {0, 0, 1}; }), V{"wall[3].load_axis"});
   EXPECT_EQ(changed([](Scenario& t) { t.walls[1].velocity.y() = 0; }), V{"wall[2].velocity"});
   EXPECT_EQ(changed([](Scenario& t) { t.stages[0].wall_velocity[1].second.y() = 0; }),

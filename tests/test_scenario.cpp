@@ -1047,6 +1047,24 @@ TEST(Scenario, GrainStressCriteriaReadBackAndLeaveOutTheToughness) {
   EXPECT_SCENARIO_ERROR(none, line_of_last(none, "[fracture]"), "fracture.sigma_f", "missing");
 }
 
+TEST(Scenario, FractureInertiaIsOnByDefaultReadsBackAndBelongsToTheLefmCriterion) {
+  // The d'Alembert terms of eqs 3.8-3.19 are on unless the file says otherwise; the
+  // manifest carries the choice, and a stress criterion (no crack section) refuses it.
+  const std::string base =
+      std::string(kDropTest) + "[fracture]\nsigma_f_hyd = 0\nk_ic = 1e6\ncrack_length = 0.1\n";
+  EXPECT_TRUE(parse_scenario(base, "on.toml").fracture.params.inertia);
+  const Scenario off = parse_scenario(base + "inertia = false\n", "off.toml");
+  EXPECT_FALSE(off.fracture.params.inertia);
+  const Scenario again = parse_scenario(scenario_to_toml(off), "again.toml");
+  EXPECT_FALSE(again.fracture.params.inertia);
+  EXPECT_TRUE(scenario_differences(off, again).empty());
+  EXPECT_FALSE(scenario_differences(off, parse_scenario(base, "on.toml")).empty());
+  const std::string stress = std::string(kDropTest) +
+                             "[fracture]\ncriterion = \"rankine\"\nsigma_f = 3e6\ninertia = true\n";
+  EXPECT_SCENARIO_ERROR(stress, line_of_last(stress, "inertia"), "fracture.inertia",
+                        "belongs to criterion = \"lefm\"");
+}
+
 TEST(Scenario, PeriodicCellsAndCellStrainStagesReadBackAndBadValuesNameTheirKey) {
   const std::string voronoi = R"([specimen]
 shape = "voronoi"

@@ -3,6 +3,7 @@
 // eqs 3.22-3.25). Expected values are closed forms of plane sections and beams.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -739,4 +740,112 @@ TEST(HydrostaticGate, MeanFromTheDiagonalIsTheTraceOfTheWholeStressToTheBit) {
   // The order of the sum matters: summed left to right, a few hundred differ (so this test
   // tells the orders apart).
   EXPECT_GT(differ_from_plain_sum, 100);
+}
+
+// --- A fragment's mass properties and d'Alembert terms --------------------------------------
+
+namespace {
+
+/// A regular hexagonal prism (side s, thickness t) centred on f.c with its axis along f.n:
+/// faces with their outward normals.
+struct Prism {
+  std::vector<std::vector<Vector3d>> faces;
+  std::vector<Vector3d> normals;
+};
+
+Prism hex_prism(const Frame& f, double s, double t) {
+  Prism p;
+  const Frame top{f.c + t / 2 * f.n, f.x, f.y, f.n}, bottom{f.c - t / 2 * f.n, f.x, f.y, f.n};
+  const auto up = hexagon(top, s), down = hexagon(bottom, s);
+  p.faces.push_back(up);
+  p.normals.push_back(f.n);
+  p.faces.push_back({down.rbegin(), down.rend()});
+  p.normals.push_back(-f.n);
+  for (int k = 0; k < 6; ++k) {
+    const int j = (k + 1) % 6;
+    p.faces.push_back({down[k], down[j], up[j], up[k]});
+    const Vector3d mid = (down[k] + down[j]) / 2 - bottom.c;
+    p.normals.push_back(mid.normalized());
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(FragmentMass, HalfAHexagonalPrismHasTheClosedFormVolumeCentroidAndInertia) {
+  // Cut through two opposite corners, half the prism is a trapezoidal prism: volume
+  // 3 sqrt(3) / 4 s^2 t, centroid 2 sqrt(3) s / 9 from the axis. Uncut, the prism's own
+  // closed forms: J_axis = 5 sqrt(3) / 8 s^4 t, J_across = 5 sqrt(3) / 16 s^4 t + V t^2 / 12.
+  const Frame f = tilted_frame();
+  const double s = 0.5e-3, t = 0.8e-3;
+  const Prism p = hex_prism(f, s, t);
+  const CrackPlane far{f.c + 10 * s * f.x, f.x};  // misses the prism
+  const SolidMass whole = fragment_mass(p.faces, p.normals, {}, far);
+  const double v = 1.5 * std::sqrt(3.0) * s * s * t;
+  EXPECT_NEAR(whole.volume, v, 1e-12 * v);
+  expect_vec_near(whole.centroid, f.c, 1e-15);
+  const Eigen::Matrix3d r = (Eigen::Matrix3d() << f.x, f.y, f.n).finished();
+  const Eigen::Matrix3d local = r.transpose() * whole.inertia * r;
+  const double j_axis = 5 * std::sqrt(3.0) / 8 * std::pow(s, 4) * t;
+  const double j_across = 5 * std::sqrt(3.0) / 16 * std::pow(s, 4) * t + v * t * t / 12;
+  EXPECT_NEAR(local(2, 2), j_axis, 1e-10 * j_axis);
+  EXPECT_NEAR(local(0, 0), j_across, 1e-10 * j_across);
+  EXPECT_NEAR(local(1, 1), j_across, 1e-10 * j_across);
+  EXPECT_NEAR(local(0, 1), 0.0, 1e-10 * j_axis);
+  // The half on the -y side of the plane through the corners at +-s f.x.
+  const CrackPlane cut{f.c, f.y};
+  const std::vector<Vector3d> section = {f.c - s * f.x - t / 2 * f.n, f.c + s * f.x - t / 2 * f.n,
+                                         f.c + s * f.x + t / 2 * f.n, f.c - s * f.x + t / 2 * f.n};
+  const SolidMass half = fragment_mass(p.faces, p.normals, section, cut);
+  EXPECT_NEAR(half.volume, v / 2, 1e-12 * v);
+  expect_vec_near(half.centroid, f.c - 2 * std::sqrt(3.0) * s / 9 * f.y, 1e-15);
+}
+
+TEST(FragmentInertia, TheTwoSidesOfAPlaneSumToTheWholeBodysForceAndAngularMomentumRate) {
+  // Newton's third law through the section: whatever the motion, the two fragments' m (a - g)
+  // sum to the body's, and their dH/dt about their centroids plus the moments of their m a
+  // sum to the body's I alpha + omega x I omega about G.
+  const Frame f = tilted_frame();
+  const double s = 0.5e-3, t = 0.8e-3, rho = 3100.0;
+  const Prism p = hex_prism(f, s, t);
+  const SolidMass whole =
+      fragment_mass(p.faces, p.normals, {}, CrackPlane{f.c + 10 * s * f.x, f.x});
+  RigidMotion m;
+  m.centroid = f.c;
+  m.acceleration = Vector3d(3.0, -2.0, 7.0);
+  m.omega = Vector3d(300.0, -500.0, 800.0);
+  m.alpha = Vector3d(4e5, 1e5, -2e5);
+  m.gravity = Vector3d(0.0, 0.0, -9.81);
+  const Vector3d n = (0.3 * f.x + f.y + 0.2 * f.n).normalized();
+  const Vector3d point = f.c + 0.2 * s * f.x;
+  // The section by brute force: clip every face and collect the points on the plane.
+  std::vector<Vector3d> on_plane;
+  for (const auto& face : p.faces) {
+    for (const auto& q : clip_polygon(face, CrackPlane{point, n})) {
+      if (std::abs((q - point).dot(n)) < 1e-15) on_plane.push_back(q);
+    }
+  }
+  Vector3d c = Vector3d::Zero();
+  for (const auto& q : on_plane) c += q / on_plane.size();
+  const Vector3d u = (on_plane.front() - c).normalized(), w = n.cross(u);
+  std::sort(on_plane.begin(), on_plane.end(), [&](const Vector3d& a, const Vector3d& b) {
+    return std::atan2((a - c).dot(w), (a - c).dot(u)) < std::atan2((b - c).dot(w), (b - c).dot(u));
+  });
+  on_plane.erase(
+      std::unique(on_plane.begin(), on_plane.end(),
+                  [](const Vector3d& a, const Vector3d& b) { return (a - b).norm() < 1e-15; }),
+      on_plane.end());
+  const std::vector<Vector3d> reversed(on_plane.rbegin(), on_plane.rend());
+  const SolidMass one = fragment_mass(p.faces, p.normals, on_plane, CrackPlane{point, n});
+  const SolidMass two = fragment_mass(p.faces, p.normals, reversed, CrackPlane{point, -n});
+  EXPECT_NEAR(one.volume + two.volume, whole.volume, 1e-12 * whole.volume);
+  const FragmentInertia a = fragment_inertia(m, rho, one), b = fragment_inertia(m, rho, two);
+  const double mass = rho * whole.volume;
+  const Vector3d force = mass * (m.acceleration - m.gravity);
+  expect_vec_near(a.force + b.force, force, 1e-12 * force.norm());
+  const Eigen::Matrix3d j = rho * whole.inertia;
+  const Vector3d rate = j * m.alpha + m.omega.cross(j * m.omega);
+  const Vector3d sum = a.moment + (one.centroid - f.c).cross(a.force) + b.moment +
+                       (two.centroid - f.c).cross(b.force);
+  expect_vec_near(sum, rate, 1e-9 * rate.norm());
 }

@@ -68,7 +68,7 @@ RULES = {
     },
     "fracture": {
         "sigma_f_hyd": NONE, "k_ic": NONE, "c": NONE, "crack_length": NONE, "check_every": NONE,
-        "criterion": NONE, "sigma_f": NONE,
+        "criterion": NONE, "sigma_f": NONE, "inertia": NONE,
     },
     "periodic": {"axes": NONE, "stress_control_time": TIME, "stress_control_modulus": NONE},
     "stage": {

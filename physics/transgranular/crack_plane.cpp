@@ -83,4 +83,68 @@ CrackPlaneLoad crack_plane_load(std::span<const FaceLoad> fragment_faces,
   return c;
 }
 
+void SolidMassSum::add_face(std::span<const Eigen::Vector3d> polygon,
+                            const Eigen::Vector3d& outward) {
+  if (polygon.size() < 3) return;
+  // Fan about the first vertex, oriented so that each triangle's normal is the outward one.
+  const double sense = twice_area(polygon, outward) < 0.0 ? -1.0 : 1.0;
+  const Eigen::Vector3d a = polygon[0] - origin_;
+  for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+    const Eigen::Vector3d b = polygon[i] - origin_, c = polygon[i + 1] - origin_;
+    // Tetrahedron (origin, a, b, c): 6 V = det, integral of r = V (a + b + c) / 4 and
+    // integral of r r^T = det / 120 (s s^T + a a^T + b b^T + c c^T), s = a + b + c.
+    const double det = sense * a.dot(b.cross(c));
+    const Eigen::Vector3d s = a + b + c;
+    six_volume_ += det;
+    first_ += det * s;
+    second_ +=
+        det * (s * s.transpose() + a * a.transpose() + b * b.transpose() + c * c.transpose());
+  }
+}
+
+SolidMass SolidMassSum::result() const {
+  SolidMass m;
+  m.volume = six_volume_ / 6.0;
+  if (!(m.volume > 0.0)) return m;
+  const Eigen::Vector3d g = first_ / (24.0 * m.volume);  // from the origin
+  m.centroid = origin_ + g;
+  // Second moment about the centroid (parallel axes), then J = tr(C) 1 - C.
+  const Eigen::Matrix3d c = second_ / 120.0 - m.volume * g * g.transpose();
+  m.inertia = c.trace() * Eigen::Matrix3d::Identity() - c;
+  return m;
+}
+
+SolidMass fragment_mass(std::span<const std::vector<Eigen::Vector3d>> faces,
+                        std::span<const Eigen::Vector3d> outward,
+                        std::span<const Eigen::Vector3d> section, const CrackPlane& plane) {
+  thread_local std::vector<Eigen::Vector3d> part;
+  // About a point of the section: the fragment lies next to it, so the sums cancel little.
+  Eigen::Vector3d origin = plane.point;
+  if (!section.empty()) {
+    origin.setZero();
+    for (const auto& p : section) origin += p / static_cast<double>(section.size());
+  }
+  SolidMassSum sum(origin);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    clip_polygon_into(faces[f], plane, part);
+    sum.add_face(part, outward[f]);
+  }
+  sum.add_face(section, plane.normal);
+  return sum.result();
+}
+
+FragmentInertia fragment_inertia(const RigidMotion& body, double rho, const SolidMass& fragment) {
+  /// Eq. 3.8's d'Alembert force m a for a fragment that moves with its grain: the rigid
+  /// body's acceleration field at the fragment's centroid.
+  const Eigen::Vector3d r = fragment.centroid - body.centroid;
+  const Eigen::Vector3d a =
+      body.acceleration + body.alpha.cross(r) + body.omega.cross(body.omega.cross(r));
+  const double m = rho * fragment.volume;
+  const Eigen::Matrix3d j = rho * fragment.inertia;
+  FragmentInertia out;
+  out.force = m * (a - body.gravity);
+  out.moment = j * body.alpha + body.omega.cross(j * body.omega);
+  return out;
+}
+
 }  // namespace cleave::physics

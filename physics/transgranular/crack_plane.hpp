@@ -22,7 +22,8 @@
 /// - Equilibrium is d'Alembert's, as in eq. 3.8: F_crack = m a - F_faces and, about g,
 ///   M_crack = dH/dt - M_faces, where m a and dH/dt are the fragment's (FragmentInertia,
 ///   zero by default: the quasi-static balance printed in sec. 3.3). This is where the m a
-///   terms of eqs 3.8-3.19 belong (see face_traction.hpp).
+///   terms of eqs 3.8-3.19 belong (see face_traction.hpp); the check (transgranular.hpp)
+///   passes them from the grain's rigid motion (fragment_mass, fragment_inertia).
 /// - Eq. 3.21 prints t = F(k) / Area_crack times a local axis, i.e. the components of the
 ///   crack force on the section axes divided by the section area. Those are the mean
 ///   tractions; t_x, t_y and t_o (the normal traction at the section centroid) keep exactly
@@ -67,6 +68,54 @@ struct FragmentInertia {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< m a
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  ///< dH/dt about the fragment centroid
 };
+
+/// Mass properties per unit density of a closed polyhedron: volume, centroid and the inertia
+/// tensor about the centroid (world axes).
+struct SolidMass {
+  double volume = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+};
+
+/// Sums a closed polyhedron face by face (divergence theorem: signed tetrahedra from
+/// `origin`, a point near the solid, to each face's fan of triangles), exact for any
+/// polyhedron up to round-off. Each face is a planar polygon with its outward normal; the
+/// vertex order may run either way (it is taken about the normal).
+class SolidMassSum {
+ public:
+  explicit SolidMassSum(const Eigen::Vector3d& origin) : origin_(origin) {}
+  void add_face(std::span<const Eigen::Vector3d> polygon, const Eigen::Vector3d& outward);
+  [[nodiscard]] SolidMass result() const;
+
+ private:
+  Eigen::Vector3d origin_;
+  double six_volume_ = 0.0;                           // sum of det
+  Eigen::Vector3d first_ = Eigen::Vector3d::Zero();   // 24 x integral of r dV
+  Eigen::Matrix3d second_ = Eigen::Matrix3d::Zero();  // 120 x integral of r r^T dV
+};
+
+/// The part of a convex polyhedron (faces with outward normals) on the fragment's side of
+/// `plane`, closed by `section` (the plane's cut through it, in order): its mass properties
+/// per unit density.
+SolidMass fragment_mass(std::span<const std::vector<Eigen::Vector3d>> faces,
+                        std::span<const Eigen::Vector3d> outward,
+                        std::span<const Eigen::Vector3d> section, const CrackPlane& plane);
+
+/// A rigid body's motion at one instant, as a fragment of it shares it.
+struct RigidMotion {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();      ///< the body's centroid G, world
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  ///< of G: a_G
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero();         ///< angular velocity
+  Eigen::Vector3d alpha = Eigen::Vector3d::Zero();         ///< angular acceleration
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();       ///< body force per mass on it
+};
+
+/// The d'Alembert terms of a fragment of density `rho` and mass properties `fragment` that
+/// moves rigidly with `body`: m (a_G + alpha x r + omega x (omega x r) - g), r from G to the
+/// fragment's centroid, and dH/dt = J alpha + omega x (J omega) about its centroid. The
+/// fragment's weight is taken off its m a: gravity acts on it as a body force, not through
+/// a face, so its faces and the section alone balance m (a - g).
+FragmentInertia fragment_inertia(const RigidMotion& body, double rho, const SolidMass& fragment);
 
 /// What the crack section carries (sec. 3.3).
 struct CrackPlaneLoad {

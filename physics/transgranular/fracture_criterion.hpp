@@ -59,6 +59,9 @@ struct FractureParams {
   double c = 0.816;           ///< mode II / mode I toughness ratio C of eq. 3.25
   double crack_length = 0.0;  ///< crack length a of eq. 3.23, m
   GrainCriterion criterion = GrainCriterion::lefm;
+  /// lefm: each fragment's d'Alembert terms (-m a and -dH/dt, eqs 3.8-3.19) enter the balance
+  /// of the crack section (crack_plane.hpp); false: the quasi-static balance of sec. 3.3.
+  bool inertia = true;
   double sigma_f = 0.0;  ///< Pa: the stress criteria's strength
 };
 

@@ -116,6 +116,37 @@ std::span<const PointForce> forces_of(const World& world, std::uint32_t slot, st
   return out;
 }
 
+/// The body's rigid motion now, for its fragments' d'Alembert terms (see the header): a_G
+/// and alpha from the forces `acting` on its faces and gravity, omega the step's.
+RigidMotion rigid_motion(const World& world, BodyId id, std::span<const PointForce> acting) {
+  const BodyState& s = world.state(id);
+  const BodyInfo& b = world.info(id);
+  RigidMotion m;
+  m.centroid = s.x;
+  m.omega = s.w;
+  m.gravity = world.settings().gravity;
+  if (b.fixed) {
+    m.acceleration = Eigen::Vector3d::Zero();
+    return m;  // prescribed, unaccelerated motion
+  }
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  for (const PointForce& f : acting) {
+    force += f.force;
+    torque += (f.point - s.x).cross(f.force);
+  }
+  m.acceleration = force / b.mass + m.gravity;
+  if (world.settings().in_plane) {
+    m.acceleration.z() = 0.0;
+    torque.x() = torque.y() = 0.0;
+  }
+  // Euler's equations in the principal frame: I alpha = tau - omega x (I omega).
+  const Eigen::Vector3d w = s.q.conjugate() * s.w, t = s.q.conjugate() * torque;
+  const Eigen::Vector3d iw = b.inertia.cwiseProduct(w);
+  m.alpha = s.q * (t - w.cross(iw)).cwiseProduct(b.inv_inertia);
+  if (world.settings().in_plane) m.alpha.x() = m.alpha.y() = 0.0;
+  return m;
+}
+
 /// `acting()`: the forces on the body, asked for only past the gate.
 template <class Acting>
 std::vector<CrackAssessment> assess_with(const World& world, const FractureBook& book, BodyId id,
@@ -165,7 +196,8 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
   thread_local std::vector<Eigen::Vector3d> cut;
   thread_local std::vector<FaceLoad> loads;
   pose_faces(world, id, faces);
-  for (const PointForce& f : acting()) faces.forces[face_of(faces, f.point)].push_back(f);
+  const std::span<const PointForce> forces = acting();
+  for (const PointForce& f : forces) faces.forces[face_of(faces, f.point)].push_back(f);
   // Eq. 3.15 on every face.
   geometry.clear();
   tractions.clear();
@@ -175,6 +207,12 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     tractions.push_back(face_tractions(geometry.back(), faces.forces[f]));
   }
   const Eigen::Vector3d centroid = world.state(id).x;
+  RigidMotion motion;
+  double rho = 0.0;
+  if (params.inertia) {
+    motion = rigid_motion(world, id, forces);
+    rho = world.info(id).mass / world.shape(world.info(id).shape).volume;
+  }
   for (const int k : candidates) {
     const auto [normal, point] = book.world_plane(world, id, k);
     const CrackPlane plane{point, normal};
@@ -185,10 +223,20 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
       loads.push_back(face_part_load(geometry[f], tractions[f], faces.polygons[f], plane));
     }
-    const CrackPlaneLoad load = crack_plane_load(loads, centroid, cut, plane, cut[1] - cut[0]);
+    CrackPlaneLoad load;
+    if (params.inertia) {
+      /// Eq. 3.8's m a for the fragment, with its dH/dt about its own centroid (sec. 3.3).
+      const SolidMass part = fragment_mass(faces.polygons, faces.normals, cut, plane);
+      load = crack_plane_load(loads, part.centroid, cut, plane, cut[1] - cut[0],
+                              fragment_inertia(motion, rho, part));
+    } else {
+      load = crack_plane_load(loads, centroid, cut, plane, cut[1] - cut[0]);
+    }
     CrackAssessment a;
     a.id = id;
     a.plane = k;
+    a.section_force = load.force;
+    a.section_moment = load.moment;
     a.stresses = beam_stresses(load);
     a.result = fracture_check(params, sigma, a.stresses);
     out.push_back(a);

@@ -14,7 +14,18 @@
 ///   signed distance to the face planes): with dilated polyhedra the contact point sits
 ///   just outside the face it presses on.
 /// - The fragment under study is the side the crack plane's normal points away from; the
-///   other side gives the same section load with the opposite sign in equilibrium.
+///   other side gives the same section load with the opposite sign (with the d'Alembert
+///   terms too: the two fragments' m a and dH/dt sum to the body's).
+/// - The d'Alembert terms (FractureParams::inertia) come from the state the check sees, after
+///   the step: the fragment moves rigidly with its body, whose omega is the step's (from L)
+///   and whose a_G = (sum F + m g) / m and alpha (Euler's equations in the principal frame,
+///   alpha = I^-1 (tau - omega x I omega)) come from the contact and bond forces of the last
+///   force evaluation, the very forces the faces carry, and gravity. Local damping and the
+///   in-plane hold are not forces on any face, so they are left out of a_G and alpha (with
+///   them the two sides of a plane would not balance); in an in-plane run the motion out of
+///   the plane, which the run removes, is dropped. The fragment's mass properties are those
+///   of the polyhedron that the posed contact faces, clipped by the plane, and the section
+///   close (fragment_mass), at the body's density.
 
 #include <cstdint>
 #include <utility>
@@ -33,6 +44,10 @@ struct CrackAssessment {
   int plane = -1;
   FractureResult result;
   BeamStresses stresses;
+  /// The load the rest of the body puts on the fragment through the section (world): the
+  /// force, and its moment about the section's centroid (crack_plane_load).
+  Eigen::Vector3d section_force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d section_moment = Eigen::Vector3d::Zero();
 };
 
 /// Eqs 3.22-3.25 for body `id` and each of its candidate planes, from the contacts and
