@@ -240,6 +240,12 @@ void write_size_effect(const std::filesystem::path& out, const std::string& key,
   }
 }
 
+/// Whether an axis varies a seed: its runs are replicates of one another (a Weibull
+/// ensemble, a size effect's scatter, a pooled fragment distribution), not a parameter.
+bool is_seed(const io::SweepAxis& axis) {
+  return axis.key.find("seed") != std::string::npos;
+}
+
 /// The fragment size distributions of the finished runs pooled per combination of the keys
 /// that are not seeds (seeds are replicates), io::write_pooled_fragment_sizes.
 void pool_fragments(const fs::path& out, const std::vector<io::SweepAxis>& axes,
@@ -250,7 +256,7 @@ void pool_fragments(const fs::path& out, const std::vector<io::SweepAxis>& axes,
     if (!j.has_manifest || j.manifest.status != io::run_status::finished) continue;
     std::string label;
     for (std::size_t k = 0; k < axes.size(); ++k)
-      if (axes[k].values.size() > 1 && axes[k].key.find("seed") == std::string::npos)
+      if (axes[k].values.size() > 1 && !is_seed(axes[k]))
         label += fmt::format("{}{}={}", label.empty() ? "" : " ", axes[k].key, points[j.index][k]);
     if (label.empty()) label = "all";
     auto it =
@@ -560,13 +566,11 @@ int sweep_command(const SweepOptions& o) {
     std::vector<std::size_t> varied;
     for (std::size_t k = 0; k < axes.size(); ++k)
       if (axes[k].values.size() > 1) varied.push_back(k);
-    const bool seeds = varied.size() == 1 && o.command == "run" &&
-                       axes[varied[0]].key.find("seed") != std::string::npos;
+    const bool seeds = varied.size() == 1 && o.command == "run" && is_seed(axes[varied[0]]);
     int seed_axis = -1, size_axis = -1;
     if (varied.size() == 2 && o.command == "run") {
       for (int a = 0; a < 2; ++a)
-        if (axes[varied[a]].key.find("seed") != std::string::npos &&
-            axes[varied[1 - a]].reference.empty()) {
+        if (is_seed(axes[varied[a]]) && axes[varied[1 - a]].reference.empty()) {
           seed_axis = static_cast<int>(varied[a]);
           size_axis = static_cast<int>(varied[1 - a]);
         }
