@@ -13,7 +13,9 @@ double twice_area(std::span<const Eigen::Vector3d> p, const Eigen::Vector3d& n) 
   return s.dot(n);
 }
 
-/// clip_polygon into `out` (cleared first; its storage kept for the next call).
+
+}  // namespace
+
 void clip_polygon_into(std::span<const Eigen::Vector3d> polygon, const CrackPlane& plane,
                        std::vector<Eigen::Vector3d>& out) {
   out.clear();
@@ -33,8 +35,6 @@ void clip_polygon_into(std::span<const Eigen::Vector3d> polygon, const CrackPlan
   if (out.size() < 3) out.clear();
 }
 
-}  // namespace
-
 std::vector<Eigen::Vector3d> clip_polygon(std::span<const Eigen::Vector3d> polygon,
                                           const CrackPlane& plane) {
   std::vector<Eigen::Vector3d> out;
@@ -48,6 +48,11 @@ FaceLoad face_part_load(const FaceGeometry& g, const FaceTractions& t,
   // assesses (an allocation each, once).
   thread_local std::vector<Eigen::Vector3d> part;
   clip_polygon_into(face_polygon, plane, part);
+  return part_load(g, t, part);
+}
+
+FaceLoad part_load(const FaceGeometry& g, const FaceTractions& t,
+                   std::span<const Eigen::Vector3d> part) {
   FaceLoad load;
   load.point = g.origin;
   if (part.empty()) return load;
@@ -114,17 +119,21 @@ SolidMass SolidMassSum::result() const {
   return m;
 }
 
-SolidMass fragment_mass(std::span<const std::vector<Eigen::Vector3d>> faces,
-                        std::span<const Eigen::Vector3d> outward,
-                        std::span<const Eigen::Vector3d> section, const CrackPlane& plane) {
-  thread_local std::vector<Eigen::Vector3d> part;
+SolidMassSum fragment_mass_sum(std::span<const Eigen::Vector3d> section, const CrackPlane& plane) {
   // About a point of the section: the fragment lies next to it, so the sums cancel little.
   Eigen::Vector3d origin = plane.point;
   if (!section.empty()) {
     origin.setZero();
     for (const auto& p : section) origin += p / static_cast<double>(section.size());
   }
-  SolidMassSum sum(origin);
+  return SolidMassSum(origin);
+}
+
+SolidMass fragment_mass(std::span<const std::vector<Eigen::Vector3d>> faces,
+                        std::span<const Eigen::Vector3d> outward,
+                        std::span<const Eigen::Vector3d> section, const CrackPlane& plane) {
+  thread_local std::vector<Eigen::Vector3d> part;
+  SolidMassSum sum = fragment_mass_sum(section, plane);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     clip_polygon_into(faces[f], plane, part);
     sum.add_face(part, outward[f]);

@@ -55,12 +55,20 @@ struct CrackPlane {
 std::vector<Eigen::Vector3d> clip_polygon(std::span<const Eigen::Vector3d> polygon,
                                           const CrackPlane& plane);
 
+/// clip_polygon into `out` (cleared first; its storage kept for the next call).
+void clip_polygon_into(std::span<const Eigen::Vector3d> polygon, const CrackPlane& plane,
+                       std::vector<Eigen::Vector3d>& out);
+
 /// The load (moment about the face's frame origin) that the part of a face on the
 /// fragment's side of `plane` carries: its traction field over the clipped polygon plus the
 /// area share of the twist the field does not carry. For a face wholly on the fragment's
 /// side it equals face_load(); for one wholly beyond it, zero.
 FaceLoad face_part_load(const FaceGeometry& face, const FaceTractions& t,
                         std::span<const Eigen::Vector3d> face_polygon, const CrackPlane& plane);
+/// face_part_load of a part already clipped (clip_polygon_into), for a caller that also
+/// needs the part (the fragment's mass sum).
+FaceLoad part_load(const FaceGeometry& face, const FaceTractions& t,
+                   std::span<const Eigen::Vector3d> part);
 
 /// The fragment's d'Alembert terms: its mass times the acceleration of its centroid, and
 /// the rate of its angular momentum about its centroid (world).
@@ -93,6 +101,10 @@ class SolidMassSum {
   Eigen::Vector3d first_ = Eigen::Vector3d::Zero();   // 24 x integral of r dV
   Eigen::Matrix3d second_ = Eigen::Matrix3d::Zero();  // 120 x integral of r r^T dV
 };
+
+/// fragment_mass's sum, started about the mean of `section` (`plane`'s point when it is
+/// empty); add the clipped faces, then the section, then take result().
+SolidMassSum fragment_mass_sum(std::span<const Eigen::Vector3d> section, const CrackPlane& plane);
 
 /// The part of a convex polyhedron (faces with outward normals) on the fragment's side of
 /// `plane`, closed by `section` (the plane's cut through it, in order): its mass properties

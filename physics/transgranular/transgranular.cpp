@@ -195,6 +195,7 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
   thread_local std::vector<FaceTractions> tractions;
   thread_local std::vector<Eigen::Vector3d> cut;
   thread_local std::vector<FaceLoad> loads;
+  thread_local std::vector<Eigen::Vector3d> part;
   pose_faces(world, id, faces);
   const std::span<const PointForce> forces = acting();
   for (const PointForce& f : forces) faces.forces[face_of(faces, f.point)].push_back(f);
@@ -219,16 +220,21 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     section(faces, plane, cut);
     if (cut.empty()) continue;
     // Eq. 3.20 for the faces (or parts of faces) behind the plane, then eq. 3.21.
+    // Each face clipped once, for its load and (with inertia) the fragment's mass sum.
     loads.clear();
+    SolidMassSum mass = params.inertia ? fragment_mass_sum(cut, plane) : SolidMassSum(plane.point);
     for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
-      loads.push_back(face_part_load(geometry[f], tractions[f], faces.polygons[f], plane));
+      clip_polygon_into(faces.polygons[f], plane, part);
+      loads.push_back(part_load(geometry[f], tractions[f], part));
+      if (params.inertia) mass.add_face(part, faces.normals[f]);
     }
     CrackPlaneLoad load;
     if (params.inertia) {
       /// Eq. 3.8's m a for the fragment, with its dH/dt about its own centroid (sec. 3.3).
-      const SolidMass part = fragment_mass(faces.polygons, faces.normals, cut, plane);
-      load = crack_plane_load(loads, part.centroid, cut, plane, cut[1] - cut[0],
-                              fragment_inertia(motion, rho, part));
+      mass.add_face(cut, plane.normal);
+      const SolidMass fragment = mass.result();
+      load = crack_plane_load(loads, fragment.centroid, cut, plane, cut[1] - cut[0],
+                              fragment_inertia(motion, rho, fragment));
     } else {
       load = crack_plane_load(loads, centroid, cut, plane, cut[1] - cut[0]);
     }
