@@ -62,12 +62,13 @@ std::optional<RosinRammlerFit> fit_rosin_rammler(const std::vector<double>& d,
   }
   const auto [lo_it, hi_it] = std::minmax_element(lx.begin(), lx.end());
   if (lx.size() < 2 || *hi_it - *lo_it < 1e-12) return std::nullopt;
+  const double lx_max = *hi_it;  // a plain value: clang cannot capture a structured binding
   const double mean_lx = std::inner_product(w.begin(), w.end(), lx.begin(), 0.0);  // 0 by ref
   // The score in n of the profile likelihood; it falls from +inf to mean - max ln x < 0.
   auto score = [&](double n) {
     double top = 0, bottom = 0;
     for (std::size_t i = 0; i < lx.size(); ++i) {
-      const double p = w[i] * std::exp(n * (lx[i] - *hi_it));  // scaled by x_max^-n
+      const double p = w[i] * std::exp(n * (lx[i] - lx_max));  // scaled by x_max^-n
       top += p * lx[i];
       bottom += p;
     }
@@ -81,8 +82,8 @@ std::optional<RosinRammlerFit> fit_rosin_rammler(const std::vector<double>& d,
   }
   const double n = std::exp(0.5 * (a + b));
   double mean_xn = 0;  // sum w (x / x_max)^n
-  for (std::size_t i = 0; i < lx.size(); ++i) mean_xn += w[i] * std::exp(n * (lx[i] - *hi_it));
-  return RosinRammlerFit{ref * std::exp(*hi_it + std::log(mean_xn) / n), n};
+  for (std::size_t i = 0; i < lx.size(); ++i) mean_xn += w[i] * std::exp(n * (lx[i] - lx_max));
+  return RosinRammlerFit{ref * std::exp(lx_max + std::log(mean_xn) / n), n};
 }
 
 std::optional<PowerLawFit> fit_power_law(std::vector<double> d, std::size_t min_points) {
