@@ -121,7 +121,8 @@ Cli::Cli() : app{"cleave: exact-polyhedron DEM of brittle polycrystals (grains, 
   sweep_cmd->add_option("--set", sweep.sets,
                         "KEY=VALUES: a key (table.key, stage[N].key) and a comma list or LO..HI; "
                         "KEY/REF=RATIOS: KEY set to each ratio times REF's value in the "
-                        "scenario; repeat for a product");
+                        "scenario (REF fracture.cleavage_strength: the grains' cleavage "
+                        "strength, Pa); repeat for a product");
   sweep_cmd->add_option(
       "--zip", sweep.zips,
       "KEY=VALUES as --set, but every --zip key takes its i-th value in the same "

@@ -1,14 +1,16 @@
 #include "io/sweep.hpp"
 
 #include <fmt/format.h>
-
 #include <toml++/toml.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <sstream>
+
+#include "io/units.hpp"
 
 namespace cleave::io {
 
@@ -52,8 +54,8 @@ std::vector<PathStep> split_key(const std::string& key) {
       long long n = 0;
       if (part.back() != ']' || !parse_int(part.substr(open + 1, part.size() - open - 2), n) ||
           n < 1)
-        throw SweepError(fmt::format("--set {}: '{}': expected name[N] with N = 1, 2, ...", key,
-                                     part));
+        throw SweepError(
+            fmt::format("--set {}: '{}': expected name[N] with N = 1, 2, ...", key, part));
       step.index = static_cast<int>(n);
       part = part.substr(0, open);
     }
@@ -102,6 +104,61 @@ std::string exact(double v) {
   return fmt::format("{}", v);
 }
 
+/// The grains' cleavage strength in Pa, a reference no file writes: a stress criterion's
+/// sigma_f, or for `lefm` K_Ic / sqrt(pi a), the section stress whose K_I (eq. 3.23 of the
+/// dissertation) is K_Ic. Read from [fracture] alone, as the scenario reader reads its values
+/// (SI, lengths in the file's length_unit, or a number with its unit), so that the other
+/// keys of a point need not be set yet.
+double cleavage_strength(const toml::table& root, const std::string& source,
+                         const SweepAxis& axis) {
+  const toml::table* fracture = root["fracture"].as_table();
+  if (fracture == nullptr)
+    throw SweepError(fmt::format("--set {}: {} has no [fracture] table, so no cleavage strength",
+                                 axis.name(), source));
+  const auto value = [&](std::string_view key, Dimension d) {
+    const toml::node* n = fracture->get(key);
+    const auto fail = [&](const std::string& why) {
+      const int line = n != nullptr ? static_cast<int>(n->source().begin.line) : 0;
+      return SweepError(fmt::format("--set {}: fracture.{}{}: {}", axis.name(), key,
+                                    line > 0 ? fmt::format(" at {}:{}", source, line)
+                                             : fmt::format(" in {}", source),
+                                    why));
+    };
+    if (n == nullptr) throw fail("missing, and the cleavage strength needs it");
+    if (const auto text = n->value_exact<std::string>()) {
+      try {
+        return parse_quantity(*text, d);
+      } catch (const UnitError& e) {
+        throw fail(e.what());
+      }
+    }
+    const auto number = n->value<double>();
+    if (!number) throw fail("not a number");
+    double scale = 1.0;
+    if (d == Dimension::length) {
+      const std::string unit = root["scenario"]["length_unit"].value_or(std::string("mm"));
+      try {
+        scale = parse_quantity("1 " + unit, Dimension::length);
+      } catch (const UnitError& e) {
+        throw fail(fmt::format("scenario.length_unit: {}", e.what()));
+      }
+    }
+    return *number * scale;
+  };
+  const std::string criterion = (*fracture)["criterion"].value_or(std::string("lefm"));
+  double strength = 0.0;
+  if (criterion != "lefm") {
+    strength = value("sigma_f", Dimension::stress);
+  } else {
+    strength = value("k_ic", Dimension::toughness) /
+               std::sqrt(std::numbers::pi * value("crack_length", Dimension::length));
+  }
+  if (!(strength > 0) || !std::isfinite(strength))
+    throw SweepError(fmt::format("--set {}: the cleavage strength of {} is {} Pa, not positive",
+                                 axis.name(), source, strength));
+  return strength;
+}
+
 /// Axis k's value: its ratio times its reference's value in `root` (a number, or a number
 /// with its unit, the unit kept).
 std::string ratio_value(const toml::table& root, const std::string& source,
@@ -112,6 +169,8 @@ std::string ratio_value(const toml::table& root, const std::string& source,
   if (!parse_double(ratio_text, ratio))
     throw SweepError(
         fmt::format("--set {}: a ratio is a number, found '{}'", axis.name(), ratio_text));
+  if (axis.reference == kCleavageStrength)
+    return exact(ratio * cleavage_strength(root, source, axis)) + " Pa";
   const toml::node* ref = find_key(root, split_key(axis.reference));
   if (ref == nullptr)
     throw SweepError(fmt::format(
@@ -158,9 +217,10 @@ std::string ratio_value(const toml::table& root, const std::string& source,
 SweepAxis parse_sweep_axis(const std::string& spec) {
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
-    throw SweepError(fmt::format("--set '{}': expected KEY=VALUES, e.g. orientation.seed=1..20 "
-                                 "or bond.tbn=500,1000,2000",
-                                 spec));
+    throw SweepError(
+        fmt::format("--set '{}': expected KEY=VALUES, e.g. orientation.seed=1..20 "
+                    "or bond.tbn=500,1000,2000",
+                    spec));
   SweepAxis axis;
   axis.key = trim(spec.substr(0, eq));
   if (const auto slash = axis.key.find('/'); slash != std::string::npos) {
@@ -178,9 +238,11 @@ SweepAxis parse_sweep_axis(const std::string& spec) {
   const auto dots = values.find("..");
   if (dots != std::string::npos) {
     long long lo = 0, hi = 0;
-    if (!parse_int(trim(values.substr(0, dots)), lo) || !parse_int(trim(values.substr(dots + 2)), hi))
+    if (!parse_int(trim(values.substr(0, dots)), lo) ||
+        !parse_int(trim(values.substr(dots + 2)), hi))
       throw SweepError(fmt::format("--set '{}': a range is two integers, LO..HI", spec));
-    if (hi < lo) throw SweepError(fmt::format("--set '{}': the range is empty ({} > {})", spec, lo, hi));
+    if (hi < lo)
+      throw SweepError(fmt::format("--set '{}': the range is empty ({} > {})", spec, lo, hi));
     // The length in unsigned arithmetic: hi - lo of two far-apart long longs overflows (and
     // wrapped negative, it passed, and the loop allocated until bad_alloc).
     if (static_cast<unsigned long long>(hi) - static_cast<unsigned long long>(lo) >= 100000)
@@ -438,8 +500,8 @@ double median_rank(std::size_t i, std::size_t n) {
 
 WeibullFit fit_weibull(std::vector<double> strengths) {
   if (strengths.size() < 3)
-    throw SweepError(fmt::format("a Weibull fit needs at least 3 strengths, found {}",
-                                 strengths.size()));
+    throw SweepError(
+        fmt::format("a Weibull fit needs at least 3 strengths, found {}", strengths.size()));
   for (double s : strengths)
     if (!(s > 0.0) || !std::isfinite(s))
       throw SweepError(fmt::format("a Weibull fit needs positive strengths, found {}", s));
@@ -495,8 +557,11 @@ SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_st
     for (double s : strengths) g.mean += s;
     g.mean /= static_cast<double>(strengths.size());
     for (double s : strengths) g.stddev += (s - g.mean) * (s - g.mean);
-    g.stddev = strengths.size() > 1 ? std::sqrt(g.stddev / static_cast<double>(strengths.size() - 1)) : 0.0;
-    const bool spread = std::any_of(strengths.begin(), strengths.end(), [&](double s) { return s != strengths.front(); });
+    g.stddev = strengths.size() > 1
+                   ? std::sqrt(g.stddev / static_cast<double>(strengths.size() - 1))
+                   : 0.0;
+    const bool spread = std::any_of(strengths.begin(), strengths.end(),
+                                    [&](double s) { return s != strengths.front(); });
     if (strengths.size() >= 3 && spread) g.weibull = fit_weibull(strengths);
     for (double s : strengths) normalised.push_back(s / g.mean);
     sx += std::log(g.size);
@@ -512,8 +577,8 @@ SizeEffect fit_size_effect(const std::vector<std::pair<double, double>>& size_st
   }
   e.exponent = -sxy / sxx;
   e.prefactor = std::exp(my + e.exponent * mx);
-  if (normalised.size() >= 3 &&
-      std::any_of(normalised.begin(), normalised.end(), [&](double s) { return s != normalised.front(); }))
+  if (normalised.size() >= 3 && std::any_of(normalised.begin(), normalised.end(),
+                                            [&](double s) { return s != normalised.front(); }))
     e.pooled = fit_weibull(normalised);
   return e;
 }

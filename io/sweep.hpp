@@ -16,7 +16,9 @@
 /// A ratio axis `KEY/REF=VALUES` (`bond.tbn/fracture.sigma_f=0.1,1,10`) sets KEY to each value
 /// times REF's value as the scenario holds it after the plain axes are set: a dimensionless
 /// axis. REF must be written in the file (or set by another axis) as a number or a number with
-/// its unit ("250 MPa": KEY gets "25 MPa").
+/// its unit ("250 MPa": KEY gets "25 MPa"). REF `fracture.cleavage_strength` is the grains'
+/// cleavage strength, which no file writes: sigma_f of a stress criterion, K_Ic / sqrt(pi a)
+/// of `lefm` (KEY gets it in Pa).
 /// `cleave run --set KEY=VALUE` and Python's `overrides=` take one value per key.
 
 #include <cstdint>
@@ -37,6 +39,9 @@ class SweepError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// The derived ratio reference: the grains' cleavage strength (see the file's comment).
+inline constexpr std::string_view kCleavageStrength = "fracture.cleavage_strength";
 
 /// One `--set KEY=VALUES`.
 struct SweepAxis {

@@ -31,9 +31,9 @@ TEST(SweepAxis, ListsAndIntegerRanges) {
 }
 
 TEST(SweepAxis, BadSpecificationsAreErrorsNamingThem) {
-  for (const char* bad : {"bond.tbn", "=1", "bond.tbn=", "tbn=1", "bond.tbn=1,,2",
-                          "orientation.seed=5..2", "orientation.seed=a..3", "stage[0].time=1",
-                          "stage[x].time=1", "bond..tbn=1"}) {
+  for (const char* bad :
+       {"bond.tbn", "=1", "bond.tbn=", "tbn=1", "bond.tbn=1,,2", "orientation.seed=5..2",
+        "orientation.seed=a..3", "stage[0].time=1", "stage[x].time=1", "bond..tbn=1"}) {
     try {
       (void)parse_sweep_axis(bad);
       ADD_FAILURE() << bad << " was accepted";
@@ -137,10 +137,9 @@ time = 2.0
 [[mesh_grain]]
 file = "meshes/cube.obj"
 )";
-  const std::vector<SweepAxis> axes = {parse_sweep_axis("bond.tbn=1,2"),
-                                       parse_sweep_axis("orientation.seed=7,8"),
-                                       parse_sweep_axis("stage[2].time=0.25,0.5"),
-                                       parse_sweep_axis("output.mesh_format=obj,stl")};
+  const std::vector<SweepAxis> axes = {
+      parse_sweep_axis("bond.tbn=1,2"), parse_sweep_axis("orientation.seed=7,8"),
+      parse_sweep_axis("stage[2].time=0.25,0.5"), parse_sweep_axis("output.mesh_format=obj,stl")};
   const std::string out =
       apply_sweep_point(text, "s.toml", axes, {"2", "8", "0.5", "obj"}, "/data/base");
   const toml::table t = toml::parse(out);
@@ -216,6 +215,49 @@ TEST(ApplySweepPoint, ARatioKeyIsTheRatioTimesItsReferenceAfterTheOtherKeys) {
         std::string(e.what()).find("fracture.criterion at s.toml:5 is \"rankine\", not a number"),
         std::string::npos)
         << e.what();
+  }
+}
+
+// The derived reference fracture.cleavage_strength: sigma_f of the stress criteria, and for
+// lefm the stress whose K_I = sigma sqrt(pi a) (eq. 3.23) is K_Ic, with a's unit applied.
+TEST(ApplySweepPoint, ARatioOfTheCleavageStrengthIsInPascals) {
+  const std::string base = cleave::testing::drop_scenario("cs", "duration = 1e-5\n");
+  const auto tbn = [&](const std::string& fracture, const std::string& ratio) {
+    const std::vector<SweepAxis> axes = {
+        parse_sweep_axis("bond.tbn/fracture.cleavage_strength=" + ratio)};
+    const toml::table t =
+        toml::parse(apply_sweep_point(base + fracture, "s.toml", axes, {ratio}, "/"));
+    return *t["bond"]["tbn"].value<std::string>();
+  };
+  const auto pascals = [](const std::string& text) {
+    EXPECT_TRUE(text.ends_with(" Pa")) << text;
+    return std::stod(text);
+  };
+  // LEFM: K_Ic = 2 MPa sqrt(m), a = 0.1 mm -> sigma = 2e6 / sqrt(pi 1e-4) = 112.84 MPa.
+  const double lefm = pascals(
+      tbn("\n[fracture]\nsigma_f_hyd = 0.0\nk_ic = 2.0e6\ncrack_length = \"0.1 mm\"\n", "0.5"));
+  EXPECT_NEAR(lefm, 0.5 * 2.0e6 / std::sqrt(M_PI * 1e-4), 1e-9 * lefm);
+  EXPECT_NEAR(lefm, 0.5 * 112.837916709551e6, 1e-6 * lefm);
+  const double rankine =
+      pascals(tbn("\n[fracture]\ncriterion = \"rankine\"\nsigma_f = 3.0e8\n", "3"));
+  EXPECT_DOUBLE_EQ(rankine, 9.0e8);
+  // Read from [fracture] alone: a point whose other keys are not valid yet (a ratio axis sets
+  // them after this one) still has its reference.
+  EXPECT_NO_THROW(
+      (void)tbn("\n[fracture]\nk_ic = 2.0e6\ncrack_length = 0.1\n[bond]\nkbn = -1.0\n", "1"));
+  // A missing constant is named.
+  try {
+    (void)tbn("\n[fracture]\nk_ic = 2.0e6\n", "1");
+    ADD_FAILURE();
+  } catch (const SweepError& e) {
+    EXPECT_NE(std::string(e.what()).find("fracture.crack_length"), std::string::npos) << e.what();
+  }
+  // No [fracture]: no strength to be relative to.
+  try {
+    (void)tbn("", "1");
+    ADD_FAILURE();
+  } catch (const SweepError& e) {
+    EXPECT_NE(std::string(e.what()).find("no [fracture] table"), std::string::npos) << e.what();
   }
 }
 
@@ -295,7 +337,8 @@ TEST(SizeEffect, WeakestLinkSamplesGiveTheExponentTwoOverTheWeibullModulus) {
   std::vector<std::pair<double, double>> runs;
   for (const double d : {4.0, 8.0, 16.0})
     for (int i = 0; i < 3000; ++i)
-      runs.emplace_back(d, s0 * std::pow(d / 4.0, -2.0 / m) * std::pow(-std::log(1.0 - u(rng)), 1.0 / m));
+      runs.emplace_back(
+          d, s0 * std::pow(d / 4.0, -2.0 / m) * std::pow(-std::log(1.0 - u(rng)), 1.0 / m));
   const SizeEffect e = fit_size_effect(runs);
   ASSERT_EQ(e.groups.size(), 3u);
   EXPECT_EQ(e.groups.front().size, 4.0);
@@ -310,7 +353,8 @@ TEST(SizeEffect, WeakestLinkSamplesGiveTheExponentTwoOverTheWeibullModulus) {
     const double expected = s0 * std::pow(g.size / 4.0, -2.0 / m) * std::tgamma(1.0 + 1.0 / m);
     EXPECT_NEAR(g.mean, expected, 0.01 * expected) << g.size;
   }
-  EXPECT_NEAR(e.prefactor * std::pow(4.0, -e.exponent), e.groups.front().mean, 0.02 * e.groups.front().mean);
+  EXPECT_NEAR(e.prefactor * std::pow(4.0, -e.exponent), e.groups.front().mean,
+              0.02 * e.groups.front().mean);
 }
 
 TEST(SizeEffect, RefusesOneSizeAndNonPositiveValues) {
@@ -330,8 +374,8 @@ TEST(SweepCommand, FourSeedsWriteOneRowPerRunAndTheWeibullFit) {
   const fs::path dir = fs::temp_directory_path() / ("cleave_sweep_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
-  const Outcome o = run_cleave("sweep " + scenario + " --set orientation.seed=1..4 --jobs 2 -o " +
-                               dir.string());
+  const Outcome o =
+      run_cleave("sweep " + scenario + " --set orientation.seed=1..4 --jobs 2 -o " + dir.string());
   ASSERT_EQ(o.code, 0) << o.output;
   const auto rows = cleave::testing::read_csv_cells(dir / "summary.csv");
   ASSERT_EQ(rows.size(), 5u);  // header + 4 runs
@@ -361,11 +405,11 @@ TEST(SweepCommand, FourSeedsWriteOneRowPerRunAndTheWeibullFit) {
 }
 
 TEST(SweepCommand, AKeyTheScenarioCannotTakeStopsBeforeAnyRun) {
-  const fs::path dir = fs::temp_directory_path() / ("cleave_sweep_bad_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleave_sweep_bad_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const std::string scenario = std::string(CLEAVE_SOURCE_DIR) + "/tests/data/sweep_brazilian.toml";
-  const Outcome o =
-      run_cleave("sweep " + scenario + " --set bond.nonsense=1,2 -o " + dir.string());
+  const Outcome o = run_cleave("sweep " + scenario + " --set bond.nonsense=1,2 -o " + dir.string());
   EXPECT_EQ(o.code, 2) << o.output;
   EXPECT_NE(o.output.find("nonsense"), std::string::npos) << o.output;
   EXPECT_FALSE(fs::exists(dir / "run_001"));
