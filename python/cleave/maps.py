@@ -1,13 +1,14 @@
 """Fracture-mode maps from a sweep folder: which way a specimen cracks over two swept keys.
 
 A map reads a sweep's `summary_mean.csv` (with `--seeds`) or `summary.csv`, one point per
-combination of two swept keys (plain keys or ratio columns such as `bond.tbn/fracture.sigma_f`),
-and draws the transgranular area fraction as filled contours, with the line where half of the
+combination of two swept keys (plain keys or ratio columns such as
+`bond.tbn/fracture.cleavage_strength`), and draws the transgranular area fraction as filled contours, with the line where half of the
 crack area is transgranular, and beside it the strength:
 
     import cleave.maps
-    m = cleave.maps.fracture_map("results/map_brazilian", x="bond.tbn/fracture.sigma_f",
-                                 y="bond.kbn/materials.young", path="map.svg")
+    m = cleave.maps.fracture_map("results/map_brazilian",
+                                 x="bond.tbn/fracture.cleavage_strength", y="bond.kbn",
+                                 path="map.svg")
     m["half"]  # the points (x, y) where the fraction crosses 1/2, along x at each y
 
 Axes whose values are all positive and span more than a decade are drawn, and interpolated,
@@ -120,13 +121,20 @@ def fracture_map(sweep, x, y, fraction=FRACTION, strength="peak_load_N", path=No
     if ss is not None:
         ax2 = axes[0][1]
         finite = [v for v in ss if math.isfinite(v)]
+        label = strength
+        if finite and _logscale(finite):  # strengths over decades: their logarithm
+            ss_drawn = [math.log10(v) if v > 0 else math.nan for v in ss]
+            finite = [v for v in ss_drawn if math.isfinite(v)]
+            label = f"log10 {strength}"
+        else:
+            ss_drawn = ss
         if finite and max(finite) > min(finite):
             lo, hi = min(finite), max(finite)
-            draw(ax2, ss, strength, [lo + (hi - lo) * i / 10 for i in range(11)], "viridis")
+            draw(ax2, ss_drawn, label, [lo + (hi - lo) * i / 10 for i in range(11)], "viridis")
         else:
-            draw(ax2, ss, strength, None, "viridis")
+            draw(ax2, ss_drawn, label, None, "viridis")
         ax2.plot(tx, ty, "k.", markersize=3)
-        ax2.set_title(strength)
+        ax2.set_title(label)
     for a in axes[0]:
         a.set_xlabel(f"log10 {x}" if log_x else x)
         a.set_ylabel(f"log10 {y}" if log_y else y)
@@ -143,3 +151,4 @@ def fracture_map(sweep, x, y, fraction=FRACTION, strength="peak_load_N", path=No
         "half": half_line(xs, ys, fs, log_x=log_x),
         "figure": fig,
     }
+

@@ -66,27 +66,76 @@ def energy(res, ax=None, path=None):
     return _finish(ax, path)
 
 
-def cracks(res, ax=None, path=None, plane="xy"):
+_LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6}
+
+
+def _grain_thickness_m(res):
+    """[grain] t_bar (else t) of the scenario as run, in metres: a number is in the file's
+    length_unit (mm by default), a string carries its own unit."""
+    grain = res.scenario.get("grain", {})
+    t = grain.get("t_bar", grain.get("t"))
+    if t is None:
+        raise ValueError(f"{res.path}: the scenario as run has no [grain] t_bar or t")
+    if isinstance(t, str):
+        number, unit = t.split()
+        return float(number) * _LENGTH_UNITS[unit]
+    return float(t) * _LENGTH_UNITS[res.scenario.get("scenario", {}).get("length_unit", "mm")]
+
+
+def cracks(res, ax=None, path=None, plane="xy", surfaces=False):
     """The crack pattern: the grains (specimen.csv centres, grey), every broken bond at its
-    point coloured by mode (bond_breaks.csv) and every transgranular split (splits.csv)."""
+    point coloured by mode (bond_breaks.csv) and every transgranular split (splits.csv).
+
+    surfaces=True (plane "xy", a specimen one grain thick) draws the cracks as the surfaces
+    they are: each broken bond as its grain-boundary face, red, each split as its cleavage
+    section, black, a segment of length area / t across its normal (t: the grains'
+    thickness)."""
     res = _result(res)
     ax = _setup(ax)
     i, j = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
     axes = "xyz"
     g = res.table("specimen")
-    ax.scatter(g[f"{axes[i]}_m"] * 1e3, g[f"{axes[j]}_m"] * 1e3, s=12, c="0.85", label="grains")
-    if "bond_breaks" in res.table_names:
-        b = res.table("bond_breaks")
-        if b.size and b.dtype.names and "mode" in b.dtype.names:
+    ax.scatter(g[f"{axes[i]}_m"] * 1e3, g[f"{axes[j]}_m"] * 1e3, s=12 if not surfaces else 3,
+               c="0.85" if not surfaces else "0.7", label="grains")
+    b = res.table("bond_breaks") if "bond_breaks" in res.table_names else None
+    s = res.table("splits") if "splits" in res.table_names else None
+    b = b if b is not None and b.size and b.dtype.names and "mode" in b.dtype.names else None
+    s = s if s is not None and s.size and s.dtype.names and "x_m" in s.dtype.names else None
+    if surfaces:
+        if plane != "xy":
+            raise ValueError("surfaces=True draws a specimen one grain thick in its xy plane")
+        from matplotlib.collections import LineCollection
+
+        t = _grain_thickness_m(res)
+
+        def segments(table, area):
+            out = []
+            for row in table:
+                n = math.hypot(float(row["nx"]), float(row["ny"]))
+                if n == 0:
+                    continue
+                half = 0.5 * float(row[area]) / t * 1e3  # mm
+                ux, uy = -float(row["ny"]) / n * half, float(row["nx"]) / n * half
+                x, y = float(row["x_m"]) * 1e3, float(row["y_m"]) * 1e3
+                out.append([(x - ux, y - uy), (x + ux, y + uy)])
+            return out
+
+        faces = segments(b, "face_area_m2") if b is not None else []
+        sections = segments(s, "section_area_m2") if s is not None else []
+        ax.add_collection(LineCollection(faces, colors="tab:red", linewidths=1.5,
+                                         label=f"boundaries broken ({len(faces)})"))
+        ax.add_collection(LineCollection(sections, colors="black", linewidths=1.5,
+                                         label=f"cleavages ({len(sections)})"))
+        ax.autoscale_view()
+    else:
+        if b is not None:
             for mode, colour in (("tension", "tab:red"), ("shear", "tab:blue"), ("bending", "tab:green"),
                                  ("torsion", "tab:purple")):
                 sel = b["mode"] == mode
                 if sel.any():
                     ax.scatter(b[f"{axes[i]}_m"][sel] * 1e3, b[f"{axes[j]}_m"][sel] * 1e3, s=18, c=colour,
                                marker="x", label=f"bond broken in {mode} ({int(sel.sum())})")
-    if "splits" in res.table_names:
-        s = res.table("splits")
-        if s.size and s.dtype.names and "x_m" in s.dtype.names:
+        if s is not None:
             ax.scatter(s[f"{axes[i]}_m"] * 1e3, s[f"{axes[j]}_m"] * 1e3, s=30, facecolors="none",
                        edgecolors="k", label=f"grain split ({s.size})")
     ax.set_aspect("equal")

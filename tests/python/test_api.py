@@ -301,6 +301,31 @@ def test_load_result_reads_the_tables_and_plots(root, tmp_path, monkeypatch):
         res.table("nope")
 
 
+def test_crack_surfaces_are_drawn_as_area_over_thickness(tmp_path):
+    # Grains 5 mm thick: a 2.5 mm^2 boundary face is a 0.5 mm segment across its normal, a
+    # 5 mm^2 cleavage section a 1 mm one.
+    from matplotlib.collections import LineCollection
+
+    (tmp_path / "run.toml").write_text('status = "finished"\n')
+    (tmp_path / "scenario_as_run.toml").write_text(
+        '[scenario]\nlength_unit = "mm"\n[grain]\nr = 0.6\nr_bar = 0.5\nt = 5.0\nt_bar = 5.0\n')
+    (tmp_path / "specimen.csv").write_text("grain_id,x_m,y_m,z_m\n0,0.001,0.002,0.0025\n")
+    (tmp_path / "bond_breaks.csv").write_text(
+        "x_m,y_m,z_m,nx,ny,nz,mode,face_area_m2\n0.001,0.002,0.0025,1,0,0,tension,2.5e-6\n")
+    (tmp_path / "splits.csv").write_text(
+        "x_m,y_m,z_m,nx,ny,nz,section_area_m2\n0.003,0.004,0.0025,0,1,0,5e-6\n")
+    ax = cleave.plot.cracks(str(tmp_path), surfaces=True, path=tmp_path / "p.svg")
+    faces, sections = [c.get_segments() for c in ax.collections if isinstance(c, LineCollection)]
+    assert len(faces) == 1 and len(sections) == 1
+    (x0, y0), (x1, y1) = faces[0]
+    assert (x0, x1) == pytest.approx((1.0, 1.0))
+    assert sorted((y0, y1)) == pytest.approx([1.75, 2.25])
+    (x0, y0), (x1, y1) = sections[0]
+    assert sorted((x0, x1)) == pytest.approx([2.5, 3.5])
+    assert (y0, y1) == pytest.approx((4.0, 4.0))
+    assert (tmp_path / "p.svg").stat().st_size > 1000
+
+
 def test_ctrl_c_interrupts_a_long_advance_and_the_run_goes_on(root, tmp_path, monkeypatch):
     import _thread
 

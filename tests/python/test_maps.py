@@ -61,3 +61,4 @@ def test_a_missing_fact_names_the_column_and_how_to_add_it(tmp_path):
 def test_a_folder_without_a_summary_is_refused(tmp_path):
     with pytest.raises(FileNotFoundError, match="summary"):
         maps.fracture_map(tmp_path, x="a", y="b")
+
