@@ -38,8 +38,7 @@ bool manifold_holds(const PosedShape& a, const PosedShape& b, const ContactManif
   const Eigen::Vector3d offset = a.rotation.transpose() * (b.centre - a.centre);
   const Eigen::Quaterniond turn = a.orientation.conjugate() * b.orientation;
   // A unit vector of B turned by theta relative to A moves 2 sin(theta/2) <= 2 |dq|.
-  const double dq = std::sqrt(std::min((turn.coeffs() - m.turn.coeffs()).squaredNorm(),
-                                       (turn.coeffs() + m.turn.coeffs()).squaredNorm()));
+  const double dq = turn_between(turn, m.turn);
   const double moved = (offset - m.offset).norm() + 2.0 * m.lever * dq;
   return moved < 0.5 * m.margin;
 }

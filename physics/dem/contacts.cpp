@@ -19,7 +19,8 @@ using threads::kParallelMin;
 namespace {
 /// Broad test of a body (centre, bounding radius) against a wall's surface (planes) or axis
 /// (cylinders): false when no point of it can touch.
-bool wall_within_reach(const Wall& wall, const Eigen::Vector3d& centre, double reach) {
+[[gnu::always_inline]] inline bool wall_within_reach(const Wall& wall,
+                                                     const Eigen::Vector3d& centre, double reach) {
   if (wall.kind != Wall::Kind::cylinder) return !(wall.normal.dot(centre - wall.origin) > reach);
   const Eigen::Vector3d rel = centre - wall.origin;
   const double s = std::clamp(rel.dot(wall.normal), 0.0, wall.length);
@@ -85,8 +86,7 @@ bool Contacts::pose(Bodies& bodies, const std::vector<Wall>& walls, const CellCo
     wall_reach_[i] = reach;
     if (searched) {
       const auto j = static_cast<std::size_t>(k);
-      const Eigen::Vector4d q = states[i].q.coeffs(), q0 = searched_q_[j].coeffs();
-      const double turn = std::sqrt(std::min((q - q0).squaredNorm(), (q + q0).squaredNorm()));
+      const double turn = turn_between(states[i].q, searched_q_[j]);
       const double reach = (states[i].x - searched_at_[j]).norm() +
                            2.0 * shapes[infos[i].shape].bounding_radius() * turn;
       moved += !(reach < limit);

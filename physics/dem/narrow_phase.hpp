@@ -24,7 +24,9 @@
 /// face it is least deep under, so fast bodies are pushed back out rather than lost.
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +35,20 @@
 #include "physics/dem/rigid_shape.hpp"
 
 namespace cleave::physics {
+
+/// How far orientation q is from q0: the smaller of |q - q0| and |q + q0| (q and -q are one
+/// orientation), so a point at distance r from the centre moves at most 2 r times it. The
+/// squares summed in Eigen's order for four doubles, (x^2 + z^2) + (y^2 + w^2), written out:
+/// under AVX Eigen reloaded two just-stored 16-byte halves as one 32-byte load, which store
+/// forwarding cannot serve.
+inline double turn_between(const Eigen::Quaterniond& q, const Eigen::Quaterniond& q0) {
+  const double mx = q.x() - q0.x(), my = q.y() - q0.y(), mz = q.z() - q0.z(),
+               mw = q.w() - q0.w();
+  const double px = q.x() + q0.x(), py = q.y() + q0.y(), pz = q.z() + q0.z(),
+               pw = q.w() + q0.w();
+  return std::sqrt(std::min((mx * mx + mz * mz) + (my * my + mw * mw),
+                            (px * px + pz * pz) + (py * py + pw * pw)));
+}
 
 /// A body's primitives placed in the world for one step (computed once per body per step).
 struct PosedShape {

@@ -16,8 +16,7 @@ void PosedShape::update(const RigidShape& shape, const BodyState& state) {
 void PosedShape::update_frame(const RigidShape& shape, const BodyState& state) {
   if (primitives != nullptr) {
     travel += (state.x - centre).norm();
-    turn += std::sqrt(std::min((state.q.coeffs() - orientation.coeffs()).squaredNorm(),
-                               (state.q.coeffs() + orientation.coeffs()).squaredNorm()));
+    turn += turn_between(state.q, orientation);
   }
   primitives = &shape.primitives;
   centre = state.x;
