@@ -20,7 +20,9 @@ for d in "$before" "$after"; do
     [ -x "$d/bench/$b" ] || { echo "compare_builds: no $d/bench/$b (build it first)" >&2; exit 2; }
   done
 done
-mkdir -p "$pile"
+# Each build keeps its own settled pile (PILE_DIR/before, /after): the two builds' state
+# layouts differ, and with one folder each run settled the pile again for the other build.
+mkdir -p "$pile/before" "$pile/after"
 us() { tail -1 | awk '{print $3}'; }
 disc() { tail -2 | grep -o 'transgranular o[nf]* *: [0-9.]*' | awk '{print $NF}' | tr '\n' ' '; }
 date
@@ -28,9 +30,10 @@ for round in $(seq "$rounds"); do
   for who in before after; do
     d="$before"; [ "$who" = after ] && d="$after"
     dyn="$d/bench/cleave_bench_dynamics"
+    kept="$pile/$who"
     echo "round $round $who:" \
-      "pile+manifold $("$dyn" --pile "$pile" --manifold 0.02 --steps 300 poured 10000 2>&1 | us) us," \
-      "pile $("$dyn" --pile "$pile" --steps 300 poured 10000 2>&1 | us) us," \
+      "pile+manifold $("$dyn" --pile "$kept" --manifold 0.02 --steps 300 poured 10000 2>&1 | us) us," \
+      "pile $("$dyn" --pile "$kept" --steps 300 poured 10000 2>&1 | us) us," \
       "packed+manifold $("$dyn" --steps 50 --manifold 0.02 packed 10000 2>&1 | us) us," \
       "packed $("$dyn" --steps 50 packed 10000 2>&1 | us) us," \
       "disc+manifold (no check, check) $(CLEAVE_BENCH_STEPS="${CLEAVE_BENCH_STEPS:-500}" "$d/bench/cleave_bench_fracture" 10000 1e9 0 0.02 2>&1 | disc)ms"
