@@ -1,5 +1,5 @@
 // DEM step cost: a poured pile, a packed box and falling grains of N hexagonal prisms.
-//   ./build/bench/cleave_bench_dynamics [--full-search] [--pile DIR] [--steps K]
+//   ./build/bench/cleave_bench_dynamics [--full-search] [--pile DIR] [--tiles] [--steps K]
 //                                       [poured|packed|falling ...] [N ...]
 //   (default: all three cases, N = 168 1000 10000 100000)
 // --pile DIR keeps each poured pile in DIR/pile-<n>.bin and reuses it on the next run (the
@@ -7,7 +7,9 @@
 // layout, is poured again), and the settled world of each poured case, tiles and contact
 // histories, in DIR/world-<N>.state (World::save_state; made again when its tile or the
 // state layout differs; another build reuses it, so two builds are timed from one state),
-// which saves the 2,000 settling steps of the tiles; --steps K times
+// which saves the 2,000 settling steps of the tiles; --tiles leaves those steps out and times
+// the tiles' copies as they lie (no DIR/world file): the same bodies for any build, where
+// each build's settling ends in a pile of its own; --steps K times
 // K steps per case instead of 2e6/N (3 to 200); --phases prints, under each case, where its
 // timed steps went (World::set_timing: search, narrow phase, contact law, bonds, ...).
 // CLEAVE_BENCH_HASH=1 prints each case's state hash after its timed steps (World::state_hash):
@@ -62,6 +64,9 @@ constexpr int kTile = 1000;  // bodies poured at once for the poured pile
 double g_feature_skin = 0.5;  // WorldSettings::feature_skin of every case (--full-search: 0)
 double g_manifold = 0.0;       // WorldSettings::manifold_tolerance (--manifold TOL)
 bool g_phases = false;         // --phases: where each case's step goes (World::set_timing)
+// --tiles: the poured pile as the tile's copies, not settled together (no --pile world): the
+// same bodies for any build, where each build's 2,000 settling steps end in another pile.
+bool g_tiles = false;
 std::string g_pile_dir;        // --pile DIR, or empty
 int g_steps = 0;              // timed steps per case (0: 2e6/N, clamped to 3..200)
 
@@ -202,7 +207,7 @@ physics::World make_poured(int n, const Pile& tile, int& bodies) {
     for (const auto& b : tile.bodies) world.add_body(sh, kRho, b.x + offset, b.q, b.v, b.w);
   }
   world.add_wall(physics::Wall::plane("floor", {0, 0, 0}, {0, 0, 1}));
-  for (int i = 0; i < 2000; ++i) world.step();
+  for (int i = 0; i < (g_tiles ? 0 : 2000); ++i) world.step();
   bodies = tiles * per_tile;
   return world;
 }
@@ -280,7 +285,8 @@ const char* name(Case c) { return c == Case::poured ? "poured" : c == Case::pack
 Result run_case(int n, Case kind, const Pile& tile) {
   Result r;
   int bodies = 0;
-  physics::World world = kind == Case::poured ? poured_world(n, tile, bodies) : make_case(n, kind == Case::packed, bodies);
+  physics::World world = kind != Case::poured ? make_case(n, kind == Case::packed, bodies)
+                         : g_tiles ? make_poured(n, tile, bodies) : poured_world(n, tile, bodies);
   r.bodies = bodies;
   for (int i = 0; i < 3; ++i) world.step();  // warm-up: buffers, contact history
   world.set_timing(g_phases);
@@ -364,7 +370,7 @@ std::string as_bytes(const T& value) {
 
 int usage(const char* why) {
   std::fprintf(stderr,
-               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--manifold TOL] [--pile DIR] [--phases] "
+               "cleave_bench_dynamics: %s\nusage: cleave_bench_dynamics [--full-search] [--manifold TOL] [--pile DIR] [--tiles] [--phases] "
                "[--steps K] [poured|packed|falling ...] [N ...]\n",
                why);
   return 2;
@@ -375,7 +381,9 @@ int main(int argc, char** argv) {
   std::vector<Case> kinds;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--phases") {
+    if (arg == "--tiles") {
+      g_tiles = true;
+    } else if (arg == "--phases") {
       g_phases = true;
     } else if (arg == "--full-search") {
       g_feature_skin = 0.0;
