@@ -55,6 +55,10 @@ double length_unit_metres(std::string_view name) {
   throw std::invalid_argument("length_unit_metres: no length unit '" + std::string(name) + "'");
 }
 
+std::string_view default_length_unit() {
+  return kDefaultUnit->name;
+}
+
 namespace {
 
 void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {

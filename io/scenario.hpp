@@ -228,6 +228,9 @@ const char* to_string(StageDef::Until until);
 /// std::invalid_argument for another name (a loaded Scenario holds only these).
 double length_unit_metres(std::string_view name);
 
+/// The `length_unit` of a scenario file that names none: what its bare lengths are in.
+std::string_view default_length_unit();
+
 struct Scenario {
   std::string source;            ///< file path (or a name for in-memory text)
   std::string name;              ///< [scenario] name, default: the file stem

@@ -134,16 +134,14 @@ double cleavage_strength(const toml::table& root, const std::string& source,
     }
     const auto number = n->value<double>();
     if (!number) throw fail("not a number");
-    double scale = 1.0;
-    if (d == Dimension::length) {
-      const std::string unit = root["scenario"]["length_unit"].value_or(std::string("mm"));
-      try {
-        scale = parse_quantity("1 " + unit, Dimension::length);
-      } catch (const UnitError& e) {
-        throw fail(fmt::format("scenario.length_unit: {}", e.what()));
-      }
+    if (d != Dimension::length) return *number;
+    const std::string unit =
+        root["scenario"]["length_unit"].value_or(std::string(default_length_unit()));
+    try {
+      return *number * length_unit_metres(unit);
+    } catch (const std::invalid_argument&) {
+      throw fail(fmt::format("scenario.length_unit '{}' is not m, mm or um", unit));
     }
-    return *number * scale;
   };
   const std::string criterion = (*fracture)["criterion"].value_or(std::string("lefm"));
   double strength = 0.0;

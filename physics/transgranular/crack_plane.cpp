@@ -13,7 +13,6 @@ double twice_area(std::span<const Eigen::Vector3d> p, const Eigen::Vector3d& n) 
   return s.dot(n);
 }
 
-
 }  // namespace
 
 void clip_polygon_into(std::span<const Eigen::Vector3d> polygon, const CrackPlane& plane,

@@ -2,8 +2,9 @@
 
 A map reads a sweep's `summary_mean.csv` (with `--seeds`) or `summary.csv`, one point per
 combination of two swept keys (plain keys or ratio columns such as
-`bond.tbn/fracture.cleavage_strength`), and draws the transgranular area fraction as filled contours, with the line where half of the
-crack area is transgranular, and beside it the strength:
+`bond.tbn/fracture.cleavage_strength`), and draws the transgranular area fraction as filled
+contours, with the line where half of the crack area is transgranular, and beside it the
+strength:
 
     import cleave.maps
     m = cleave.maps.fracture_map("results/map_brazilian",
@@ -151,4 +152,3 @@ def fracture_map(sweep, x, y, fraction=FRACTION, strength="peak_load_N", path=No
         "half": half_line(xs, ys, fs, log_x=log_x),
         "figure": fig,
     }
-
