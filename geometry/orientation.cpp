@@ -212,8 +212,12 @@ double max_misorientation_angle(PointGroup group) {
 double misorientation_angle(const Eigen::Quaterniond& q1, const Eigen::Quaterniond& q2,
                             PointGroup group) {
   const Eigen::Quaterniond d = q1.normalized().conjugate() * q2.normalized();
+  // Built once per group (thread-safe statics): this runs for every pair of grains.
+  static const std::array<std::vector<Eigen::Quaterniond>, 4> groups{
+      symmetry_operators(PointGroup::cubic), symmetry_operators(PointGroup::hexagonal),
+      symmetry_operators(PointGroup::trigonal), symmetry_operators(PointGroup::none)};
   Eigen::Quaterniond best = d;
-  for (const auto& s : symmetry_operators(group)) {
+  for (const auto& s : groups.at(static_cast<std::size_t>(group))) {
     const Eigen::Quaterniond p = d * s;
     if (std::abs(p.w()) > std::abs(best.w())) best = p;
   }

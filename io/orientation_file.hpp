@@ -11,8 +11,8 @@
 ///   0   10.0  35.3  45.0    # grain phi1 Phi phi2
 ///   1  200.0  90.0   0.0
 ///
-/// One layout per file. Phi must lie in [0, 180]; phi1 and phi2 may be any finite angle. Neper's
-/// `-format ori` output with Euler-Bunge angles has the first layout.
+/// One layout per file. Phi must lie in [0, 180]; phi1 and phi2 may be any finite angle. A Neper
+/// .ori file written with `-oridescriptor euler-bunge` has the first layout.
 ///
 /// Errors are io::ScenarioError naming file:line:column and the column's name as key
 /// ("phi1", "Phi", "phi2", "grain"); errors about the whole file (unreadable, empty, a grain

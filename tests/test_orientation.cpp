@@ -264,8 +264,8 @@ TEST(MisorientationDensity, IntegratesToOneAndVanishesAtTheLargestAngle) {
 TEST(MisorientationDensity, ClosedFormsMatchAQuadratureOverRotationAxes) {
   // For a rotation angle omega, the density is (N / pi)(1 - cos omega) times the fraction of axes
   // n for which the rotation (n, omega) is already the smallest of its equivalents. The axes are
-  // a Fibonacci lattice on the sphere.
-  const int axes = 6000;
+  // a Fibonacci lattice on the sphere (its error here is about 0.1 % of the peak).
+  const int axes = 24000;
   std::vector<Vector3d> n(axes);
   for (int i = 0; i < axes; ++i) {
     const double z = 1.0 - (2.0 * i + 1.0) / axes, r = std::sqrt(1 - z * z);
@@ -290,7 +290,7 @@ TEST(MisorientationDensity, ClosedFormsMatchAQuadratureOverRotationAxes) {
       worst = std::max(worst, std::abs(quadrature - closed));
       peak = std::max(peak, closed);
     }
-    EXPECT_LT(worst, 0.01 * peak) << to_string(group);
+    EXPECT_LT(worst, 0.003 * peak) << to_string(group);
   }
 }
 
@@ -428,5 +428,25 @@ TEST(FibreOrientation, TiltFromTheAxisFollowsTheGaussianLawOnTheSphere) {
     EXPECT_LT(chi_square(tilt, law, 0.0, pi, kBins), chi2_quantile_999(kBins - 1)) << spread;
     // Uniform azimuth of the tilt: the mean of the tilted direction's normal part is ~0.
     EXPECT_LT(dir_sum.norm() / n, 4.0 / std::sqrt(n)) << spread;
+  }
+}
+
+TEST(FibreOrientation, ACrystalDirectionOppositeToTheAxisIsTurnedOntoIt) {
+  const Vector3d a(0.3, -0.2, 0.9);
+  for (int g = 0; g < 100; ++g) {
+    const Quaterniond q = fibre_orientation(2, g, -a, a, 0.0);
+    EXPECT_LT((q * (-a).normalized() - a.normalized()).norm(), 1e-14);
+  }
+  EXPECT_THROW(fibre_orientation(2, 0, Vector3d::Zero(), a, 0.1), std::invalid_argument);
+}
+
+TEST(PointGroupNames, RoundTripAndUnknownNamesListTheChoices) {
+  for (auto g : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal, PointGroup::none})
+    EXPECT_EQ(parse_point_group(to_string(g)), g);
+  try {
+    parse_point_group("hcp");
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cubic, hexagonal, trigonal or none"), std::string::npos);
   }
 }
