@@ -234,6 +234,18 @@ TEST(MisorientationDensity, LargestAnglesAreThePublishedOnes) {
   EXPECT_NEAR(max_misorientation_angle(PointGroup::trigonal) / deg, 104.48, 0.005);
 }
 
+TEST(MisorientationDensity, CubicMeanIsMackenziesPublishedValue) {
+  // Mackenzie (1958): the mean misorientation angle of random cubes is 40.74 deg.
+  const double top = max_misorientation_angle(PointGroup::cubic);
+  const int n = 20000;
+  double mean = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double w = (i + 0.5) * top / n;
+    mean += w * misorientation_angle_density_cubic(w) * top / n;
+  }
+  EXPECT_NEAR(mean / deg, 40.74, 0.005);
+}
+
 TEST(MisorientationDensity, MackenziesCubicFormIsMorawiecsCubicCase) {
   for (double w = 0.0; w < 64 * deg; w += 0.05 * deg)
     EXPECT_NEAR(misorientation_angle_density_cubic(w),
