@@ -145,6 +145,8 @@ std::string to_string(PointGroup group) {
       return "hexagonal";
     case PointGroup::trigonal:
       return "trigonal";
+    case PointGroup::orthorhombic:
+      return "orthorhombic";
     case PointGroup::none:
       return "none";
   }
@@ -153,10 +155,11 @@ std::string to_string(PointGroup group) {
 }
 
 PointGroup parse_point_group(const std::string& text) {
-  for (auto g : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal, PointGroup::none})
+  for (auto g : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal, PointGroup::orthorhombic,
+                 PointGroup::none})
     if (text == to_string(g)) return g;
   throw std::invalid_argument("unknown point group '" + text +
-                              "' (expected cubic, hexagonal, trigonal or none)");
+                              "' (expected cubic, hexagonal, trigonal, orthorhombic or none)");
 }
 
 std::vector<Eigen::Quaterniond> symmetry_operators(PointGroup group) {
@@ -186,6 +189,11 @@ std::vector<Eigen::Quaterniond> symmetry_operators(PointGroup group) {
       for (int k = 0; k < 3; ++k)
         add({std::cos(k * 2.0 * pi / 3.0), std::sin(k * 2.0 * pi / 3.0), 0.0}, pi);
       break;
+    case PointGroup::orthorhombic:
+      add(z, pi);
+      add({1.0, 0.0, 0.0}, pi);
+      add({0.0, 1.0, 0.0}, pi);
+      break;
     case PointGroup::none:
       break;
   }
@@ -202,6 +210,8 @@ double max_misorientation_angle(PointGroup group) {
       return dihedral_max_angle(6);
     case PointGroup::trigonal:
       return dihedral_max_angle(3);
+    case PointGroup::orthorhombic:
+      return dihedral_max_angle(2);
     case PointGroup::none:
       return pi;
   }
@@ -213,9 +223,10 @@ double misorientation_angle(const Eigen::Quaterniond& q1, const Eigen::Quaternio
                             PointGroup group) {
   const Eigen::Quaterniond d = q1.normalized().conjugate() * q2.normalized();
   // Built once per group (thread-safe statics): this runs for every pair of grains.
-  static const std::array<std::vector<Eigen::Quaterniond>, 4> groups{
+  static const std::array<std::vector<Eigen::Quaterniond>, 5> groups{
       symmetry_operators(PointGroup::cubic), symmetry_operators(PointGroup::hexagonal),
-      symmetry_operators(PointGroup::trigonal), symmetry_operators(PointGroup::none)};
+      symmetry_operators(PointGroup::trigonal), symmetry_operators(PointGroup::orthorhombic),
+      symmetry_operators(PointGroup::none)};
   Eigen::Quaterniond best = d;
   for (const auto& s : groups.at(static_cast<std::size_t>(group))) {
     const Eigen::Quaterniond p = d * s;
@@ -328,6 +339,10 @@ double misorientation_angle_density(double omega, PointGroup group) {
     case PointGroup::trigonal:
       n = 6.0;
       chi = dihedral_fraction(r, 3);
+      break;
+    case PointGroup::orthorhombic:
+      n = 4.0;
+      chi = dihedral_fraction(r, 2);
       break;
     case PointGroup::none:
       break;

@@ -48,10 +48,11 @@ enum class PointGroup : std::uint8_t {
   cubic,      ///< O (432): 24 rotations
   hexagonal,  ///< D6 (622): 12 rotations, c along z, two-fold axes every 30 deg from x
   trigonal,   ///< D3 (32, setting 321): 6 rotations, c along z, two-fold axes along the a axes
+  orthorhombic,  ///< D2 (222): 4 rotations, two-fold axes along x, y and z
   none,       ///< C1: the identity only (triclinic, or symmetry ignored)
 };
 
-/// "cubic", "hexagonal", "trigonal", "none".
+/// "cubic", "hexagonal", "trigonal", "orthorhombic", "none".
 std::string to_string(PointGroup group);
 /// Parses the names of to_string; throws std::invalid_argument listing them otherwise.
 PointGroup parse_point_group(const std::string& text);

@@ -158,6 +158,7 @@ TEST(SymmetryOperators, FormAGroupOfTheCrystalsOrder) {
   for (auto [group, order] : {std::pair{PointGroup::cubic, 24},
                               {PointGroup::hexagonal, 12},
                               {PointGroup::trigonal, 6},
+                              {PointGroup::orthorhombic, 4},
                               {PointGroup::none, 1}}) {
     const auto ops = symmetry_operators(group);
     ASSERT_EQ(static_cast<int>(ops.size()), order) << to_string(group);
@@ -205,7 +206,8 @@ TEST(SymmetryOperators, LeaveTheDefiningDirectionsInvariant) {
 }
 
 TEST(MisorientationAngle, IsTheSmallestAngleOverBothGrainsSymmetry) {
-  for (auto group : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal}) {
+  for (auto group : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal,
+                     PointGroup::orthorhombic}) {
     const auto ops = symmetry_operators(group);
     for (int i = 0; i < 200; ++i) {
       const Quaterniond q1 = uniform_orientation(3, 2 * i), q2 = uniform_orientation(3, 2 * i + 1);
@@ -232,6 +234,8 @@ TEST(MisorientationDensity, LargestAnglesAreThePublishedOnes) {
   EXPECT_NEAR(max_misorientation_angle(PointGroup::cubic) / deg, 62.80, 0.005);
   EXPECT_NEAR(max_misorientation_angle(PointGroup::hexagonal) / deg, 93.84, 0.005);
   EXPECT_NEAR(max_misorientation_angle(PointGroup::trigonal) / deg, 104.48, 0.005);
+  // 222: the fundamental zone is the cube |r_i| <= 1, its corner tan(w/2) = sqrt(3): 120 deg.
+  EXPECT_NEAR(max_misorientation_angle(PointGroup::orthorhombic) / deg, 120.0, 1e-9);
 }
 
 TEST(MisorientationDensity, CubicMeanIsMackenziesPublishedValue) {
@@ -255,7 +259,8 @@ TEST(MisorientationDensity, MackenziesCubicFormIsMorawiecsCubicCase) {
 
 TEST(MisorientationDensity, IntegratesToOneAndVanishesAtTheLargestAngle) {
   for (auto group :
-       {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal, PointGroup::none}) {
+       {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal, PointGroup::orthorhombic,
+        PointGroup::none}) {
     const double top = max_misorientation_angle(group);
     const int n = 20000;
     double sum = 0.0;
@@ -284,7 +289,8 @@ TEST(MisorientationDensity, ClosedFormsMatchAQuadratureOverRotationAxes) {
     const double phi = i * pi * (3.0 - std::sqrt(5.0));
     n[i] = Vector3d(r * std::cos(phi), r * std::sin(phi), z);
   }
-  for (auto group : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal}) {
+  for (auto group : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal,
+                     PointGroup::orthorhombic}) {
     const auto ops = symmetry_operators(group);
     const double top = max_misorientation_angle(group);
     double worst = 0.0, peak = 0.0;
@@ -314,7 +320,8 @@ TEST(UniformOrientation, PairMisorientationsFollowMackenziesCubicLaw) {
 }
 
 TEST(UniformOrientation, PairMisorientationsFollowTheHexagonalAndTrigonalLaws) {
-  for (auto group : {PointGroup::hexagonal, PointGroup::trigonal, PointGroup::none}) {
+  for (auto group : {PointGroup::hexagonal, PointGroup::trigonal, PointGroup::orthorhombic,
+                     PointGroup::none}) {
     const auto angles = uniform_pair_angles(group, 20000, 2027);
     const double chi2 = chi_square(
         angles, [group](double w) { return misorientation_angle_density(w, group); }, 0.0,
@@ -453,12 +460,13 @@ TEST(FibreOrientation, ACrystalDirectionOppositeToTheAxisIsTurnedOntoIt) {
 }
 
 TEST(PointGroupNames, RoundTripAndUnknownNamesListTheChoices) {
-  for (auto g : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal, PointGroup::none})
+  for (auto g : {PointGroup::cubic, PointGroup::hexagonal, PointGroup::trigonal,
+                 PointGroup::orthorhombic, PointGroup::none})
     EXPECT_EQ(parse_point_group(to_string(g)), g);
   try {
     parse_point_group("hcp");
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("cubic, hexagonal, trigonal or none"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("cubic, hexagonal, trigonal, orthorhombic or none"), std::string::npos);
   }
 }
