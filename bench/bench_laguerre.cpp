@@ -17,13 +17,15 @@ int main(int argc, char** argv) {
   const auto t0 = clock::now();
   const auto t = g::lognormal_laguerre(size, cells, spread, 1);
   const auto t1 = clock::now();
-  const bool exact = g::total_volume(t.cells) == g::exact_box(Eigen::Vector3d::Zero(), size).volume();
+  const bool exact =
+      g::total_volume(t.cells) == g::exact_box(Eigen::Vector3d::Zero(), size).volume();
   double worst = 0.0;
   for (std::size_t i = 0; i < t.cells.size(); ++i)
     worst = std::max(worst, std::abs(t.cells[i].volume().to_double() / t.targets[i] - 1.0));
-  std::printf("%d cells, spread %.2f: built in %.2f s (%d Newton steps, fit error %.2e); exact "
-              "cells off their targets by at most %.2e; volumes sum exactly to the box: %s\n",
-              cells, spread, std::chrono::duration<double>(t1 - t0).count(), t.fit.iterations,
-              t.fit.max_relative_error, worst, exact ? "yes" : "NO");
+  std::printf(
+      "%d cells, spread %.2f: built in %.2f s (%d Newton steps, fit error %.2e); exact "
+      "cells off their targets by at most %.2e; volumes sum exactly to the box: %s\n",
+      cells, spread, std::chrono::duration<double>(t1 - t0).count(), t.fit.iterations,
+      t.fit.max_relative_error, worst, exact ? "yes" : "NO");
   return exact ? 0 : 1;
 }

@@ -19,14 +19,16 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 void check_input(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights) {
-  if (points.empty()) throw std::invalid_argument("a Laguerre tessellation needs at least one point");
+  if (points.empty())
+    throw std::invalid_argument("a Laguerre tessellation needs at least one point");
   if (weights.size() != points.size()) {
     throw std::invalid_argument("Laguerre tessellation: " + std::to_string(points.size()) +
                                 " points but " + std::to_string(weights.size()) + " weights");
   }
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!points[i].allFinite() || !std::isfinite(weights[i])) {
-      throw std::invalid_argument("Laguerre point " + std::to_string(i) + " or its weight is not finite");
+      throw std::invalid_argument("Laguerre point " + std::to_string(i) +
+                                  " or its weight is not finite");
     }
   }
 }
@@ -47,7 +49,7 @@ double reach_of(const std::vector<Eigen::Vector3d>& vertices, const Eigen::Vecto
 // ---- a double-precision convex clipper (fitting only) -------------------------------------
 
 struct Face {
-  int tag = -1;  ///< the neighbour whose bisector made it; -1 for the domain
+  int tag = -1;                    ///< the neighbour whose bisector made it; -1 for the domain
   std::vector<Eigen::Vector3d> v;  ///< CCW seen from outside
 };
 using Poly = std::vector<Face>;
@@ -112,8 +114,10 @@ bool clip(Poly& poly, const Eigen::Vector3d& a, double d, int tag, double eps) {
     centre /= static_cast<double>(cap.size());
     const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
     std::vector<std::pair<double, Eigen::Vector3d>> around;
-    for (const auto& c : cap) around.emplace_back(std::atan2((c - centre).dot(w), (c - centre).dot(u)), c);
-    std::sort(around.begin(), around.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
+    for (const auto& c : cap)
+      around.emplace_back(std::atan2((c - centre).dot(w), (c - centre).dot(u)), c);
+    std::sort(around.begin(), around.end(),
+              [](const auto& l, const auto& r) { return l.first < r.first; });
     Face face{tag, {}};
     const double close = 10.0 * eps / a.norm();
     for (const auto& [angle, c] : around) {
@@ -141,13 +145,14 @@ double volume_of(const Poly& p) {
 
 double area_of(const Face& f) {
   Eigen::Vector3d twice = Eigen::Vector3d::Zero();
-  for (std::size_t i = 1; i + 1 < f.v.size(); ++i) twice += (f.v[i] - f.v[0]).cross(f.v[i + 1] - f.v[0]);
+  for (std::size_t i = 1; i + 1 < f.v.size(); ++i)
+    twice += (f.v[i] - f.v[0]).cross(f.v[i + 1] - f.v[0]);
   return 0.5 * twice.norm();
 }
 
 /// Per cell, the other points ordered by their bisector's offset (nearest plane first).
-std::vector<int> by_offset(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights,
-                           std::size_t i) {
+std::vector<int> by_offset(const std::vector<Eigen::Vector3d>& points,
+                           const std::vector<double>& weights, std::size_t i) {
   std::vector<int> order;
   std::vector<double> t(points.size());
   for (std::size_t j = 0; j < points.size(); ++j) {
@@ -155,11 +160,13 @@ std::vector<int> by_offset(const std::vector<Eigen::Vector3d>& points, const std
     t[j] = bisector_offset(points[i], weights[i], points[j], weights[j]);
     order.push_back(static_cast<int>(j));
   }
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return t[a] != t[b] ? t[a] < t[b] : a < b; });
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return t[a] != t[b] ? t[a] < t[b] : a < b; });
   return order;
 }
 
-LaguerreApprox approx_cells(const Poly& domain, double length, const std::vector<Eigen::Vector3d>& points,
+LaguerreApprox approx_cells(const Poly& domain, double length,
+                            const std::vector<Eigen::Vector3d>& points,
                             const std::vector<double>& weights,
                             const std::vector<std::vector<std::pair<int, double>>>* hints) {
   const std::size_t n = points.size();
@@ -177,11 +184,14 @@ LaguerreApprox approx_cells(const Poly& domain, double length, const std::vector
     auto cut = [&](int j) {
       done[static_cast<std::size_t>(j)] = 1;
       const Eigen::Vector3d& q = points[static_cast<std::size_t>(j)];
-      if (q == p) throw std::invalid_argument("Laguerre points " + std::to_string(i) + " and " + std::to_string(j) + " coincide");
+      if (q == p)
+        throw std::invalid_argument("Laguerre points " + std::to_string(i) + " and " +
+                                    std::to_string(j) + " coincide");
       const double t = bisector_offset(p, weights[i], q, weights[static_cast<std::size_t>(j)]);
       if (t > reach * (1.0 + 1e-9)) return false;
       const Eigen::Vector3d a = 2.0 * (p - q);
-      const double d = q.squaredNorm() - p.squaredNorm() - weights[static_cast<std::size_t>(j)] + weights[i];
+      const double d =
+          q.squaredNorm() - p.squaredNorm() - weights[static_cast<std::size_t>(j)] + weights[i];
       alive = clip(cell, a, d, j, 1e-12 * a.norm() * length);
       if (alive) reach = reach_of(vertices_of(cell), p);
       return true;
@@ -226,16 +236,18 @@ double max_error(const std::vector<double>& v, const std::vector<double>& t) {
 
 }  // namespace
 
-LaguerreApprox laguerre_cells_approx(const PolygonMesh& domain, const std::vector<Eigen::Vector3d>& points,
+LaguerreApprox laguerre_cells_approx(const PolygonMesh& domain,
+                                     const std::vector<Eigen::Vector3d>& points,
                                      const std::vector<double>& weights) {
   check_input(points, weights);
   return approx_cells(poly_of(domain), domain_length(domain), points, weights, nullptr);
 }
 
 namespace {
-std::vector<ExactPolyhedron> exact_cells(const ExactPolyhedron& domain, const std::vector<Eigen::Vector3d>& points,
-                                         const std::vector<double>& weights,
-                                         const std::vector<std::vector<std::pair<int, double>>>* hints) {
+std::vector<ExactPolyhedron> exact_cells(
+    const ExactPolyhedron& domain, const std::vector<Eigen::Vector3d>& points,
+    const std::vector<double>& weights,
+    const std::vector<std::vector<std::pair<int, double>>>* hints) {
   check_input(points, weights);
   const std::size_t n = points.size();
   std::vector<ExactPolyhedron> cells;
@@ -257,14 +269,16 @@ std::vector<ExactPolyhedron> exact_cells(const ExactPolyhedron& domain, const st
       }
       const double t = bisector_offset(p, weights[i], q, weights[j]);
       if (t > reach * (1.0 + 1e-9)) return false;
-      std::optional<ExactPolyhedron> kept = cell.clipped(ExactPlane::power_bisector(p, weights[i], q, weights[j]));
+      std::optional<ExactPolyhedron> kept =
+          cell.clipped(ExactPlane::power_bisector(p, weights[i], q, weights[j]));
       if (!kept) {
         throw std::invalid_argument(
             "Laguerre point " + std::to_string(i) + " (weight " + std::to_string(weights[i]) +
             " m^2) has an empty cell: point " + std::to_string(j) +
             "'s power covers all of it; lower that weight or raise this one");
       }
-      const bool changed = kept->num_vertices() != cell.num_vertices() || kept->num_faces() != cell.num_faces();
+      const bool changed =
+          kept->num_vertices() != cell.num_vertices() || kept->num_faces() != cell.num_faces();
       cell = std::move(*kept);
       if (changed) reach = reach_of(cell.vertices_approx(), p);
       return true;
@@ -282,17 +296,22 @@ std::vector<ExactPolyhedron> exact_cells(const ExactPolyhedron& domain, const st
 }
 }  // namespace
 
-std::vector<ExactPolyhedron> laguerre_cells(const ExactPolyhedron& domain, const std::vector<Eigen::Vector3d>& points,
+std::vector<ExactPolyhedron> laguerre_cells(const ExactPolyhedron& domain,
+                                            const std::vector<Eigen::Vector3d>& points,
                                             const std::vector<double>& weights) {
   return exact_cells(domain, points, weights, nullptr);
 }
 
-LaguerreFit fit_laguerre_weights(const PolygonMesh& domain, const std::vector<Eigen::Vector3d>& points,
-                                 const std::vector<double>& targets, double tolerance, int max_iterations) {
+LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
+                                 const std::vector<Eigen::Vector3d>& points,
+                                 const std::vector<double>& targets, double tolerance,
+                                 int max_iterations) {
   const std::size_t n = points.size();
-  if (targets.size() != n) throw std::invalid_argument("fit_laguerre_weights: one target volume per point");
+  if (targets.size() != n)
+    throw std::invalid_argument("fit_laguerre_weights: one target volume per point");
   for (double t : targets) {
-    if (!(t > 0.0)) throw std::invalid_argument("fit_laguerre_weights: target volumes must be positive");
+    if (!(t > 0.0))
+      throw std::invalid_argument("fit_laguerre_weights: target volumes must be positive");
   }
   const Poly start = poly_of(domain);
   const double length = domain_length(domain);
@@ -350,7 +369,8 @@ LaguerreFit fit_laguerre_weights(const PolygonMesh& domain, const std::vector<Ei
       for (std::size_t i = 0; i < n; ++i) trial[i] += tau * step[static_cast<int>(i)];
       LaguerreApprox next = approx_cells(start, length, points, trial, &now.faces);
       const double r = norm_of(next.volumes);
-      const bool above = std::all_of(next.volumes.begin(), next.volumes.end(), [&](double v) { return v >= floor; });
+      const bool above = std::all_of(next.volumes.begin(), next.volumes.end(),
+                                     [&](double v) { return v >= floor; });
       if (above && r <= (1.0 - 0.5 * tau) * residual_norm) {
         fit.weights = std::move(trial);
         now = std::move(next);
@@ -367,7 +387,8 @@ LaguerreFit fit_laguerre_weights(const PolygonMesh& domain, const std::vector<Ei
 
 std::vector<double> lognormal_volumes(int n, double spread, std::uint64_t seed, double total) {
   if (n < 1) throw std::invalid_argument("a grain-size distribution needs at least one grain");
-  if (!(spread >= 0.0) || !std::isfinite(spread)) throw std::invalid_argument("the size spread must be >= 0");
+  if (!(spread >= 0.0) || !std::isfinite(spread))
+    throw std::invalid_argument("the size spread must be >= 0");
   if (!(total > 0.0)) throw std::invalid_argument("the total volume must be positive");
   const double sigma = std::sqrt(std::log1p(spread * spread));
   std::vector<double> volumes;
@@ -386,7 +407,8 @@ std::vector<double> lognormal_volumes(int n, double spread, std::uint64_t seed, 
 }
 
 int lognormal_grain_count(double volume, double mean_diameter, double spread) {
-  if (!(mean_diameter > 0.0)) throw std::invalid_argument("the mean grain diameter must be positive");
+  if (!(mean_diameter > 0.0))
+    throw std::invalid_argument("the mean grain diameter must be positive");
   const double s2 = std::log1p(spread * spread);
   const double mu = std::log(mean_diameter) - 0.5 * s2;
   const double mean_volume = kPi / 6.0 * std::exp(3.0 * mu + 4.5 * s2);
@@ -395,7 +417,8 @@ int lognormal_grain_count(double volume, double mean_diameter, double spread) {
   return std::max(1, static_cast<int>(count));
 }
 
-LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size, const std::vector<Eigen::Vector3d>& points,
+LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
+                                     const std::vector<Eigen::Vector3d>& points,
                                      std::vector<double> targets) {
   for (int d = 0; d < 3; ++d) {
     if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
@@ -419,7 +442,8 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size, const std::vec
   return out;
 }
 
-LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread, std::uint64_t seed) {
+LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
+                                        std::uint64_t seed) {
   VoronoiDef def;
   def.size = size;
   def.cells = cells;

@@ -37,8 +37,8 @@ LaguerreApprox laguerre_cells_approx(const PolygonMesh& domain,
 
 /// The result of fitting weights to target volumes.
 struct LaguerreFit {
-  std::vector<double> weights;  ///< m^2
-  int iterations = 0;           ///< Newton steps taken
+  std::vector<double> weights;      ///< m^2
+  int iterations = 0;               ///< Newton steps taken
   double max_relative_error = 0.0;  ///< max |V_i - T_i| / T_i of the double cells at the end
 };
 
@@ -48,7 +48,8 @@ struct LaguerreFit {
 /// halved until every cell keeps a volume and the largest error shrinks; starts from
 /// w_i = r_i^2 with r_i the equivalent-sphere radius of T_i. Stops at `tolerance` (largest
 /// relative volume error) or after `max_iterations`.
-LaguerreFit fit_laguerre_weights(const PolygonMesh& domain, const std::vector<Eigen::Vector3d>& points,
+LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
+                                 const std::vector<Eigen::Vector3d>& points,
                                  const std::vector<double>& targets, double tolerance = 1e-3,
                                  int max_iterations = 60);
 

@@ -1,11 +1,13 @@
 #include "geometry/specimen.hpp"
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <map>
-#include <tuple>
 #include <stdexcept>
+#include <tuple>
+
+#include "geometry/laguerre.hpp"
 
 namespace cleave::geometry {
 
@@ -53,12 +55,25 @@ Specimen build_specimen(const SpecimenDef& def) {
     require(!def.angles.empty(), "angles must not be empty");
     for (int a : def.angles) require(a == 0 || a == 60 || a == 120, "angles must be 0, 60 or 120");
   }
+  if (def.kind == SpecimenKind::voronoi && def.voronoi.lognormal) {
+    const VoronoiDef& v = def.voronoi;
+    require(v.gap == 0.0, "a log-normal (Laguerre) specimen has no gap");
+    require(!v.periodic[0] && !v.periodic[1] && !v.periodic[2],
+            "a log-normal (Laguerre) specimen cannot be periodic");
+    LaguerreTessellation t = lognormal_laguerre(v.size, v.cells, v.size_spread, v.seed);
+    // A Laguerre cell need not hold its point: the frame's origin is its rounded centroid.
+    std::vector<Eigen::Vector3d> centres;
+    for (const auto& c : t.cells) centres.push_back(c.mass_properties().centroid);
+    return place_grains(def, t.cells, centres);
+  }
   if (def.kind == SpecimenKind::voronoi) {
     const std::vector<ExactPolyhedron> cells = voronoi_cells(def.voronoi);
     return place_grains(def, cells, voronoi_points(def.voronoi));
   }
   if (def.kind == SpecimenKind::meshes) {
     require(!def.custom_grains.empty(), "a mesh specimen needs at least one grain");
+    require(def.orientations.empty() || def.orientations.size() == def.custom_grains.size(),
+            "one orientation per grain, or none");
     std::vector<ExactPolyhedron> shapes;
     std::vector<Eigen::Vector3d> centres;
     for (const auto& c : def.custom_grains) {

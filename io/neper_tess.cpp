@@ -56,7 +56,9 @@ class Tokens {
     last_line_ = line;
   }
 
-  [[noreturn]] void fail(int line, const std::string& message) const { throw TessellationFileError(name_, line, message); }
+  [[noreturn]] void fail(int line, const std::string& message) const {
+    throw TessellationFileError(name_, line, message);
+  }
   [[noreturn]] void fail_here(const std::string& message) const { fail(line(), message); }
   [[nodiscard]] bool done() const { return pos_ >= tokens_.size(); }
   [[nodiscard]] int line() const { return done() ? last_line_ : tokens_[pos_].line; }
@@ -88,7 +90,8 @@ class Tokens {
       std::size_t used = 0;
       const long v = std::stol(t.text, &used);
       if (used == t.text.size()) {
-        if (v < low) fail(t.line, what + ": must be >= " + std::to_string(low) + ", found " + t.text);
+        if (v < low)
+          fail(t.line, what + ": must be >= " + std::to_string(low) + ", found " + t.text);
         return v;
       }
     } catch (const TessellationFileError&) {
@@ -110,7 +113,9 @@ class Tokens {
   int last_line_ = 1;
 };
 
-bool starts(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+bool starts(const std::string& s, const char* prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
 
 struct FileFace {
   std::vector<int> vertices;  ///< 0-based
@@ -125,7 +130,8 @@ struct DomainFace {
 /// An exact convex domain from planes a x + b y + c z = d (orientation taken from an interior
 /// point): a box around the domain's vertices cut by each plane.
 geometry::ExactPolyhedron domain_from_planes(const std::vector<DomainFace>& faces,
-                                            const std::vector<Eigen::Vector3d>& vertices, Tokens& in) {
+                                             const std::vector<Eigen::Vector3d>& vertices,
+                                             Tokens& in) {
   Eigen::AlignedBox3d box;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const auto& v : vertices) {
@@ -175,9 +181,11 @@ Eigen::Quaterniond quaternion_from_bunge_degrees(double phi1, double Phi, double
 Eigen::Quaterniond neper_orientation(const std::string& descriptor, const std::vector<double>& p) {
   const std::size_t colon = descriptor.find(':');
   const std::string des = descriptor.substr(0, colon);
-  const std::string convention = colon == std::string::npos ? "active" : descriptor.substr(colon + 1);
+  const std::string convention =
+      colon == std::string::npos ? "active" : descriptor.substr(colon + 1);
   if (convention != "active" && convention != "passive") {
-    throw std::invalid_argument("orientation convention '" + convention + "': expected 'active' or 'passive'");
+    throw std::invalid_argument("orientation convention '" + convention +
+                                "': expected 'active' or 'passive'");
   }
   const int size = neper_descriptor_size(des);
   if (size == 0) {
@@ -186,8 +194,9 @@ Eigen::Quaterniond neper_orientation(const std::string& descriptor, const std::v
                                 "quaternion are); write the file with -oridescriptor rodrigues");
   }
   if (static_cast<int>(p.size()) != size) {
-    throw std::invalid_argument("orientation descriptor '" + des + "' takes " + std::to_string(size) +
-                                " values, found " + std::to_string(p.size()));
+    throw std::invalid_argument("orientation descriptor '" + des + "' takes " +
+                                std::to_string(size) + " values, found " +
+                                std::to_string(p.size()));
   }
   // q: the rotation whose passive matrix is Neper's g(params), i.e. g = R(q)^T.
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
@@ -197,7 +206,8 @@ Eigen::Quaterniond neper_orientation(const std::string& descriptor, const std::v
     Eigen::Matrix3d g;
     g << p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8];
     const double err = (g * g.transpose() - Eigen::Matrix3d::Identity()).norm();
-    if (err > 1e-6 || g.determinant() < 0.0) throw std::invalid_argument("rotmat is not a rotation matrix");
+    if (err > 1e-6 || g.determinant() < 0.0)
+      throw std::invalid_argument("rotmat is not a rotation matrix");
     q = Eigen::Quaterniond(Eigen::Matrix3d(g.transpose()));
   } else if (des == "axis-angle") {
     const Eigen::Vector3d axis(p[0], p[1], p[2]);
@@ -215,20 +225,23 @@ Eigen::Quaterniond neper_orientation(const std::string& descriptor, const std::v
   return convention == "passive" ? q : q.conjugate();
 }
 
-ImportedTessellation parse_neper_tess(const std::string& text, const std::string& name, double scale) {
+ImportedTessellation parse_neper_tess(const std::string& text, const std::string& name,
+                                      double scale) {
   Tokens in(text, name);
   if (!(scale > 0.0) || !std::isfinite(scale)) in.fail(0, "the scale must be positive");
   in.expect("***tess");
   in.expect("**format");
   {
     const Token& v = in.next("the format version");
-    if (!starts(v.text, "3.")) in.fail(v.line, "format version " + v.text + " is not read (3.x is)");
+    if (!starts(v.text, "3."))
+      in.fail(v.line, "format version " + v.text + " is not read (3.x is)");
   }
   in.expect("**general");
   {
     const int line = in.line();
     const long dim = in.integer("the dimension");
-    if (dim != 3) in.fail(line, "dimension " + std::to_string(dim) + ": cleave reads 3D tessellations only");
+    if (dim != 3)
+      in.fail(line, "dimension " + std::to_string(dim) + ": cleave reads 3D tessellations only");
     in.next("the tessellation type");
   }
   ImportedTessellation out;
@@ -256,12 +269,15 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
       while (starts(in.peek(), "*") && !starts(in.peek(), "**")) {
         const Token sub = in.next("a cell field");
         if (sub.text == "*id") {
-          for (long i = 0; i < cells; ++i) out.ids.push_back(static_cast<int>(in.integer("a cell id")));
+          for (long i = 0; i < cells; ++i)
+            out.ids.push_back(static_cast<int>(in.integer("a cell id")));
         } else if (sub.text == "*seed") {
           for (long i = 0; i < cells; ++i) {
             const int line = in.line();
             const long id = in.integer("a seed id");
-            if (id != i + 1) in.fail(line, "seed " + std::to_string(id) + " where seed " + std::to_string(i + 1) + " should be");
+            if (id != i + 1)
+              in.fail(line, "seed " + std::to_string(id) + " where seed " + std::to_string(i + 1) +
+                                " should be");
             Eigen::Vector3d s;
             for (int d = 0; d < 3; ++d) s[d] = in.number("a seed coordinate");
             seeds.push_back(s * scale);
@@ -271,13 +287,16 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
           const Token des = in.next("the orientation descriptor");
           const int size = neper_descriptor_size(des.text);
           if (size == 0) {
-            in.fail(des.line, "orientation descriptor '" + des.text +
-                                  "' is not read (rodrigues, euler-bunge, rotmat, axis-angle, quaternion are)");
+            in.fail(
+                des.line,
+                "orientation descriptor '" + des.text +
+                    "' is not read (rodrigues, euler-bunge, rotmat, axis-angle, quaternion are)");
           }
           for (long i = 0; i < cells; ++i) {
             const int line = in.line();
             std::vector<double> params;
-            for (int k = 0; k < size; ++k) params.push_back(in.number("an orientation value of cell " + std::to_string(i + 1)));
+            for (int k = 0; k < size; ++k)
+              params.push_back(in.number("an orientation value of cell " + std::to_string(i + 1)));
             try {
               out.orientations.push_back(neper_orientation(des.text, params));
             } catch (const std::invalid_argument& e) {
@@ -294,7 +313,8 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
       const long n = in.integer("the number of vertices", 0);
       for (long i = 0; i < n; ++i) {
         const int line = in.line();
-        if (in.integer("a vertex id") != i + 1) in.fail(line, "vertex " + std::to_string(i + 1) + " expected here");
+        if (in.integer("a vertex id") != i + 1)
+          in.fail(line, "vertex " + std::to_string(i + 1) + " expected here");
         Eigen::Vector3d v;
         for (int d = 0; d < 3; ++d) v[d] = in.number("a vertex coordinate");
         vertices.push_back(v * scale);
@@ -310,12 +330,15 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
       for (long i = 0; i < n; ++i) {
         FileFace f;
         f.line = in.line();
-        if (in.integer("a face id") != i + 1) in.fail(f.line, "face " + std::to_string(i + 1) + " expected here");
+        if (in.integer("a face id") != i + 1)
+          in.fail(f.line, "face " + std::to_string(i + 1) + " expected here");
         const long nv = in.integer("the number of vertices of a face", 3);
         for (long k = 0; k < nv; ++k) {
           const int line = in.line();
           const long v = in.integer("a face vertex", 1);
-          if (v > static_cast<long>(vertices.size())) in.fail(line, "face " + std::to_string(i + 1) + " names vertex " + std::to_string(v) + ", which does not exist");
+          if (v > static_cast<long>(vertices.size()))
+            in.fail(line, "face " + std::to_string(i + 1) + " names vertex " + std::to_string(v) +
+                              ", which does not exist");
           f.vertices.push_back(static_cast<int>(v - 1));
         }
         const long ne = in.integer("the number of edges of a face", 0);
@@ -324,9 +347,10 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
         const int state_line = in.line();
         const long state = in.integer("a face state");
         if (state != 0) {
-          in.fail(state_line, "face " + std::to_string(i + 1) + " has state " + std::to_string(state) +
-                                  ": a regularised tessellation's faces are not planar; give cleave a "
-                                  "tessellation made without -regularization");
+          in.fail(state_line,
+                  "face " + std::to_string(i + 1) + " has state " + std::to_string(state) +
+                      ": a regularised tessellation's faces are not planar; give cleave a "
+                      "tessellation made without -regularization");
         }
         in.integer("a face point");
         for (int k = 0; k < 3; ++k) in.number("a face point coordinate");
@@ -336,13 +360,16 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
       const long n = in.integer("the number of polyhedra", 0);
       for (long i = 0; i < n; ++i) {
         poly_lines.push_back(in.line());
-        if (in.integer("a polyhedron id") != i + 1) in.fail(poly_lines.back(), "polyhedron " + std::to_string(i + 1) + " expected here");
+        if (in.integer("a polyhedron id") != i + 1)
+          in.fail(poly_lines.back(), "polyhedron " + std::to_string(i + 1) + " expected here");
         const long nf = in.integer("the number of faces of a polyhedron", 4);
         std::vector<int> fs;
         for (long k = 0; k < nf; ++k) {
           const int line = in.line();
           const long f = in.integer("a polyhedron face");
-          if (f == 0 || std::abs(f) > static_cast<long>(faces.size())) in.fail(line, "polyhedron " + std::to_string(i + 1) + " names face " + std::to_string(f) + ", which does not exist");
+          if (f == 0 || std::abs(f) > static_cast<long>(faces.size()))
+            in.fail(line, "polyhedron " + std::to_string(i + 1) + " names face " +
+                              std::to_string(f) + ", which does not exist");
           fs.push_back(static_cast<int>(f));
         }
         polyhedra.push_back(std::move(fs));
@@ -380,7 +407,9 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
             }
             const int params_line = in.line();
             const long np = in.integer("the number of domain face parameters", 0);
-            if (np != 4) in.fail(params_line, "a plane domain face takes 4 parameters (d a b c), found " + std::to_string(np));
+            if (np != 4)
+              in.fail(params_line, "a plane domain face takes 4 parameters (d a b c), found " +
+                                       std::to_string(np));
             for (int k = 0; k < 4; ++k) f.params.push_back(in.number("a domain face parameter"));
             f.params[0] *= scale;
             in.next("a domain face label");
@@ -397,22 +426,27 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
     } else if (starts(section.text, "**")) {
       in.skip_to("**");  // **scale and others: not used
     } else {
-      in.fail(section.line, "expected a section (**cell, **vertex, ...), found '" + section.text + "'");
+      in.fail(section.line,
+              "expected a section (**cell, **vertex, ...), found '" + section.text + "'");
     }
   }
   if (!ended) in.fail(in.line(), "the file ends without ***end");
   if (cells < 0) in.fail(0, "no **cell section");
   if (seeds.empty()) {
-    in.fail(cell_line, "**cell has no *seed: cleave rebuilds the cells exactly from their seeds and weights");
+    in.fail(cell_line,
+            "**cell has no *seed: cleave rebuilds the cells exactly from their seeds and weights");
   }
-  if (!out.ids.empty() && static_cast<long>(out.ids.size()) != cells) in.fail(cell_line, "*id count differs from the number of cells");
+  if (!out.ids.empty() && static_cast<long>(out.ids.size()) != cells)
+    in.fail(cell_line, "*id count differs from the number of cells");
   if (out.ids.empty()) {
     for (long i = 0; i < cells; ++i) out.ids.push_back(static_cast<int>(i + 1));
   }
   if (static_cast<long>(polyhedra.size()) != cells) {
-    in.fail(cell_line, std::to_string(cells) + " cells but " + std::to_string(polyhedra.size()) + " polyhedra");
+    in.fail(cell_line, std::to_string(cells) + " cells but " + std::to_string(polyhedra.size()) +
+                           " polyhedra");
   }
-  if (domain_faces.size() < 4 || domain_vertices.size() < 4) in.fail(0, "no **domain with its *vertex and *face fields");
+  if (domain_faces.size() < 4 || domain_vertices.size() < 4)
+    in.fail(0, "no **domain with its *vertex and *face fields");
 
   const geometry::ExactPolyhedron domain = domain_from_planes(domain_faces, domain_vertices, in);
   out.domain_volume = domain.volume();
@@ -421,7 +455,8 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
   try {
     out.cells = geometry::laguerre_cells(domain, out.seeds, out.weights);
   } catch (const std::invalid_argument& e) {
-    in.fail(cell_line, std::string("the cells cannot be rebuilt from their seeds: ") + e.what() + " (0-based)");
+    in.fail(cell_line, std::string("the cells cannot be rebuilt from their seeds: ") + e.what() +
+                           " (0-based)");
   }
   // Cross-check each rebuilt cell against the file's vertices, both ways.
   Eigen::AlignedBox3d box;
@@ -430,10 +465,12 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
   for (std::size_t i = 0; i < polyhedra.size(); ++i) {
     std::vector<Eigen::Vector3d> file_vertices;
     for (int f : polyhedra[i]) {
-      for (int v : faces[static_cast<std::size_t>(std::abs(f) - 1)].vertices) file_vertices.push_back(vertices[static_cast<std::size_t>(v)]);
+      for (int v : faces[static_cast<std::size_t>(std::abs(f) - 1)].vertices)
+        file_vertices.push_back(vertices[static_cast<std::size_t>(v)]);
     }
     const auto rebuilt = out.cells[i].vertices_approx();
-    auto farthest = [](const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to, Eigen::Vector3d* where) {
+    auto farthest = [](const std::vector<Eigen::Vector3d>& from,
+                       const std::vector<Eigen::Vector3d>& to, Eigen::Vector3d* where) {
       double worst = 0.0;
       for (const auto& a : from) {
         double best = std::numeric_limits<double>::infinity();
@@ -447,12 +484,15 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
     };
     Eigen::Vector3d at = Eigen::Vector3d::Zero();
     const double off_file = farthest(file_vertices, rebuilt, &at);
-    const double off_rebuilt = off_file > tolerance ? off_file : farthest(rebuilt, file_vertices, &at);
+    const double off_rebuilt =
+        off_file > tolerance ? off_file : farthest(rebuilt, file_vertices, &at);
     if (std::max(off_file, off_rebuilt) > tolerance) {
       std::ostringstream msg;
-      msg << "cell " << out.ids[i] << " (polyhedron " << i + 1 << ") rebuilt from its seed and weight "
-          << "differs from the file's vertices: a vertex at (" << at.x() / scale << ", " << at.y() / scale
-          << ", " << at.z() / scale << ") is " << std::max(off_file, off_rebuilt) / scale
+      msg << "cell " << out.ids[i] << " (polyhedron " << i + 1
+          << ") rebuilt from its seed and weight "
+          << "differs from the file's vertices: a vertex at (" << at.x() / scale << ", "
+          << at.y() / scale << ", " << at.z() / scale << ") is "
+          << std::max(off_file, off_rebuilt) / scale
           << " from the other's, more than the tolerance " << tolerance / scale
           << " (file lengths); the seeds, weights or vertices do not belong together";
       in.fail(poly_lines[i], msg.str());
@@ -465,8 +505,8 @@ ImportedTessellation read_neper_tess(const std::filesystem::path& file, double s
   return parse_neper_tess(read_text(file), file.string(), scale);
 }
 
-ImportedTessellation parse_grain_file(const std::string& text, const std::string& name, double scale,
-                                      const Eigen::Vector3d& size) {
+ImportedTessellation parse_grain_file(const std::string& text, const std::string& name,
+                                      double scale, const Eigen::Vector3d& size) {
   std::istringstream lines(text);
   std::string raw;
   int line = 0;
@@ -482,7 +522,9 @@ ImportedTessellation parse_grain_file(const std::string& text, const std::string
     for (std::string w; fields >> w;) words.push_back(w);
     if (words.empty()) continue;
     if (words.size() != 7) {
-      throw TessellationFileError(name, line, "expected 7 values (x y z volume phi1 Phi phi2), found " + std::to_string(words.size()));
+      throw TessellationFileError(
+          name, line,
+          "expected 7 values (x y z volume phi1 Phi phi2), found " + std::to_string(words.size()));
     }
     static const char* const kNames[] = {"x", "y", "z", "volume", "phi1", "Phi", "phi2"};
     double v[7];
@@ -490,27 +532,37 @@ ImportedTessellation parse_grain_file(const std::string& text, const std::string
       try {
         std::size_t used = 0;
         v[k] = std::stod(words[static_cast<std::size_t>(k)], &used);
-        if (used != words[static_cast<std::size_t>(k)].size() || !std::isfinite(v[k])) throw std::invalid_argument("");
+        if (used != words[static_cast<std::size_t>(k)].size() || !std::isfinite(v[k]))
+          throw std::invalid_argument("");
       } catch (const std::exception&) {
-        throw TessellationFileError(name, line, std::string(kNames[k]) + ": expected a number, found '" + words[static_cast<std::size_t>(k)] + "'");
+        throw TessellationFileError(name, line,
+                                    std::string(kNames[k]) + ": expected a number, found '" +
+                                        words[static_cast<std::size_t>(k)] + "'");
       }
     }
     const Eigen::Vector3d c = Eigen::Vector3d(v[0], v[1], v[2]) * scale;
     for (int d = 0; d < 3; ++d) {
       if (!(c[d] > 0.0 && c[d] < size[d])) {
-        throw TessellationFileError(name, line, std::string("centroid ") + kNames[d] + " = " + words[static_cast<std::size_t>(d)] + " lies outside the box");
+        throw TessellationFileError(name, line,
+                                    std::string("centroid ") + kNames[d] + " = " +
+                                        words[static_cast<std::size_t>(d)] +
+                                        " lies outside the box");
       }
     }
-    if (!(v[3] > 0.0)) throw TessellationFileError(name, line, "volume must be positive, found " + words[3]);
+    if (!(v[3] > 0.0))
+      throw TessellationFileError(name, line, "volume must be positive, found " + words[3]);
     for (std::size_t k = 0; k < centres.size(); ++k) {
-      if (centres[k] == c) throw TessellationFileError(name, line, "the same centroid as line " + std::to_string(line_of[k]));
+      if (centres[k] == c)
+        throw TessellationFileError(name, line,
+                                    "the same centroid as line " + std::to_string(line_of[k]));
     }
     centres.push_back(c);
     volumes.push_back(v[3] * scale * scale * scale);
     line_of.push_back(line);
     out.orientations.push_back(quaternion_from_bunge_degrees(v[4], v[5], v[6]));
   }
-  if (centres.empty()) throw TessellationFileError(name, 0, "no grains (one a line: x y z volume phi1 Phi phi2)");
+  if (centres.empty())
+    throw TessellationFileError(name, 0, "no grains (one a line: x y z volume phi1 Phi phi2)");
   double sum = 0.0;
   for (double v : volumes) sum += v;
   const double box = size.x() * size.y() * size.z();
@@ -522,9 +574,11 @@ ImportedTessellation parse_grain_file(const std::string& text, const std::string
   }
   geometry::LaguerreTessellation t = geometry::fitted_laguerre(size, centres, volumes);
   if (t.fit.max_relative_error > 0.01) {
-    throw TessellationFileError(name, 0, "no Laguerre weights give these centroids their volumes (a cell is " +
-                                             std::to_string(100.0 * t.fit.max_relative_error) +
-                                             "% off its volume): check the centroids and volumes");
+    throw TessellationFileError(
+        name, 0,
+        "no Laguerre weights give these centroids their volumes (a cell is " +
+            std::to_string(100.0 * t.fit.max_relative_error) +
+            "% off its volume): check the centroids and volumes");
   }
   out.cells = std::move(t.cells);
   out.seeds = std::move(t.points);
@@ -534,7 +588,8 @@ ImportedTessellation parse_grain_file(const std::string& text, const std::string
   return out;
 }
 
-ImportedTessellation read_grain_file(const std::filesystem::path& file, double scale, const Eigen::Vector3d& size) {
+ImportedTessellation read_grain_file(const std::filesystem::path& file, double scale,
+                                     const Eigen::Vector3d& size) {
   return parse_grain_file(read_text(file), file.string(), scale, size);
 }
 

@@ -37,13 +37,13 @@ class TessellationFileError : public std::runtime_error {
 
 /// An imported tessellation, in metres.
 struct ImportedTessellation {
-  std::vector<geometry::ExactPolyhedron> cells;   ///< in file order, specimen coordinates
-  std::vector<Eigen::Vector3d> seeds;             ///< the Laguerre points, metres
-  std::vector<double> weights;                    ///< power weights (m^2)
-  std::vector<int> ids;                           ///< the file's cell ids
-  std::vector<Eigen::Quaterniond> orientations;   ///< crystal -> specimen; empty: none given
-  std::string crystal_symmetry;                   ///< Neper's *crysym, empty if absent
-  geometry::ExactScalar domain_volume;            ///< of the domain the cells tile, exactly
+  std::vector<geometry::ExactPolyhedron> cells;  ///< in file order, specimen coordinates
+  std::vector<Eigen::Vector3d> seeds;            ///< the Laguerre points, metres
+  std::vector<double> weights;                   ///< power weights (m^2)
+  std::vector<int> ids;                          ///< the file's cell ids
+  std::vector<Eigen::Quaterniond> orientations;  ///< crystal -> specimen; empty: none given
+  std::string crystal_symmetry;                  ///< Neper's *crysym, empty if absent
+  geometry::ExactScalar domain_volume;           ///< of the domain the cells tile, exactly
 };
 
 /// How far a rebuilt .tess cell's vertices may lie from the file's own (and back), relative
@@ -67,8 +67,8 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
 /// TessellationFileError naming the file and line.
 ImportedTessellation read_grain_file(const std::filesystem::path& file, double scale,
                                      const Eigen::Vector3d& size);
-ImportedTessellation parse_grain_file(const std::string& text, const std::string& name, double scale,
-                                      const Eigen::Vector3d& size);
+ImportedTessellation parse_grain_file(const std::string& text, const std::string& name,
+                                      double scale, const Eigen::Vector3d& size);
 
 /// Bunge Euler angles (degrees) in the passive convention, g = Rz(phi2) Rx(Phi) Rz(phi1)
 /// mapping specimen to crystal coordinates (Rz(a) = [[c, s, 0], [-s, c, 0], [0, 0, 1]],
@@ -83,7 +83,8 @@ Eigen::Quaterniond quaternion_from_bunge_degrees(double phi1, double Phi, double
 /// coordinates, "active" that g maps crystal to specimen (Neper inverts the rotation between
 /// the two). Returns crystal -> specimen. Throws std::invalid_argument for an unknown
 /// descriptor or convention, or the wrong number of parameters.
-Eigen::Quaterniond neper_orientation(const std::string& descriptor, const std::vector<double>& params);
+Eigen::Quaterniond neper_orientation(const std::string& descriptor,
+                                     const std::vector<double>& params);
 /// The number of parameters of a descriptor (the convention suffix ignored); 0 if unknown.
 int neper_descriptor_size(const std::string& descriptor);
 

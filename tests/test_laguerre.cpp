@@ -23,7 +23,9 @@ std::vector<Eigen::Vector3d> random_points(int n, std::uint64_t seed, const Eige
   return g::voronoi_points(def);
 }
 
-double power(const Eigen::Vector3d& x, const Eigen::Vector3d& p, double w) { return (x - p).squaredNorm() - w; }
+double power(const Eigen::Vector3d& x, const Eigen::Vector3d& p, double w) {
+  return (x - p).squaredNorm() - w;
+}
 }  // namespace
 
 TEST(Laguerre, TwoWeightedPointsSplitTheCubeWhereThePowersAreEqual) {
@@ -45,14 +47,16 @@ TEST(Laguerre, ZeroWeightsGiveExactlyTheVoronoiCells) {
   const auto laguerre = g::laguerre_cells(g::exact_box(Eigen::Vector3d::Zero(), def.size),
                                           g::voronoi_points(def), std::vector<double>(20, 0.0));
   ASSERT_EQ(laguerre.size(), voronoi.size());
-  for (std::size_t i = 0; i < voronoi.size(); ++i) EXPECT_EQ(laguerre[i].volume(), voronoi[i].volume()) << i;
+  for (std::size_t i = 0; i < voronoi.size(); ++i)
+    EXPECT_EQ(laguerre[i].volume(), voronoi[i].volume()) << i;
 }
 
 TEST(Laguerre, WeightedCellsTileTheBoxExactlyAndHoldTheirLeastPowerPoints) {
   const Eigen::Vector3d size(1.0, 2.0, 1.0);
   const auto points = random_points(40, 3, size);
   std::vector<double> weights;
-  for (int i = 0; i < 40; ++i) weights.push_back(0.02 * g::stream_for(11, static_cast<std::uint64_t>(i)).uniform());
+  for (int i = 0; i < 40; ++i)
+    weights.push_back(0.02 * g::stream_for(11, static_cast<std::uint64_t>(i)).uniform());
   const g::ExactPolyhedron box = g::exact_box(Eigen::Vector3d::Zero(), size);
   const auto cells = g::laguerre_cells(box, points, weights);
   EXPECT_EQ(g::total_volume(cells), box.volume());
@@ -85,7 +89,8 @@ TEST(Laguerre, ApproximateVolumesMatchTheExactCells) {
   const Eigen::Vector3d size(1.0, 1.0, 1.0);
   const auto points = random_points(30, 5, size);
   std::vector<double> weights;
-  for (int i = 0; i < 30; ++i) weights.push_back(0.03 * g::stream_for(2, static_cast<std::uint64_t>(i)).uniform());
+  for (int i = 0; i < 30; ++i)
+    weights.push_back(0.03 * g::stream_for(2, static_cast<std::uint64_t>(i)).uniform());
   const g::ExactPolyhedron box = g::exact_box(Eigen::Vector3d::Zero(), size);
   const auto exact = g::laguerre_cells(box, points, weights);
   const auto approx = g::laguerre_cells_approx(box.to_mesh(), points, weights);

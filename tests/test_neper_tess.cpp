@@ -239,10 +239,12 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 }
 
 void expect_matrix(const Eigen::Quaterniond& q, const Eigen::Matrix3d& m) {
-  EXPECT_LT((q.toRotationMatrix() - m).norm(), 1e-12) << q.toRotationMatrix() << "\nexpected\n" << m;
+  EXPECT_LT((q.toRotationMatrix() - m).norm(), 1e-12) << q.toRotationMatrix() << "\nexpected\n"
+                                                      << m;
 }
 
-Eigen::Matrix3d rows(double a, double b, double c, double d, double e, double f, double g_, double h, double i) {
+Eigen::Matrix3d rows(double a, double b, double c, double d, double e, double f, double g_,
+                     double h, double i) {
   Eigen::Matrix3d m;
   m << a, b, c, d, e, f, g_, h, i;
   return m;
@@ -290,26 +292,35 @@ TEST(NeperTess, SeedsThatDoNotMakeTheFilesCellsAreRefusedNamingThePolyhedron) {
   const std::string text = replaced(kTwoCells, "0.500000000000 0.500000000000 0.200000000000",
                                     "0.500000000000 0.500000000000 0.400000000000");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "   1 6 1 3 4 6 8 10")) + ":"), std::string::npos) << e;
+  EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "   1 6 1 3 4 6 8 10")) + ":"),
+            std::string::npos)
+      << e;
   EXPECT_NE(e.find("cell 1"), std::string::npos) << e;
 }
 
 TEST(NeperTess, MalformedFilesAreRefusedNamingTheLine) {
   {
-    const std::string text = replaced(kTwoCells, "  11 0.500000000000 1.000000000000 1.000000000000 0",
-                                      "  11 0.5x00000000000 1.000000000000 1.000000000000 0");
+    const std::string text =
+        replaced(kTwoCells, "  11 0.500000000000 1.000000000000 1.000000000000 0",
+                 "  11 0.5x00000000000 1.000000000000 1.000000000000 0");
     const std::string e = error_of(text);
-    EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "0.5x0")) + ": a vertex coordinate"), std::string::npos) << e;
+    EXPECT_NE(
+        e.find("hand.tess:" + std::to_string(line_of(text, "0.5x0")) + ": a vertex coordinate"),
+        std::string::npos)
+        << e;
   }
   {
     const std::string text = replaced(kTwoCells, "   euler-bunge:passive", "   euler-kocks");
     const std::string e = error_of(text);
-    EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "euler-kocks")) + ":"), std::string::npos) << e;
+    EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "euler-kocks")) + ":"),
+              std::string::npos)
+        << e;
     EXPECT_NE(e.find("euler-kocks"), std::string::npos) << e;
   }
   {
     const std::string text = replaced(kTwoCells, "   3.4\n", "   2.0\n");
-    EXPECT_NE(error_of(text).find("hand.tess:3: format version 2.0"), std::string::npos) << error_of(text);
+    EXPECT_NE(error_of(text).find("hand.tess:3: format version 2.0"), std::string::npos)
+        << error_of(text);
   }
   {
     const std::string text = replaced(kTwoCells, "***end\n", "");
@@ -318,13 +329,16 @@ TEST(NeperTess, MalformedFilesAreRefusedNamingTheLine) {
   {
     const std::string text = replaced(kTwoCells, "   2 6 2 -3 5 7 9 11", "   2 6 2 -3 5 7 9 12");
     const std::string e = error_of(text);
-    EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "   2 6 2 -3 5 7 9 12")) + ": polyhedron 2 names face 12"),
-              std::string::npos) << e;
+    EXPECT_NE(e.find("hand.tess:" + std::to_string(line_of(text, "   2 6 2 -3 5 7 9 12")) +
+                     ": polyhedron 2 names face 12"),
+              std::string::npos)
+        << e;
   }
   {
     // A regularised face (state 1) is not planar.
-    const std::string text = replaced(kTwoCells, "    0.500000000000 1.000000000000 0.000000000000 0.000000000000\n     0 0",
-                                      "    0.500000000000 1.000000000000 0.000000000000 0.000000000000\n     1 0");
+    const std::string text = replaced(
+        kTwoCells, "    0.500000000000 1.000000000000 0.000000000000 0.000000000000\n     0 0",
+        "    0.500000000000 1.000000000000 0.000000000000 0.000000000000\n     1 0");
     EXPECT_NE(error_of(text).find("regularised"), std::string::npos) << error_of(text);
   }
 }
@@ -339,7 +353,8 @@ TEST(NeperOrientation, DescriptorsAndConventionsMatchMatricesWrittenOut) {
   expect_matrix(io::neper_orientation("rodrigues:active", {0, 0, 1}), gz);
   expect_matrix(io::neper_orientation("quaternion:passive", {s, 0, 0, s}), gz.transpose());
   expect_matrix(io::neper_orientation("axis-angle:passive", {0, 0, 1, 90}), gz.transpose());
-  expect_matrix(io::neper_orientation("rotmat:passive", {0, 1, 0, -1, 0, 0, 0, 0, 1}), gz.transpose());
+  expect_matrix(io::neper_orientation("rotmat:passive", {0, 1, 0, -1, 0, 0, 0, 0, 1}),
+                gz.transpose());
   expect_matrix(io::neper_orientation("euler-bunge:passive", {90, 0, 0}), gz.transpose());
   expect_matrix(io::neper_orientation("euler-bunge", {90, 0, 0}), gz);
   // 90 degrees about x: g = [[1, 0, 0], [0, 0, 1], [0, -1, 0]].
@@ -348,9 +363,10 @@ TEST(NeperOrientation, DescriptorsAndConventionsMatchMatricesWrittenOut) {
   expect_matrix(io::neper_orientation("euler-bunge:passive", {0, 90, 0}), gx.transpose());
   // A general passive Bunge triple, g = Rz(phi2) Rx(Phi) Rz(phi1) multiplied out.
   const double p1 = 30 * M_PI / 180, P = 40 * M_PI / 180, p2 = 50 * M_PI / 180;
-  const double c1 = std::cos(p1), s1 = std::sin(p1), c = std::cos(P), sP = std::sin(P), c2 = std::cos(p2), s2 = std::sin(p2);
-  const Eigen::Matrix3d g = rows(c1 * c2 - s1 * s2 * c, s1 * c2 + c1 * s2 * c, s2 * sP,         //
-                                 -c1 * s2 - s1 * c2 * c, -s1 * s2 + c1 * c2 * c, c2 * sP,       //
+  const double c1 = std::cos(p1), s1 = std::sin(p1), c = std::cos(P), sP = std::sin(P),
+               c2 = std::cos(p2), s2 = std::sin(p2);
+  const Eigen::Matrix3d g = rows(c1 * c2 - s1 * s2 * c, s1 * c2 + c1 * s2 * c, s2 * sP,    //
+                                 -c1 * s2 - s1 * c2 * c, -s1 * s2 + c1 * c2 * c, c2 * sP,  //
                                  s1 * sP, -c1 * sP, c);
   expect_matrix(io::quaternion_from_bunge_degrees(30, 40, 50), g.transpose());
   EXPECT_THROW((void)io::neper_orientation("rodrigues:sideways", {0, 0, 1}), std::invalid_argument);
@@ -373,7 +389,9 @@ TEST(GrainFile, HandWrittenGrainsTileTheBoxExactlyWithTheirVolumes) {
   ASSERT_EQ(t.cells.size(), 4u);
   EXPECT_EQ(g::total_volume(t.cells), g::exact_box(Eigen::Vector3d::Zero(), size).volume());
   const double want[] = {0.2e-9, 0.3e-9, 0.6e-9, 0.9e-9};
-  for (int i = 0; i < 4; ++i) EXPECT_NEAR(t.cells[static_cast<std::size_t>(i)].volume().to_double(), want[i], 2e-3 * want[i]) << i;
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(t.cells[static_cast<std::size_t>(i)].volume().to_double(), want[i], 2e-3 * want[i])
+        << i;
   expect_matrix(t.orientations[0], Eigen::Matrix3d::Identity());
   expect_matrix(t.orientations[1], rows(0, -1, 0, 1, 0, 0, 0, 0, 1));
   expect_matrix(t.orientations[2], rows(1, 0, 0, 0, 0, -1, 0, 1, 0));
@@ -389,9 +407,12 @@ TEST(GrainFile, BadLinesAreRefusedNamingTheLine) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error("0.5 0.5 0.5 1 0 0 0\n0.2 0.2\n").find("grains.txt:2: expected 7 values"), std::string::npos);
-  EXPECT_NE(error("# c\n0.5 0.5 0.5 1 zero 0 0\n").find("grains.txt:2: phi1: expected a number"), std::string::npos);
+  EXPECT_NE(error("0.5 0.5 0.5 1 0 0 0\n0.2 0.2\n").find("grains.txt:2: expected 7 values"),
+            std::string::npos);
+  EXPECT_NE(error("# c\n0.5 0.5 0.5 1 zero 0 0\n").find("grains.txt:2: phi1: expected a number"),
+            std::string::npos);
   EXPECT_NE(error("0.5 0.5 1.5 1 0 0 0\n").find("grains.txt:1: centroid z"), std::string::npos);
-  EXPECT_NE(error("0.5 0.5 0.5 -1 0 0 0\n").find("grains.txt:1: volume must be positive"), std::string::npos);
+  EXPECT_NE(error("0.5 0.5 0.5 -1 0 0 0\n").find("grains.txt:1: volume must be positive"),
+            std::string::npos);
   EXPECT_NE(error("0.5 0.5 0.5 0.5 0 0 0\n").find("sum to"), std::string::npos);
 }
