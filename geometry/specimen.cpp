@@ -61,9 +61,15 @@ Specimen build_specimen(const SpecimenDef& def) {
     require(!v.periodic[0] && !v.periodic[1] && !v.periodic[2],
             "a log-normal (Laguerre) specimen cannot be periodic");
     LaguerreTessellation t = lognormal_laguerre(v.size, v.cells, v.size_spread, v.seed);
-    // A Laguerre cell need not hold its point: the frame's origin is its rounded centroid.
+    // A Laguerre cell need not hold its point: the frame's origin is the mean of its
+    // (rounded) vertices, inside the convex cell and cheap beside its exact centroid.
     std::vector<Eigen::Vector3d> centres;
-    for (const auto& c : t.cells) centres.push_back(c.mass_properties().centroid);
+    for (const auto& cell : t.cells) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      const auto vertices = cell.vertices_approx();
+      for (const auto& v : vertices) mean += v / static_cast<double>(vertices.size());
+      centres.push_back(mean);
+    }
     return place_grains(def, t.cells, centres);
   }
   if (def.kind == SpecimenKind::voronoi) {

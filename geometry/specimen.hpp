@@ -78,7 +78,7 @@ struct Specimen {
 
 /// Builds the specimen: for SpecimenKind::lattice the lattice sites whose cell fits the
 /// outline; for voronoi the cells of `def.voronoi` (each moved so its point is the grain
-/// frame's origin, exactly; log-normal Laguerre cells are moved so their rounded centroid is); for
+/// frame's origin, exactly; log-normal Laguerre cells so the mean of their vertices is); for
 /// meshes each custom grain moved so its rounded centroid is the origin (exactly). Orientations are
 /// drawn per grain id in every case. Throws std::invalid_argument for impossible definitions
 /// (non-positive sizes, r_bar > r, t_bar > t, family_mix outside [0, 1], angles other than
