@@ -150,67 +150,98 @@ double area_of(const Face& f) {
   return 0.5 * twice.norm();
 }
 
-/// Per cell, the other points ordered by their bisector's offset (nearest plane first).
-std::vector<int> by_offset(const std::vector<Eigen::Vector3d>& points,
-                           const std::vector<double>& weights, std::size_t i) {
+/// The neighbours a cell is cut by: the points, and along periodic axes their images one box
+/// over. Neighbour k is point k % n moved by shifts[k / n] (shifts[0] = 0).
+struct Neighbours {
+  std::size_t n = 0;
+  std::vector<Eigen::Vector3d> shifts;
+  std::vector<Eigen::Vector3d> at;  ///< at[k] = points[k % n] + shifts[k / n], rounded
+};
+
+Neighbours neighbours_of(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& size,
+                         const std::array<bool, 3>& periodic) {
+  Neighbours out;
+  out.n = points.size();
+  out.shifts.push_back(Eigen::Vector3d::Zero());
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        const Eigen::Vector3i k(x, y, z);
+        bool skip = k.isZero();
+        for (int d = 0; d < 3; ++d)
+          skip = skip || (k[d] != 0 && !periodic[static_cast<std::size_t>(d)]);
+        if (!skip) out.shifts.push_back(size.cwiseProduct(k.cast<double>()));
+      }
+    }
+  }
+  for (const auto& s : out.shifts) {
+    for (const auto& p : points) out.at.push_back(p + s);
+  }
+  return out;
+}
+
+Neighbours plain_neighbours(const std::vector<Eigen::Vector3d>& points) {
+  return neighbours_of(points, Eigen::Vector3d::Ones(), {false, false, false});
+}
+
+/// Per cell, its neighbours ordered by their bisector's offset (nearest plane first).
+std::vector<int> by_offset(const Neighbours& nb, const std::vector<double>& weights,
+                           std::size_t i) {
   std::vector<int> order;
-  std::vector<double> t(points.size());
-  for (std::size_t j = 0; j < points.size(); ++j) {
-    if (j == i) continue;
-    t[j] = bisector_offset(points[i], weights[i], points[j], weights[j]);
-    order.push_back(static_cast<int>(j));
+  std::vector<double> t(nb.at.size());
+  for (std::size_t k = 0; k < nb.at.size(); ++k) {
+    if (k == i) continue;
+    t[k] = bisector_offset(nb.at[i], weights[i], nb.at[k], weights[k % nb.n]);
+    order.push_back(static_cast<int>(k));
   }
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return t[a] != t[b] ? t[a] < t[b] : a < b; });
   return order;
 }
 
-LaguerreApprox approx_cells(const Poly& domain, double length,
-                            const std::vector<Eigen::Vector3d>& points,
-                            const std::vector<double>& weights,
-                            const std::vector<std::vector<std::pair<int, double>>>* hints) {
-  const std::size_t n = points.size();
+using Hints = std::vector<std::vector<std::pair<int, double>>>;
+
+LaguerreApprox approx_cells(const Poly& domain, double length, const Neighbours& nb,
+                            const std::vector<double>& weights, const Hints* hints) {
+  const std::size_t n = nb.n, m = nb.at.size();
   LaguerreApprox out;
   out.volumes.assign(n, 0.0);
   out.faces.assign(n, {});
-  std::vector<char> done(n, 0);
+  std::vector<char> done(m, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d& p = points[i];
+    const Eigen::Vector3d& p = nb.at[i];
     Poly cell = domain;
     double reach = reach_of(vertices_of(cell), p);
     std::fill(done.begin(), done.end(), 0);
     done[i] = 1;
     bool alive = true;
-    auto cut = [&](int j) {
-      done[static_cast<std::size_t>(j)] = 1;
-      const Eigen::Vector3d& q = points[static_cast<std::size_t>(j)];
+    auto cut = [&](int k) {
+      done[static_cast<std::size_t>(k)] = 1;
+      const Eigen::Vector3d& q = nb.at[static_cast<std::size_t>(k)];
+      const double wq = weights[static_cast<std::size_t>(k) % n];
       if (q == p)
         throw std::invalid_argument("Laguerre points " + std::to_string(i) + " and " +
-                                    std::to_string(j) + " coincide");
-      const double t = bisector_offset(p, weights[i], q, weights[static_cast<std::size_t>(j)]);
+                                    std::to_string(static_cast<std::size_t>(k) % n) + " coincide");
+      const double t = bisector_offset(p, weights[i], q, wq);
       if (t > reach * (1.0 + 1e-9)) return false;
       const Eigen::Vector3d a = 2.0 * (p - q);
-      const double d =
-          q.squaredNorm() - p.squaredNorm() - weights[static_cast<std::size_t>(j)] + weights[i];
-      alive = clip(cell, a, d, j, 1e-12 * a.norm() * length);
+      const double d = q.squaredNorm() - p.squaredNorm() - wq + weights[i];
+      alive = clip(cell, a, d, k, 1e-12 * a.norm() * length);
       if (alive) reach = reach_of(vertices_of(cell), p);
       return true;
     };
     if (hints != nullptr) {
-      for (const auto& [j, area] : (*hints)[i]) {
-        if (alive) cut(j);
+      for (const auto& [k, area] : (*hints)[i]) {
+        if (alive) cut(k);
       }
       // The rest in index order: cheap to skip once the cell is small.
-      for (std::size_t j = 0; j < n && alive; ++j) {
-        if (!done[j]) cut(static_cast<int>(j));
+      for (std::size_t k = 0; k < m && alive; ++k) {
+        if (!done[k]) cut(static_cast<int>(k));
       }
     } else {
-      for (int j : by_offset(points, weights, i)) {
+      for (int k : by_offset(nb, weights, i)) {
         if (!alive) break;
-        if (!cut(j)) {
-          // Offsets only grow from here on: no later plane reaches the cell.
-          break;
-        }
+        if (!cut(k)) break;  // offsets only grow from here on: no later plane reaches the cell
       }
     }
     if (!alive) continue;
@@ -240,19 +271,20 @@ LaguerreApprox laguerre_cells_approx(const PolygonMesh& domain,
                                      const std::vector<Eigen::Vector3d>& points,
                                      const std::vector<double>& weights) {
   check_input(points, weights);
-  return approx_cells(poly_of(domain), domain_length(domain), points, weights, nullptr);
+  return approx_cells(poly_of(domain), domain_length(domain), plain_neighbours(points), weights,
+                      nullptr);
 }
 
 namespace {
-std::vector<ExactPolyhedron> exact_cells(
-    const ExactPolyhedron& domain, const std::vector<Eigen::Vector3d>& points,
-    const std::vector<double>& weights,
-    const std::vector<std::vector<std::pair<int, double>>>* hints) {
+std::vector<ExactPolyhedron> exact_cells(const ExactPolyhedron& domain,
+                                         const std::vector<Eigen::Vector3d>& points,
+                                         const Neighbours& nb, const std::vector<double>& weights,
+                                         const Hints* hints) {
   check_input(points, weights);
-  const std::size_t n = points.size();
+  const std::size_t n = nb.n, m = nb.at.size();
   std::vector<ExactPolyhedron> cells;
   cells.reserve(n);
-  std::vector<char> done(n, 0);
+  std::vector<char> done(m, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d& p = points[i];
     ExactPolyhedron cell = domain;
@@ -260,17 +292,19 @@ std::vector<ExactPolyhedron> exact_cells(
     std::fill(done.begin(), done.end(), 0);
     done[i] = 1;
     // Returns false when the plane lies beyond the cell's farthest vertex (no cut).
-    auto cut = [&](std::size_t j) {
-      done[j] = 1;
-      const Eigen::Vector3d& q = points[j];
+    auto cut = [&](std::size_t k) {
+      done[k] = 1;
+      const std::size_t j = k % n;
+      const Eigen::Vector3d& q = nb.at[k];
       if (q == p) {
         throw std::invalid_argument("Laguerre points " + std::to_string(std::min(i, j)) + " and " +
                                     std::to_string(std::max(i, j)) + " coincide");
       }
       const double t = bisector_offset(p, weights[i], q, weights[j]);
       if (t > reach * (1.0 + 1e-9)) return false;
-      std::optional<ExactPolyhedron> kept =
-          cell.clipped(ExactPlane::power_bisector(p, weights[i], q, weights[j]));
+      // The image's position summed exactly: bisectors of images match their translates.
+      std::optional<ExactPolyhedron> kept = cell.clipped(
+          ExactPlane::power_bisector(p, weights[i], points[j], weights[j], nb.shifts[k / n]));
       if (!kept) {
         throw std::invalid_argument(
             "Laguerre point " + std::to_string(i) + " (weight " + std::to_string(weights[i]) +
@@ -284,44 +318,76 @@ std::vector<ExactPolyhedron> exact_cells(
       return true;
     };
     if (hints != nullptr) {
-      for (const auto& [j, area] : (*hints)[i]) cut(static_cast<std::size_t>(j));
+      for (const auto& [k, area] : (*hints)[i]) cut(static_cast<std::size_t>(k));
     }
-    for (int j : by_offset(points, weights, i)) {
-      if (done[static_cast<std::size_t>(j)]) continue;
-      if (!cut(static_cast<std::size_t>(j))) break;  // later offsets are larger still
+    for (int k : by_offset(nb, weights, i)) {
+      if (done[static_cast<std::size_t>(k)]) continue;
+      if (!cut(static_cast<std::size_t>(k))) break;  // later offsets are larger still
     }
     cells.push_back(std::move(cell));
   }
   return cells;
 }
+
+/// The box a cell starts from: [0, size], widened by a box each way along periodic axes (a
+/// periodic cell reaches across a face, no farther).
+ExactPolyhedron start_box(const Eigen::Vector3d& size, const std::array<bool, 3>& periodic) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = size;
+  for (int d = 0; d < 3; ++d) {
+    if (!periodic[static_cast<std::size_t>(d)]) continue;
+    lo[d] = -size[d];
+    hi[d] = 2.0 * size[d];
+  }
+  return exact_box(lo, hi);
+}
+
+LaguerreFit fit_weights(const Poly& start, double length, const Neighbours& nb,
+                        const std::vector<double>& targets, double tolerance, int max_iterations);
 }  // namespace
 
 std::vector<ExactPolyhedron> laguerre_cells(const ExactPolyhedron& domain,
                                             const std::vector<Eigen::Vector3d>& points,
                                             const std::vector<double>& weights) {
-  return exact_cells(domain, points, weights, nullptr);
+  return exact_cells(domain, points, plain_neighbours(points), weights, nullptr);
+}
+
+std::vector<ExactPolyhedron> laguerre_box_cells(const Eigen::Vector3d& size,
+                                                const std::array<bool, 3>& periodic,
+                                                const std::vector<Eigen::Vector3d>& points,
+                                                const std::vector<double>& weights) {
+  for (int d = 0; d < 3; ++d) {
+    if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
+  }
+  return exact_cells(start_box(size, periodic), points, neighbours_of(points, size, periodic),
+                     weights, nullptr);
 }
 
 LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
                                  const std::vector<Eigen::Vector3d>& points,
                                  const std::vector<double>& targets, double tolerance,
                                  int max_iterations) {
-  const std::size_t n = points.size();
+  return fit_weights(poly_of(domain), domain_length(domain), plain_neighbours(points), targets,
+                     tolerance, max_iterations);
+}
+
+namespace {
+LaguerreFit fit_weights(const Poly& start, double length, const Neighbours& nb,
+                        const std::vector<double>& targets, double tolerance, int max_iterations) {
+  const std::size_t n = nb.n;
+  const std::vector<Eigen::Vector3d> points(nb.at.begin(), nb.at.begin() + static_cast<long>(n));
   if (targets.size() != n)
     throw std::invalid_argument("fit_laguerre_weights: one target volume per point");
   for (double t : targets) {
     if (!(t > 0.0))
       throw std::invalid_argument("fit_laguerre_weights: target volumes must be positive");
   }
-  const Poly start = poly_of(domain);
-  const double length = domain_length(domain);
   LaguerreFit fit;
   // Zero weights (the Voronoi cells) leave no cell empty: every point lies in its own.
   fit.weights.assign(n, 0.0);
   std::vector<double> radius(n);
   for (std::size_t i = 0; i < n; ++i) radius[i] = std::cbrt(3.0 * targets[i] / (4.0 * kPi));
   check_input(points, fit.weights);
-  LaguerreApprox now = approx_cells(start, length, points, fit.weights, nullptr);
+  LaguerreApprox now = approx_cells(start, length, nb, fit.weights, nullptr);
   double error = max_error(now.volumes, targets);
   auto norm_of = [&](const std::vector<double>& v) {
     double s = 0.0;
@@ -338,12 +404,14 @@ LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
     std::vector<Eigen::Triplet<double>> entries;
     std::vector<double> diagonal(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
-      for (const auto& [j, area] : now.faces[i]) {
-        const double c = 0.25 * area / (points[i] - points[static_cast<std::size_t>(j)]).norm();
-        entries.emplace_back(static_cast<int>(i), j, -c);
-        entries.emplace_back(j, static_cast<int>(i), -c);
+      for (const auto& [k, area] : now.faces[i]) {
+        const std::size_t j = static_cast<std::size_t>(k) % n;
+        if (j == i) continue;  // a periodic cell against its own image: no change between them
+        const double c = 0.25 * area / (points[i] - nb.at[static_cast<std::size_t>(k)]).norm();
+        entries.emplace_back(static_cast<int>(i), static_cast<int>(j), -c);
+        entries.emplace_back(static_cast<int>(j), static_cast<int>(i), -c);
         diagonal[i] += c;
-        diagonal[static_cast<std::size_t>(j)] += c;
+        diagonal[j] += c;
       }
     }
     double mean = 0.0;
@@ -367,7 +435,7 @@ LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
     for (int halving = 0; halving < 16 && !accepted; ++halving, tau *= 0.5) {
       std::vector<double> trial = fit.weights;
       for (std::size_t i = 0; i < n; ++i) trial[i] += tau * step[static_cast<int>(i)];
-      LaguerreApprox next = approx_cells(start, length, points, trial, &now.faces);
+      LaguerreApprox next = approx_cells(start, length, nb, trial, &now.faces);
       const double r = norm_of(next.volumes);
       const bool above = std::all_of(next.volumes.begin(), next.volumes.end(),
                                      [&](double v) { return v >= floor; });
@@ -384,6 +452,7 @@ LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
   fit.max_relative_error = error;
   return fit;
 }
+}  // namespace
 
 std::vector<double> lognormal_volumes(int n, double spread, std::uint64_t seed, double total) {
   if (n < 1) throw std::invalid_argument("a grain-size distribution needs at least one grain");
@@ -419,11 +488,14 @@ int lognormal_grain_count(double volume, double mean_diameter, double spread) {
 
 LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
                                      const std::vector<Eigen::Vector3d>& points,
-                                     std::vector<double> targets) {
+                                     std::vector<double> targets,
+                                     const std::array<bool, 3>& periodic) {
   for (int d = 0; d < 3; ++d) {
     if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
   }
   if (targets.size() != points.size()) throw std::invalid_argument("one target volume per point");
+  if (points.empty())
+    throw std::invalid_argument("a Laguerre tessellation needs at least one point");
   double sum = 0.0;
   for (double t : targets) {
     if (!(t > 0.0)) throw std::invalid_argument("target volumes must be positive");
@@ -431,25 +503,28 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
   }
   const double box_volume = size.x() * size.y() * size.z();
   for (double& t : targets) t *= box_volume / sum;
-  const ExactPolyhedron box = exact_box(Eigen::Vector3d::Zero(), size);
-  const PolygonMesh mesh = box.to_mesh();
+  const ExactPolyhedron start = start_box(size, periodic);
+  const Poly poly = poly_of(start.to_mesh());
+  const double length = domain_length(start.to_mesh());
+  const Neighbours nb = neighbours_of(points, size, periodic);
   LaguerreTessellation out;
   out.points = points;
   out.targets = targets;
-  out.fit = fit_laguerre_weights(mesh, points, targets);
-  const LaguerreApprox last = laguerre_cells_approx(mesh, points, out.fit.weights);
-  out.cells = exact_cells(box, points, out.fit.weights, &last.faces);
+  out.fit = fit_weights(poly, length, nb, targets, 1e-3, 60);
+  const LaguerreApprox last = approx_cells(poly, length, nb, out.fit.weights, nullptr);
+  out.cells = exact_cells(start, points, nb, out.fit.weights, &last.faces);
   return out;
 }
 
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
-                                        std::uint64_t seed) {
+                                        std::uint64_t seed, const std::array<bool, 3>& periodic) {
   VoronoiDef def;
   def.size = size;
   def.cells = cells;
   def.seed = seed;
   const double volume = size.x() * size.y() * size.z();
-  return fitted_laguerre(size, voronoi_points(def), lognormal_volumes(cells, spread, seed, volume));
+  return fitted_laguerre(size, voronoi_points(def), lognormal_volumes(cells, spread, seed, volume),
+                         periodic);
 }
 
 }  // namespace cleave::geometry

@@ -8,6 +8,7 @@
 /// volume (e.g. a log-normal grain-size distribution). No CGAL in this header or its source.
 
 #include <Eigen/Dense>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,11 +25,21 @@ std::vector<ExactPolyhedron> laguerre_cells(const ExactPolyhedron& domain,
                                             const std::vector<Eigen::Vector3d>& points,
                                             const std::vector<double>& weights);
 
+/// The exact cells of the box [0, size], periodic along the marked axes: there the points'
+/// images one box over are neighbours too, so the cells tile the box as a periodic cell (a
+/// cell near a periodic face reaches across it and matches its neighbours' images there, as
+/// voronoi_cells does). Errors as laguerre_cells.
+std::vector<ExactPolyhedron> laguerre_box_cells(const Eigen::Vector3d& size,
+                                                const std::array<bool, 3>& periodic,
+                                                const std::vector<Eigen::Vector3d>& points,
+                                                const std::vector<double>& weights);
+
 /// Cell volumes and neighbours from a double-precision clipper (for fitting and checks, not
 /// for invariants): the domain given as a closed convex polygon mesh (faces CCW from outside).
 struct LaguerreApprox {
   std::vector<double> volumes;
-  /// Per cell: (neighbour index, shared face area) for every power face it kept.
+  /// Per cell: (neighbour index, shared face area) for every power face it kept (laguerre_
+  /// cells_approx has no periodic axes: the neighbour is a point index).
   std::vector<std::vector<std::pair<int, double>>> faces;
 };
 LaguerreApprox laguerre_cells_approx(const PolygonMesh& domain,
@@ -74,13 +85,17 @@ struct LaguerreTessellation {
 
 /// Cells of the box [0, size] at `points` whose volumes match `targets` (scaled first so they
 /// sum to the box's volume): weights fitted in doubles, then the exact cells built once.
+/// Periodic along the marked axes as laguerre_box_cells.
 LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
                                      const std::vector<Eigen::Vector3d>& points,
-                                     std::vector<double> targets);
+                                     std::vector<double> targets,
+                                     const std::array<bool, 3>& periodic = {false, false, false});
 
 /// `cells` points uniform in the box (voronoi_points with `seed`) with log-normal target
 /// volumes (lognormal_volumes with `spread` and `seed`), fitted as above.
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
-                                        std::uint64_t seed);
+                                        std::uint64_t seed,
+                                        const std::array<bool, 3>& periodic = {false, false,
+                                                                               false});
 
 }  // namespace cleave::geometry

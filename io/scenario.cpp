@@ -845,10 +845,6 @@ void read_periodic_table(const TableReader& t, Scenario& s) {
   }
   if (s.specimen.kind != geometry::SpecimenKind::voronoi)
     t.fail(*node, "axes", "a periodic cell is the box of a Voronoi specimen: [specimen] shape = \"voronoi\"");
-  if (s.specimen.voronoi.lognormal)
-    t.fail(*node, "axes",
-           "a periodic cell needs plain Voronoi cells: [specimen] sizes = \"lognormal\" is not "
-           "periodic");
   s.periodic.enabled = true;
   s.periodic.position = {line_of(node->source()), column_of(node->source())};
   const Number tau = t.number("stress_control_time", Range::positive(), 0.0);

@@ -234,3 +234,25 @@ TEST(ImportedSpecimen, GrainFileShapeTilesTheBoxWithTheGivenVolumes) {
       "[specimen]\nshape = \"grain_file\"\nfile = \"short.txt\"\nsize = [2, 1, 1]\n" + kTail,
       (dir.path() / "t.toml").string(), 3, "specimen.file", "short.txt:1: expected 7 values");
 }
+
+TEST(ImportedSpecimen, PeriodicLognormalSpecimenTilesItsCellExactly) {
+  const std::string text = R"([specimen]
+shape = "voronoi"
+size = [1, 1, 1]
+grains = 20
+sizes = "lognormal"
+[periodic]
+axes = ["x", "y"]
+)" + kTail + R"(
+[dynamics]
+dt = 1e-6
+duration = 1e-5
+gravity = [0, 0, 0]
+)";
+  const Scenario s = parse_scenario(text, "p.toml");
+  EXPECT_EQ(s.specimen.voronoi.periodic, (std::array<bool, 3>{true, true, false}));
+  const geometry::Specimen sp = geometry::build_specimen(s.specimen);
+  ASSERT_EQ(sp.grains.size(), 20u);
+  EXPECT_EQ(geometry::total_volume(sp.shapes),
+            geometry::exact_box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-3)).volume());
+}

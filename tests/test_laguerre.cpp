@@ -3,6 +3,7 @@
 // statistics of the requested distribution.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -144,4 +145,38 @@ TEST(LognormalLaguerre, FittedCellsTakeTheirTargetVolumesAndSumExactlyToTheBox) 
   const double sigma = std::sqrt(std::log(1.0 + cv * cv));
   EXPECT_NEAR(std::sqrt(var), sigma, 5.0 * sigma / std::sqrt(2.0 * 150));
   EXPECT_LT(t.fit.max_relative_error, 1e-3);
+}
+
+TEST(Laguerre, PeriodicCellsTileTheBoxExactlyAndHoldTheirLeastPowerPointsAmongImages) {
+  const Eigen::Vector3d size(1.0, 1.5, 1.0);
+  const std::array<bool, 3> periodic{true, false, true};
+  const auto points = random_points(30, 8, size);
+  std::vector<double> weights;
+  for (int i = 0; i < 30; ++i)
+    weights.push_back(0.02 * g::stream_for(4, static_cast<std::uint64_t>(i)).uniform());
+  const auto cells = g::laguerre_box_cells(size, periodic, points, weights);
+  EXPECT_EQ(g::total_volume(cells), g::exact_box(Eigen::Vector3d::Zero(), size).volume());
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    EXPECT_TRUE(cells[i].is_valid_convex()) << i;
+    const Eigen::Vector3d c = cells[i].mass_properties().centroid;
+    // Brute force over every point and its images one box over along x and z.
+    double best = power(c, points[i], weights[i]);
+    for (int x = -1; x <= 1; ++x) {
+      for (int z = -1; z <= 1; ++z) {
+        for (std::size_t j = 0; j < points.size(); ++j) {
+          if (j == i && x == 0 && z == 0) continue;
+          const Eigen::Vector3d q = points[j] + Eigen::Vector3d(x * size.x(), 0.0, z * size.z());
+          EXPECT_LT(best, power(c, q, weights[j])) << i << " vs " << j;
+        }
+      }
+    }
+  }
+}
+
+TEST(LognormalLaguerre, PeriodicFitTakesTheTargetsAndTilesTheBoxExactly) {
+  const Eigen::Vector3d size(1.0, 1.0, 1.0);
+  const auto t = g::lognormal_laguerre(size, 60, 0.4, 3, {true, true, true});
+  EXPECT_EQ(g::total_volume(t.cells), g::exact_box(Eigen::Vector3d::Zero(), size).volume());
+  for (std::size_t i = 0; i < t.cells.size(); ++i)
+    EXPECT_NEAR(t.cells[i].volume().to_double(), t.targets[i], 0.01 * t.targets[i]) << i;
 }
