@@ -458,6 +458,10 @@ ImportedTessellation parse_neper_tess(const std::string& text, const std::string
     in.fail(cell_line, std::string("the cells cannot be rebuilt from their seeds: ") + e.what() +
                            " (0-based)");
   }
+  if (geometry::total_volume(out.cells) != out.domain_volume) {
+    in.fail(cell_line,
+            "internal error: the rebuilt cells' exact volumes do not sum to the domain's");
+  }
   // Cross-check each rebuilt cell against the file's vertices, both ways.
   Eigen::AlignedBox3d box;
   for (const auto& v : domain_vertices) box.extend(v);
@@ -585,6 +589,10 @@ ImportedTessellation parse_grain_file(const std::string& text, const std::string
   out.weights = std::move(t.fit.weights);
   for (std::size_t i = 0; i < centres.size(); ++i) out.ids.push_back(static_cast<int>(i + 1));
   out.domain_volume = geometry::exact_box(Eigen::Vector3d::Zero(), size).volume();
+  if (geometry::total_volume(out.cells) != out.domain_volume) {
+    throw TessellationFileError(name, 0,
+                                "internal error: the cells' exact volumes do not sum to the box's");
+  }
   return out;
 }
 
