@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "geometry/laguerre.hpp"
+#include "geometry/orientation.hpp"
 
 namespace cleave::geometry {
 
@@ -18,6 +19,37 @@ void require(bool ok, const std::string& message) {
 }  // namespace
 
 namespace {
+
+/// Each grain's crystal: the honeycomb's turn about z, or with [crystal] its law's draw.
+void orient_grains(const SpecimenDef& def, std::vector<Grain>& grains) {
+  const OrientationDef& o = def.orientation;
+  if (def.crystal.enabled && o.law == OrientationLaw::given && o.given.size() != grains.size()) {
+    throw std::invalid_argument("the orientation file gives " + std::to_string(o.given.size()) +
+                                " orientations for " + std::to_string(grains.size()) +
+                                " grains; give one per grain");
+  }
+  constexpr double deg = M_PI / 180.0;
+  const double spread = o.spread_deg * deg;
+  const Eigen::Quaterniond mean = from_bunge(o.euler_deg[0] * deg, o.euler_deg[1] * deg, o.euler_deg[2] * deg);
+  for (Grain& g : grains) {
+    const auto id = static_cast<std::uint64_t>(g.id);
+    if (!def.crystal.enabled || o.law == OrientationLaw::honeycomb) {
+      g.crystal = Eigen::Quaterniond(
+          Eigen::AngleAxisd(g.orientation.angle_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
+      continue;
+    }
+    switch (o.law) {
+      case OrientationLaw::uniform: g.crystal = uniform_orientation(def.seed, id); break;
+      case OrientationLaw::fibre:
+        g.crystal = fibre_orientation(def.seed, id, o.crystal_direction.normalized(),
+                                      o.specimen_axis.normalized(), spread);
+        break;
+      case OrientationLaw::preferred: g.crystal = preferred_orientation(def.seed, id, mean, spread); break;
+      case OrientationLaw::given: g.crystal = o.given[static_cast<std::size_t>(g.id)]; break;
+      case OrientationLaw::honeycomb: break;
+    }
+  }
+}
 
 /// Grains that are not on the lattice: each shape (specimen coordinates) moved exactly so
 /// `centres[i]` is its grain frame's origin.
@@ -44,6 +76,7 @@ Specimen place_grains(const SpecimenDef& def, const std::vector<ExactPolyhedron>
     grain.shape = static_cast<int>(g);
     s.grains.push_back(grain);
   }
+  orient_grains(def, s.grains);
   return s;
 }
 
@@ -106,7 +139,18 @@ Specimen build_specimen(const SpecimenDef& def) {
     grain.orientation = draw_orientation(def.seed, g, def.family_mix, def.angles);
     s.grains.push_back(grain);
   }
+  orient_grains(def, s.grains);
   return s;
+}
+
+CleavagePlanes grain_cleavage_planes(const Specimen& specimen, const Grain& g) {
+  if (specimen.def.crystal.enabled) {
+    return crystal_cleavage_planes(specimen.shape_of(g), specimen.def.crystal, g.crystal);
+  }
+  CleavagePlanes out;
+  out.planes = specimen.shape_of(g).cleavage_planes(g.orientation);
+  out.family.assign(out.planes.size(), 0);
+  return out;
 }
 
 std::string Lineage::path_string() const {
@@ -128,6 +172,12 @@ std::vector<Piece> split_into_slabs(const Specimen& specimen, double min_fragmen
   std::map<std::tuple<int, int, int>, std::vector<std::shared_ptr<const ExactPolyhedron>>> cache;
   std::vector<Piece> pieces;
   for (const Grain& g : specimen.grains) {
+    if (specimen.def.crystal.enabled) {
+      pieces.push_back(Piece{Lineage{g.id, {}},
+                             std::make_shared<const ExactPolyhedron>(specimen.shape_of(g)),
+                             g.site.centre, g.orientation});
+      continue;
+    }
     const auto key = std::make_tuple(g.shape, static_cast<int>(g.orientation.family),
                                      g.orientation.angle_deg);
     auto it = cache.find(key);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "geometry/crystal.hpp"
+#include "geometry/crystal_system.hpp"
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/lattice.hpp"
 #include "geometry/voronoi.hpp"
@@ -22,6 +23,26 @@ enum class SpecimenKind {
   lattice,  ///< hexagonal prisms on the honeycomb lattice inside `outline` (the seed's model)
   voronoi,  ///< the Voronoi cells of random points in a box (`voronoi`)
   meshes,   ///< convex shapes given one by one (`custom_grains`, e.g. from mesh files)
+};
+
+/// How the grains' 3D crystal orientations are drawn ([orientation] law, with [crystal]).
+enum class OrientationLaw {
+  honeycomb,  ///< the seed's: c along z, turned by the drawn angle (0/60/120 degrees) about it
+  uniform,    ///< uniform over SO(3)
+  fibre,      ///< a crystal direction along a specimen axis, the turn about it uniform
+  preferred,  ///< one orientation with a spread
+  given,      ///< one per grain, read from a file
+};
+
+/// The orientation law and its parameters, as a scenario gives them (degrees).
+struct OrientationDef {
+  OrientationLaw law = OrientationLaw::honeycomb;
+  std::array<double, 3> euler_deg{0.0, 0.0, 0.0};  ///< preferred: Bunge (phi1, Phi, phi2)
+  double spread_deg = 0.0;                         ///< fibre, preferred
+  Eigen::Vector3d crystal_direction = Eigen::Vector3d::UnitZ();  ///< fibre: crystal frame
+  Eigen::Vector3d specimen_axis = Eigen::Vector3d::UnitZ();      ///< fibre: specimen frame
+  std::vector<Eigen::Quaterniond> given;                       ///< given: in grain order
+  std::string file;                                            ///< given: read from (absolute)
 };
 
 /// One grain given by its shape (SpecimenKind::meshes).
@@ -43,6 +64,10 @@ struct SpecimenDef {
   double family_mix = 0.5;             ///< probability of the <11-20> (three-slab) family
   std::vector<int> angles{0, 60, 120}; ///< allowed angles, each 0, 60 or 120
   std::uint64_t seed = 1;  ///< of the orientations
+  /// [crystal]: every grain a 3D crystal with these cleavage families; disabled: the
+  /// seed's honeycomb crystal (family_mix and angles).
+  CrystalDef crystal;
+  OrientationDef orientation;  ///< with `crystal`: how its orientations are drawn
   VoronoiDef voronoi;      ///< SpecimenKind::voronoi (its size is also `outline`'s)
   std::vector<CustomGrainDef> custom_grains;  ///< SpecimenKind::meshes, in grain id order
   /// Per grain (in grain id order), its crystal orientation as given by an imported
@@ -57,6 +82,9 @@ struct Grain {
   /// and k = 1 when the grain touches the specimen's lowest level (k = 2 otherwise).
   LatticeSite site;
   CrystalOrientation orientation;
+  /// The grain's crystal, crystal -> specimen coordinates. The honeycomb crystal: the turn
+  /// by orientation.angle_deg about z.
+  Eigen::Quaterniond crystal = Eigen::Quaterniond::Identity();
   int shape = 0;  ///< index into Specimen::shapes
 };
 
@@ -85,6 +113,11 @@ struct Specimen {
 /// 0/60/120, no custom grains).
 Specimen build_specimen(const SpecimenDef& def);
 
+/// The exact cleavage planes of grain `g` (grain coordinates): the honeycomb crystal's
+/// (ExactPolyhedron::cleavage_planes, family 0), or with a 3D crystal
+/// crystal_cleavage_planes of its shape at its orientation.
+CleavagePlanes grain_cleavage_planes(const Specimen& specimen, const Grain& g);
+
 /// Where a fragment came from: its grain and the path of split choices, e.g. grain 17,
 /// path {1, 0} is slab 1 of grain 17, then the part below a later plane: "17.1.0".
 struct Lineage {
@@ -106,7 +139,8 @@ struct Piece {
   CrystalOrientation orientation;                       ///< the grain's
 };
 
-/// Splits every grain into its cleavage slabs; cuts leaving a part below
+/// Splits every grain into its cleavage slabs (grains of a 3D crystal stay whole: they
+/// split on their planes under load, [fracture]); cuts leaving a part below
 /// `min_fragment_fraction` of the piece they cut are skipped. Grains sharing a shape and an
 /// orientation share their slab shapes (each distinct orientation is cut once).
 std::vector<Piece> split_into_slabs(const Specimen& specimen, double min_fragment_fraction = 0.0);

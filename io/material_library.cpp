@@ -26,6 +26,8 @@ namespace {
 using namespace toml_reader;
 
 constexpr std::string_view kTables[] = {"material", "properties", "sources"};
+constexpr std::string_view kAllTables[] = {"material", "properties", "sources", "crystal", "cleavage"};
+constexpr std::string_view kCrystalKeys[] = {"system", "c_over_a", "b_over_a"};
 constexpr std::string_view kMaterialKeys[] = {"name", "description", "structure"};
 constexpr std::string_view kPropertyKeys[] = {"value", "unit", "source", "note"};
 
@@ -37,9 +39,10 @@ Range range_of(std::string_view key) {
 }
 
 MaterialProperty read_property(const std::string& source, const toml::table& properties,
-                               const PropertySpec& spec, const toml::table* sources) {
+                               const PropertySpec& spec, const toml::table* sources,
+                               std::string_view section = "properties") {
   const toml::node* node = properties.get(spec.key);
-  const std::string key = fmt::format("properties.{}", spec.key);
+  const std::string key = fmt::format("{}.{}", section, spec.key);
   const auto* table = node->as_table();
   if (table == nullptr) {
     throw ScenarioError(source, line_of(node->source()), column_of(node->source()), key,
@@ -151,7 +154,7 @@ double MaterialPreset::si(std::string_view key) const {
 }
 
 MaterialPreset parse_material(std::string_view text, const std::string& source) {
-  const toml::table root = parse_root(text, source, kTables, "a material file");
+  const toml::table root = parse_root(text, source, kAllTables, "a material file");
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
     if (node == nullptr) {
@@ -197,6 +200,37 @@ MaterialPreset parse_material(std::string_view text, const std::string& source) 
   }
   std::sort(m.properties.begin(), m.properties.end(),
             [](const MaterialProperty& a, const MaterialProperty& b) { return a.line < b.line; });
+  std::vector<const MaterialProperty*> cited;
+  for (const auto& p : m.properties) cited.push_back(&p);
+  if (const auto* crystal = root.get_as<toml::table>("crystal")) {
+    const TableReader t(source, "crystal", crystal);
+    t.reject_unknown(kCrystalKeys);
+    MaterialCrystal c;
+    c.line = line_of(crystal->source());
+    c.system = t.string("system");
+    for (std::string_view k : {"c_over_a", "b_over_a"}) {
+      if (crystal->get(k) == nullptr) continue;
+      auto& slot = k == "c_over_a" ? c.c_over_a : c.b_over_a;
+      slot = read_property(source, *crystal, PropertySpec{k, Quantity::ratio, false, "axis ratio"}, sources, "crystal");
+    }
+    if (const auto* cleavage = root.get_as<toml::table>("cleavage")) {
+      for (const auto& [key, node] : *cleavage) {
+        c.cleavage.push_back(read_property(source, *cleavage,
+                                           PropertySpec{key.str(), Quantity::toughness, false, "cleavage toughness"},
+                                           sources, "cleavage"));
+      }
+    }
+    // toml++ keeps a table's keys sorted; the families stay in the file's order.
+    std::sort(c.cleavage.begin(), c.cleavage.end(),
+              [](const MaterialProperty& a, const MaterialProperty& b) { return a.line < b.line; });
+    m.crystal = std::move(c);
+    if (m.crystal->c_over_a) cited.push_back(&*m.crystal->c_over_a);
+    if (m.crystal->b_over_a) cited.push_back(&*m.crystal->b_over_a);
+    for (const auto& p : m.crystal->cleavage) cited.push_back(&p);
+  } else if (const auto* cleavage = root.get_as<toml::table>("cleavage")) {
+    throw ScenarioError(source, line_of(cleavage->source()), column_of(cleavage->source()), "cleavage",
+                        "[cleavage] needs a [crystal] table (the system its indices are in)");
+  }
   // A source nobody names is most likely a typo in a property's `source`.
   const TableReader cites(source, "sources", sources);
   for (const auto& [key, node] : *sources) {
@@ -205,8 +239,8 @@ MaterialPreset parse_material(std::string_view text, const std::string& source) 
                  fmt::format("expected the citation as a string, found {}", type_name(node)));
     }
     const std::string name(key.str());  // (clang 14: a lambda may not capture a binding)
-    const bool used = std::any_of(m.properties.begin(), m.properties.end(),
-                                  [&](const MaterialProperty& p) { return p.source == name; });
+    const bool used = std::any_of(cited.begin(), cited.end(),
+                                  [&](const MaterialProperty* p) { return p->source == name; });
     if (!used) cites.fail(key_source(key, node), key.str(), "no property names this source");
   }
   return m;

@@ -18,6 +18,11 @@
 ///   grain_size = ...               # required for a polycrystal
 ///   cleavage_k_ic = ...            # optional: the single crystal's toughness on cleavage
 ///   weibull_modulus = ...          # optional
+///   [crystal]                      # optional: the single crystal ([crystal] preset = NAME)
+///   system = "trigonal"            #   cubic | hexagonal | trigonal | orthorhombic
+///   c_over_a = { value = 2.730, unit = "1", source = "..." }  # b_over_a the same way
+///   [cleavage]                     # optional, with [crystal]: each family's toughness
+///   "{11-20}" = { value = 2.4, unit = "MPa m^0.5", source = "..." }
 ///   [sources]                      # every source a property names, with its citation
 ///   munro1997 = "R. G. Munro, ..."
 ///
@@ -47,12 +52,23 @@ struct MaterialProperty {
   int line = 0;           ///< where it is written
 };
 
+/// A material's single crystal: its system, axis ratios and the toughness of each cleavage
+/// family (MaterialProperty::key is the family, "{11-20}").
+struct MaterialCrystal {
+  std::string system;
+  std::optional<MaterialProperty> c_over_a;
+  std::optional<MaterialProperty> b_over_a;
+  std::vector<MaterialProperty> cleavage;
+  int line = 0;  ///< of [crystal]
+};
+
 struct MaterialPreset {
   std::string file;         ///< the file it was read from
   std::string name;         ///< [material] name
   std::string description;
   bool amorphous = false;   ///< structure = "amorphous"
   std::vector<MaterialProperty> properties;  ///< in file order
+  std::optional<MaterialCrystal> crystal;    ///< [crystal] and [cleavage], when given
 
   /// The property `key`, or null when the file does not give it.
   [[nodiscard]] const MaterialProperty* find(std::string_view key) const;

@@ -25,6 +25,7 @@
 #include "io/material_library.hpp"
 #include "io/mesh_grains.hpp"
 #include "io/neper_tess.hpp"
+#include "io/orientation_file.hpp"
 #include "io/result_dir.hpp"
 #include "io/toml_reader.hpp"
 
@@ -451,7 +452,9 @@ void read_imported_grains(const toml::table& root, const std::string& source,
 
 // ---- [orientation] ------------------------------------------------------------------------
 
-constexpr std::string_view kOrientationKeys[] = {"seed", "family_mix", "angles"};
+constexpr std::string_view kOrientationKeys[] = {"seed",   "family_mix",        "angles",        "law",
+                                                 "euler", "spread",            "crystal_direction",
+                                                 "specimen_axis", "file"};
 constexpr int kAngles[] = {0, 60, 120};
 
 std::vector<int> read_angles(const TableReader& t) {
@@ -487,11 +490,189 @@ std::vector<int> read_angles(const TableReader& t) {
   return angles;
 }
 
+Eigen::Vector3d direction(const TableReader& t, std::string_view key, const Eigen::Vector3d& fallback) {
+  if (t.find(key) == nullptr) return fallback;
+  const auto v = t.numbers(key, 3, Range{});
+  const Eigen::Vector3d d(v[0], v[1], v[2]);
+  if (!(d.norm() > 0.0)) t.fail(*t.find(key), key, "must not be the zero vector");
+  return d;
+}
+
+/// [orientation]: the seed's honeycomb draw (family_mix, angles), or with [crystal] a law
+/// of 3D orientations. Angles in the file are degrees.
 void read_orientation_table(const TableReader& t, geometry::SpecimenDef& def) {
+  using geometry::OrientationLaw;
   t.reject_unknown(kOrientationKeys);
   def.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
   def.family_mix = t.number("family_mix", {.lo = 0.0, .hi = 1.0}, 0.5).value;
   def.angles = read_angles(t);
+  geometry::OrientationDef& o = def.orientation;
+  o.law = t.choose<OrientationLaw>("law",
+                                   {{"honeycomb", OrientationLaw::honeycomb},
+                                    {"uniform", OrientationLaw::uniform},
+                                    {"fibre", OrientationLaw::fibre},
+                                    {"preferred", OrientationLaw::preferred},
+                                    {"file", OrientationLaw::given}},
+                                   def.crystal.enabled ? OrientationLaw::uniform : OrientationLaw::honeycomb);
+  if (o.law != OrientationLaw::honeycomb && !def.crystal.enabled) {
+    t.fail(*t.find("law"), "law", "3D orientations need a [crystal] table (the grains' crystal system and cleavage planes)");
+  }
+  auto only = [&](std::string_view key, bool allowed, std::string_view which) {
+    if (!allowed && t.find(key) != nullptr) t.fail(*t.find(key), key, fmt::format("belongs to {}", which));
+  };
+  const bool honeycomb = o.law == OrientationLaw::honeycomb;
+  only("family_mix", honeycomb, "law = \"honeycomb\" (the seed's 2.5D crystal)");
+  only("angles", honeycomb, "law = \"honeycomb\" (the seed's 2.5D crystal)");
+  only("euler", o.law == OrientationLaw::preferred, "law = \"preferred\"");
+  only("spread", o.law == OrientationLaw::preferred || o.law == OrientationLaw::fibre,
+       "law = \"fibre\" or \"preferred\"");
+  only("crystal_direction", o.law == OrientationLaw::fibre, "law = \"fibre\"");
+  only("specimen_axis", o.law == OrientationLaw::fibre, "law = \"fibre\"");
+  only("file", o.law == OrientationLaw::given, "law = \"file\"");
+  if (o.law == OrientationLaw::preferred) {
+    const auto e = t.numbers("euler", 3, Range{});
+    if (!(e[1] >= 0.0 && e[1] <= 180.0)) t.fail(*t.find("euler"), "euler", "Phi (the second angle) must be in [0, 180] degrees");
+    o.euler_deg = {e[0], e[1], e[2]};
+  }
+  if (o.law == OrientationLaw::preferred || o.law == OrientationLaw::fibre) {
+    o.spread_deg = t.number("spread", {.lo = 0.0, .hi = 180.0}, 0.0).value;
+  }
+  if (o.law == OrientationLaw::fibre) {
+    o.crystal_direction = direction(t, "crystal_direction", Eigen::Vector3d::UnitZ());
+    o.specimen_axis = direction(t, "specimen_axis", Eigen::Vector3d::UnitZ());
+  }
+  if (o.law == OrientationLaw::given) {
+    const std::string file = t.string("file");
+    const std::filesystem::path path = std::filesystem::path(t.source()).parent_path() / file;
+    o.file = std::filesystem::absolute(path).string();
+    try {
+      o.given = read_orientation_file(path);
+    } catch (const ScenarioError&) {
+      throw;  // names the orientation file's own line
+    } catch (const std::exception& e) {
+      t.fail(*t.find("file"), "file", e.what());
+    }
+  }
+}
+
+// ---- [crystal], [[cleavage]] --------------------------------------------------------------
+
+constexpr std::string_view kCrystalKeys[] = {"system", "c_over_a", "b_over_a", "preset"};
+constexpr std::string_view kCleavageKeys[] = {"planes", "resistance", "k_ic", "sigma_f",
+                                              "planes_per_variant"};
+
+/// A [crystal] preset's cleavage families with their toughness (Pa sqrt(m)), for
+/// read_cleavage_tables to turn into resistances once [fracture] is known.
+struct PresetFamilies {
+  std::vector<geometry::CleavageFamilyDef> families;
+  std::vector<double> k_ic;
+};
+
+PresetFamilies read_crystal_table(const TableReader& t, geometry::CrystalDef& c) {
+  t.reject_unknown(kCrystalKeys);
+  PresetFamilies from_preset;
+  if (t.table() == nullptr) return from_preset;
+  c.enabled = true;
+  std::optional<MaterialPreset> preset;
+  if (t.find("preset") != nullptr) {
+    const std::string name = t.string("preset");
+    const auto file = resolve_material(name, std::filesystem::path(t.source()).parent_path());
+    if (!file) t.fail(*t.find("preset"), "preset", fmt::format("no material '{}' (cleave materials lists them)", name));
+    preset = load_material(*file);
+    if (!preset->crystal) {
+      t.fail(*t.find("preset"), "preset",
+             fmt::format("{} has no [crystal] table (its single crystal's system and cleavage)", file->string()));
+    }
+  }
+  const std::string system = preset && t.find("system") == nullptr ? preset->crystal->system : t.string("system");
+  try {
+    c.lattice.system = geometry::parse_crystal_system(system);
+  } catch (const std::invalid_argument& e) {
+    t.fail(*t.find("system"), "system", e.what());
+  }
+  using geometry::CrystalSystem;
+  const bool has_c = c.lattice.system != CrystalSystem::cubic;
+  const bool has_b = c.lattice.system == CrystalSystem::orthorhombic;
+  if (!has_c && t.find("c_over_a") != nullptr) t.fail(*t.find("c_over_a"), "c_over_a", "a cubic crystal has c = a");
+  if (!has_b && t.find("b_over_a") != nullptr)
+    t.fail(*t.find("b_over_a"), "b_over_a", "only an orthorhombic crystal has b != a");
+  auto ratio = [&](std::string_view key, const std::optional<MaterialProperty>& given) {
+    return t.number(key, Range::positive(), preset && given ? std::optional(given->value) : std::nullopt).value;
+  };
+  if (has_c) c.lattice.c_over_a = ratio("c_over_a", preset ? preset->crystal->c_over_a : std::nullopt);
+  if (has_b) c.lattice.b_over_a = ratio("b_over_a", preset ? preset->crystal->b_over_a : std::nullopt);
+  if (preset) {
+    for (const MaterialProperty& p : preset->crystal->cleavage) {
+      geometry::CleavageFamilyDef f;
+      try {
+        f.family = geometry::parse_miller_family(p.key, c.lattice.system);
+      } catch (const std::invalid_argument& e) {
+        t.fail(*t.find("preset"), "preset", fmt::format("{}:{}: {}", preset->file, p.line, e.what()));
+      }
+      from_preset.families.push_back(f);
+      from_preset.k_ic.push_back(p.value);
+    }
+  }
+  return from_preset;
+}
+
+/// [[cleavage]]: the families every grain's crystal cleaves on, each with its resistance
+/// (its K_Ic or strength over [fracture]'s).
+void read_cleavage_tables(const toml::table& root, const std::string& source, UnitContext* units,
+                          const FractureDef& fracture, const PresetFamilies& preset, geometry::CrystalDef& c) {
+  const auto* tables = root.get_as<toml::array>("cleavage");
+  if (tables == nullptr) {
+    // The preset's families: lefm takes each one's K_Ic over [fracture]'s; a stress
+    // criterion the same ratios to the weakest (strength ~ K_Ic / sqrt(pi a), one flaw size).
+    const bool lefm = fracture.params.criterion == physics::GrainCriterion::lefm;
+    double weakest = std::numeric_limits<double>::infinity();
+    for (const double k : preset.k_ic) weakest = std::min(weakest, k);
+    for (std::size_t i = 0; i < preset.families.size(); ++i) {
+      geometry::CleavageFamilyDef f = preset.families[i];
+      if (fracture.enabled) f.resistance = preset.k_ic[i] / (lefm ? fracture.params.k_ic : weakest);
+      c.families.push_back(f);
+    }
+    return;
+  }
+  if (!c.enabled) {
+    const toml::node& first = *tables->get(0);
+    throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "cleavage",
+                        "[[cleavage]] tables need a [crystal] table (the crystal system they index)");
+  }
+  for (std::size_t i = 0; i < tables->size(); ++i) {
+    const TableReader t(source, fmt::format("cleavage[{}]", i + 1), tables->get(i)->as_table(), units);
+    t.reject_unknown(kCleavageKeys);
+    geometry::CleavageFamilyDef f;
+    try {
+      f.family = geometry::parse_miller_family(t.string("planes"), c.lattice.system);
+    } catch (const std::invalid_argument& e) {
+      t.fail(*t.find("planes"), "planes", e.what());
+    }
+    for (std::size_t j = 0; j < c.families.size(); ++j) {
+      if (c.families[j].family.text == f.family.text)
+        t.fail(*t.find("planes"), "planes", fmt::format("cleavage[{}] names the same family", j + 1));
+    }
+    f.planes_per_variant = t.int_integer("planes_per_variant", 1, 1);
+    const bool lefm = fracture.params.criterion == physics::GrainCriterion::lefm;
+    int given = 0;
+    for (std::string_view key : {"resistance", "k_ic", "sigma_f"}) given += t.find(key) != nullptr;
+    if (given > 1) {
+      t.fail_table("give one of resistance, k_ic (criterion lefm) and sigma_f (a stress criterion)");
+    }
+    if (given == 1 && !fracture.enabled) {
+      t.fail_table("a family's resistance needs a [fracture] table (the criterion it scales)");
+    }
+    if (t.find("k_ic") != nullptr) {
+      if (!lefm) t.fail(*t.find("k_ic"), "k_ic", "belongs to criterion = \"lefm\"; a stress criterion takes sigma_f");
+      f.resistance = t.number("k_ic", Range::positive()).value / fracture.params.k_ic;
+    } else if (t.find("sigma_f") != nullptr) {
+      if (lefm) t.fail(*t.find("sigma_f"), "sigma_f", "belongs to a stress criterion; criterion = \"lefm\" takes k_ic");
+      f.resistance = t.number("sigma_f", Range::positive()).value / fracture.params.sigma_f;
+    } else {
+      f.resistance = t.number("resistance", Range::positive(), 1.0).value;
+    }
+    c.families.push_back(f);
+  }
 }
 
 // ---- [split], [output] --------------------------------------------------------------------
@@ -859,11 +1040,11 @@ void read_periodic_table(const TableReader& t, Scenario& s) {
   s.specimen.voronoi.periodic = s.periodic.axes;
 }
 
-constexpr std::string_view kThermalKeys[] = {"temperature", "alpha",        "alpha_a",      "alpha_c",
+constexpr std::string_view kThermalKeys[] = {"temperature", "alpha", "alpha_a", "alpha_b", "alpha_c",
                                              "c_axis",      "seed",         "conductivity", "heat_capacity",
                                              "gradient"};
 
-void read_thermal_table(const TableReader& t, bool dynamics, ThermalDef& th) {
+void read_thermal_table(const TableReader& t, bool dynamics, bool crystal, ThermalDef& th) {
   t.reject_unknown(kThermalKeys);
   if (t.table() == nullptr) return;
   if (!dynamics) t.fail_table("[thermal] needs a [dynamics] table");
@@ -887,8 +1068,23 @@ void read_thermal_table(const TableReader& t, bool dynamics, ThermalDef& th) {
   }
   th.alpha_a = aa.value;
   th.alpha_c = ac.value;
-  th.c_axis = t.choose<ThermalDef::Axis>("c_axis", {{"prism", ThermalDef::Axis::prism}, {"random", ThermalDef::Axis::random}},
-                                         ThermalDef::Axis::prism);
+  const Number ab = t.number("alpha_b", Range{}, aa.value);
+  if (ab.node != nullptr && aa.node == nullptr) t.fail(*ab.node, "alpha_b", "alpha_b goes with alpha_a and alpha_c");
+  th.alpha_b = ab.value;
+  // With a 3D crystal its axes carry the coefficients; the seed's choices stay the default
+  // without one.
+  th.c_axis = t.choose<ThermalDef::Axis>("c_axis",
+                                         {{"prism", ThermalDef::Axis::prism},
+                                          {"random", ThermalDef::Axis::random},
+                                          {"crystal", ThermalDef::Axis::crystal}},
+                                         crystal ? ThermalDef::Axis::crystal : ThermalDef::Axis::prism);
+  if (th.c_axis == ThermalDef::Axis::crystal && !crystal) {
+    t.fail(*t.find("c_axis"), "c_axis", "\"crystal\" needs a [crystal] table (the grains' 3D crystals)");
+  }
+  if (th.alpha_b != th.alpha_a && th.c_axis != ThermalDef::Axis::crystal) {
+    t.fail(*ab.node, "alpha_b",
+           "three coefficients need each grain's a, b and c axes: c_axis = \"crystal\" with a [crystal] table");
+  }
   th.seed = static_cast<std::uint64_t>(t.integer("seed", 0, 1));
   const Number conductivity = t.number("conductivity", Range::non_negative(), 0.0);
   th.conductivity = conductivity.value;
@@ -1078,7 +1274,8 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
 constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
                                         "split",    "output",   "material", "contact",
                                         "dynamics", "wall",     "bond",     "stage",
-                                        "fracture", "mesh_grain", "thermal", "periodic"};
+                                        "fracture", "mesh_grain", "thermal", "periodic",
+                                        "crystal",  "cleavage"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -1169,7 +1366,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   const toml::table root = parse_root(text, source, kTables, "a scenario");
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
-    if (name == "wall" || name == "stage" || name == "mesh_grain") {  // arrays of tables
+    if (name == "wall" || name == "stage" || name == "mesh_grain" || name == "cleavage") {  // arrays of tables
       if (node != nullptr && !node->is_array_of_tables()) {
         throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
                             std::string(name),
@@ -1215,6 +1412,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   } else {
     read_own_grains(root, source, &units, s.specimen, s.mesh_grains);
   }
+  const PresetFamilies preset_families = read_crystal_table(reader("crystal"), s.specimen.crystal);
   read_orientation_table(reader("orientation"), s.specimen);
   read_split_table(reader("split"), s.split);
   read_output_table(reader("output"), s.output);
@@ -1243,7 +1441,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   }
   read_bond_table(reader("bond"), s.bond);
   read_fracture_table(reader("fracture"), s.dynamics.enabled, s.fracture);
-  read_thermal_table(reader("thermal"), s.dynamics.enabled, s.thermal);
+  read_cleavage_tables(root, source, &units, s.fracture, preset_families, s.specimen.crystal);
+  read_thermal_table(reader("thermal"), s.dynamics.enabled, s.specimen.crystal.enabled, s.thermal);
   read_periodic_table(reader("periodic"), s);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {

@@ -143,9 +143,12 @@ struct ThermalDef {
   SourcePosition gradient_at;  ///< where the file gives it, for messages
   double alpha_a = 0.0;         ///< 1/K: expansion across the c-axis
   double alpha_c = 0.0;         ///< 1/K: along it (= alpha_a: isotropic, `alpha`)
-  /// Each grain's c-axis: its prism axis (a honeycomb's grains all share it) or a direction
-  /// drawn uniformly on the sphere per grain from `seed` (a polycrystal's random texture).
-  enum class Axis { prism, random } c_axis = Axis::prism;
+  /// 1/K: along the crystal's b axis (c_axis = crystal); = alpha_a for a uniaxial crystal.
+  double alpha_b = 0.0;
+  /// Each grain's c-axis: its prism axis (a honeycomb's grains all share it), a direction
+  /// drawn uniformly on the sphere per grain from `seed` (a polycrystal's random texture),
+  /// or the grain's own crystal ([crystal]: its a, b, c axes carry alpha_a, alpha_b, alpha_c).
+  enum class Axis { prism, random, crystal } c_axis = Axis::prism;
   std::uint64_t seed = 1;
   double conductivity = 0.0;   ///< W/(m K); 0: no conduction
   double heat_capacity = 0.0;  ///< J/(kg K)

@@ -107,8 +107,36 @@ std::string scenario_to_toml(const Scenario& s) {
     out += fmt::format("\n[grain]\nr = {}\nr_bar = {}\nt = {}\nt_bar = {}\n", num(d.r),
                        num(d.r_bar), num(d.t), num(d.t_bar));
   }  // lattice specimens
-  out += fmt::format("\n[orientation]\nseed = {}\nfamily_mix = {}\nangles = [{}]\n", d.seed,
-                     num(d.family_mix), fmt::join(d.angles, ", "));
+  if (d.crystal.enabled) {
+    const geometry::CrystalLattice& l = d.crystal.lattice;
+    out += fmt::format("\n[crystal]\nsystem = \"{}\"\n", geometry::to_string(l.system));
+    if (l.system != geometry::CrystalSystem::cubic) out += fmt::format("c_over_a = {}\n", num(l.c_over_a));
+    if (l.system == geometry::CrystalSystem::orthorhombic) out += fmt::format("b_over_a = {}\n", num(l.b_over_a));
+    for (const auto& f : d.crystal.families) {
+      out += fmt::format("\n[[cleavage]]\nplanes = {}\nplanes_per_variant = {}\n", str(f.family.text),
+                         f.planes_per_variant);
+      if (s.fracture.enabled) out += fmt::format("resistance = {}\n", num(f.resistance));
+    }
+  }
+  using geometry::OrientationLaw;
+  const geometry::OrientationDef& law = d.orientation;
+  out += fmt::format("\n[orientation]\nseed = {}\n", d.seed);
+  switch (law.law) {
+    case OrientationLaw::honeycomb:
+      if (d.crystal.enabled) out += "law = \"honeycomb\"\n";
+      out += fmt::format("family_mix = {}\nangles = [{}]\n", num(d.family_mix), fmt::join(d.angles, ", "));
+      break;
+    case OrientationLaw::uniform: out += "law = \"uniform\"\n"; break;
+    case OrientationLaw::fibre:
+      out += fmt::format("law = \"fibre\"\nspread = {}\ncrystal_direction = {}\nspecimen_axis = {}\n",
+                         num(law.spread_deg), vec(law.crystal_direction), vec(law.specimen_axis));
+      break;
+    case OrientationLaw::preferred:
+      out += fmt::format("law = \"preferred\"\nspread = {}\neuler = [{}, {}, {}]\n", num(law.spread_deg),
+                         num(law.euler_deg[0]), num(law.euler_deg[1]), num(law.euler_deg[2]));
+      break;
+    case OrientationLaw::given: out += fmt::format("law = \"file\"\nfile = {}\n", str(law.file)); break;
+  }
   out += fmt::format("\n[split]\nmin_fragment_fraction = {}\n", num(s.split.min_fragment_fraction));
   out += fmt::format("\n[output]\nmesh_format = \"{}\"\nmesh_layout = \"{}\"\nframe_meshes = {}\n",
                      to_string(s.output.mesh_format), to_string(s.output.mesh_layout),
@@ -208,9 +236,12 @@ std::string scenario_to_toml(const Scenario& s) {
 
   if (s.thermal.enabled) {
     const ThermalDef& t = s.thermal;
-    out += fmt::format("\n[thermal]\ntemperature = {}\nalpha_a = {}\nalpha_c = {}\nc_axis = \"{}\"\nseed = {}\n",
-                       num(t.temperature), num(t.alpha_a), num(t.alpha_c),
-                       t.c_axis == ThermalDef::Axis::prism ? "prism" : "random", t.seed);
+    out += fmt::format("\n[thermal]\ntemperature = {}\nalpha_a = {}\nalpha_b = {}\nalpha_c = {}\nc_axis = \"{}\"\nseed = {}\n",
+                       num(t.temperature), num(t.alpha_a), num(t.alpha_b), num(t.alpha_c),
+                       t.c_axis == ThermalDef::Axis::prism    ? "prism"
+                       : t.c_axis == ThermalDef::Axis::random ? "random"
+                                                              : "crystal",
+                       t.seed);
     if (!t.gradient.isZero(0.0)) out += fmt::format("gradient = {}\n", vec(t.gradient));
     out += fmt::format("conductivity = {}\n", num(t.conductivity));
     if (t.heat_capacity > 0.0) out += fmt::format("heat_capacity = {}\n", num(t.heat_capacity));
@@ -349,6 +380,14 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("orientation.seed", sa.seed, sb.seed);
   d.same("orientation.family_mix", sa.family_mix, sb.family_mix);
   d.same("orientation.angles", sa.angles, sb.angles);
+  d.same("crystal", sa.crystal, sb.crystal);
+  d.same("orientation.law", sa.orientation.law, sb.orientation.law);
+  d.same("orientation.euler", sa.orientation.euler_deg, sb.orientation.euler_deg);
+  d.same("orientation.spread", sa.orientation.spread_deg, sb.orientation.spread_deg);
+  d.same("orientation.crystal_direction", sa.orientation.crystal_direction, sb.orientation.crystal_direction);
+  d.same("orientation.specimen_axis", sa.orientation.specimen_axis, sb.orientation.specimen_axis);
+  d.same("orientation.file", sa.orientation.file, sb.orientation.file);
+  d.same("orientation.given", sa.orientation.given.size(), sb.orientation.given.size());
   d.same("split.min_fragment_fraction", a.split.min_fragment_fraction, b.split.min_fragment_fraction);
   d.same("output.mesh_format", a.output.mesh_format, b.output.mesh_format);
   d.same("output.mesh_layout", a.output.mesh_layout, b.output.mesh_layout);
@@ -408,6 +447,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("thermal.gradient", a.thermal.gradient, b.thermal.gradient);
   d.same("thermal.alpha_a", a.thermal.alpha_a, b.thermal.alpha_a);
   d.same("thermal.alpha_c", a.thermal.alpha_c, b.thermal.alpha_c);
+  d.same("thermal.alpha_b", a.thermal.alpha_b, b.thermal.alpha_b);
   d.same("thermal.c_axis", a.thermal.c_axis, b.thermal.c_axis);
   d.same("thermal.seed", a.thermal.seed, b.thermal.seed);
   d.same("thermal.conductivity", a.thermal.conductivity, b.thermal.conductivity);

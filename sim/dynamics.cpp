@@ -114,7 +114,22 @@ class Dynamics::Runner {
       }
       for (const physics::BodyId id : world_.body_ids()) {
         const int grain = world_.info(id).grain_id;
-        book_->add_grain(world_, id, grain, specimen_.grains.at(static_cast<std::size_t>(grain)).orientation);
+        const auto& g = specimen_.grains.at(static_cast<std::size_t>(grain));
+        if (specimen_.def.crystal.enabled) {
+          book_->add_grain(world_, id, grain, geometry::grain_cleavage_planes(specimen_, g).planes);
+        } else {
+          book_->add_grain(world_, id, grain, g.orientation);
+        }
+      }
+    }
+    if (book_ && specimen_.def.crystal.enabled) {
+      // Each plane's family sets its resistance; from the specimen, fresh or resumed.
+      const auto& families = specimen_.def.crystal.families;
+      for (const auto& g : specimen_.grains) {
+        std::vector<double> per_plane;
+        for (const int f : geometry::grain_cleavage_planes(specimen_, g).family)
+          per_plane.push_back(families.at(static_cast<std::size_t>(f)).resistance);
+        book_->set_resistance(g.id, std::move(per_plane));
       }
     }
     if (book_) {

@@ -38,12 +38,14 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
     frame.meshes.push_back(world_mesh(world, id));
     ids["body_id"].push_back(id.index);
     ids["grain_id"].push_back(b.grain_id);
-    const auto& o = specimen.grains.at(static_cast<std::size_t>(b.grain_id)).orientation;
+    const geometry::Grain& grain = specimen.grains.at(static_cast<std::size_t>(b.grain_id));
+    const auto& o = grain.orientation;
     ids["family_11_20"].push_back(o.family == geometry::CleavageFamily::a_11_20 ? 1 : 0);
     ids["angle_deg"].push_back(o.angle_deg);
-    // The crystal's c axis (the prism axis, z of the shape frame) in the world.
+    // The crystal's c axis in the world: the grain frame's (specimen axes at the start) turned
+    // as the body turned; the honeycomb crystal's is the prism axis, z.
     const auto& shape = world.shape(b.shape);
-    vec["c_axis"].push_back(s.q * (shape.axes.transpose() * Eigen::Vector3d::UnitZ()));
+    vec["c_axis"].push_back(s.q * (shape.axes.transpose() * (grain.crystal * Eigen::Vector3d::UnitZ())));
     vec["velocity_m_per_s"].push_back(s.v);
     vec["angular_velocity_rad_per_s"].push_back(s.w);
     sca["speed_m_per_s"].push_back(s.v.norm());

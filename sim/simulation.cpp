@@ -111,15 +111,30 @@ void put_cracks(io::Manifest& manifest, const std::string& prefix, const CrackTo
 const char* version() { return CLEAVE_VERSION; }
 
 std::string specimen_csv(const Specimen& s) {
-  std::string out = "grain_id,plane,row,i,j,k,x_m,y_m,z_m,family,angle_deg,slabs\n";
+  std::string out = "grain_id,plane,row,i,j,k,x_m,y_m,z_m,family,angle_deg,slabs,phi1_deg,Phi_deg,phi2_deg\n";
   for (const auto& g : s.grains) {
     const auto& c = g.site.centre;
-    out += fmt::format("{},{},{},{},{},{},{:.17g},{:.17g},{:.17g},{},{},{}\n", g.id, g.site.plane,
-                       g.site.row, g.site.i, g.site.j, g.site.k, c.x(), c.y(), c.z(),
+    // The crystal as Bunge angles (docs/ORIENTATIONS.md), as EBSD software and Neper write it.
+    const auto e = geometry::to_bunge(g.crystal);
+    constexpr double deg = 180.0 / M_PI;
+    out += fmt::format("{},{},{},{},{},{},{:.17g},{:.17g},{:.17g},{},{},{},{:.12g},{:.12g},{:.12g}\n", g.id,
+                       g.site.plane, g.site.row, g.site.i, g.site.j, g.site.k, c.x(), c.y(), c.z(),
                        to_string(g.orientation.family), g.orientation.angle_deg,
-                       slab_count(g.orientation.family));
+                       s.def.crystal.enabled ? 1 : slab_count(g.orientation.family), e[0] * deg, e[1] * deg,
+                       e[2] * deg);
   }
   return out;
+}
+
+const char* orientation_law_name(geometry::OrientationLaw law) {
+  switch (law) {
+    case geometry::OrientationLaw::honeycomb: return "honeycomb (c along z)";
+    case geometry::OrientationLaw::uniform: return "uniform";
+    case geometry::OrientationLaw::fibre: return "fibre";
+    case geometry::OrientationLaw::preferred: return "preferred";
+    case geometry::OrientationLaw::given: return "from a file";
+  }
+  return "?";
 }
 
 std::string fragments_csv(const std::vector<Piece>& pieces) {
@@ -288,8 +303,24 @@ void Simulation::State::start() {
     } else {
       say(describe_own_grains(*specimen) + fmt::format(" ({:.2f} s)", step.seconds()));
     }
-    say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
-                    three_slab, specimen->grains.size() - three_slab, def.seed));
+    if (def.crystal.enabled) {
+      std::string families;
+      std::size_t planes = 0;
+      for (const auto& f : def.crystal.families) {
+        const std::size_t n = geometry::family_normals(def.crystal.lattice, f.family).size() *
+                              static_cast<std::size_t>(std::max(f.planes_per_variant, 1));
+        planes += n;
+        families += fmt::format("{}{} x{} (resistance {:g})", families.empty() ? "" : ", ", f.family.text, n,
+                                f.resistance);
+      }
+      say(fmt::format("  crystals   {} {} grains, orientations {}, seed {}; {} cleavage planes a grain{}{}",
+                      specimen->grains.size(), geometry::to_string(def.crystal.lattice.system),
+                      orientation_law_name(def.orientation.law), def.seed, planes,
+                      families.empty() ? "" : ": ", families));
+    } else {
+      say(fmt::format("  crystals   {} grains <11-20> (3 slabs), {} grains <10-10> (2 slabs), seed {}",
+                      three_slab, specimen->grains.size() - three_slab, def.seed));
+    }
     if (specimen->grains.empty()) throw std::runtime_error("the outline holds no whole grain cell");
     // The time step and, for a fresh run, its start (sim::check_start) before the slabs and
     // meshes; the world made for the check is the one the run starts from.
@@ -314,7 +345,10 @@ void Simulation::State::start() {
     pieces = geometry::split_into_slabs(*specimen, scenario.split.min_fragment_fraction);
     std::size_t planned = 0;
     for (const auto& g : specimen->grains) planned += slab_count(g.orientation.family);
-    say(fmt::format("  cleavage   {} exact slabs from {} grains ({:.2f} s){}", pieces.size(),
+    if (specimen->def.crystal.enabled) {
+      say(fmt::format("  cleavage   the {} grains stay whole until a plane's criterion splits them ([fracture])",
+                      specimen->grains.size()));
+    } else say(fmt::format("  cleavage   {} exact slabs from {} grains ({:.2f} s){}", pieces.size(),
                     specimen->grains.size(), step.seconds(),
                     planned == pieces.size()
                         ? ""

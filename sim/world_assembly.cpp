@@ -143,7 +143,7 @@ Eigen::Vector3d grain_c_axis(const ThermalDef& thermal, int grain_id) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
-void apply_thermal(const Scenario& scenario, physics::World& world) {
+void apply_thermal(const Scenario& scenario, const geometry::Specimen& specimen, physics::World& world) {
   const ThermalDef& thermal = scenario.thermal;
   world.set_temperature(thermal.temperature);
   if (!thermal.gradient.isZero(0.0)) {
@@ -161,9 +161,16 @@ void apply_thermal(const Scenario& scenario, physics::World& world) {
       world.set_temperature(id, t);
     }
   }
-  if (thermal.alpha_a != 0.0 || thermal.alpha_c != 0.0) {
+  if (thermal.alpha_a != 0.0 || thermal.alpha_b != 0.0 || thermal.alpha_c != 0.0) {
     for (const physics::BodyId id : world.body_ids()) {
-      const Eigen::Vector3d c = grain_c_axis(thermal, world.info(id).grain_id);
+      const int grain = world.info(id).grain_id;
+      if (thermal.c_axis == ThermalDef::Axis::crystal) {
+        const Eigen::Vector3d abc(thermal.alpha_a, thermal.alpha_b, thermal.alpha_c);
+        world.set_expansion(id, physics::World::crystal_expansion(
+                                    specimen.grains.at(static_cast<std::size_t>(grain)).crystal, abc));
+        continue;
+      }
+      const Eigen::Vector3d c = grain_c_axis(thermal, grain);
       world.set_expansion(id, physics::World::crystal_expansion(c, thermal.alpha_a, thermal.alpha_c));
     }
   }
@@ -632,7 +639,7 @@ AssembledWorld assemble_world(const Scenario& scenario, const geometry::Specimen
     }
     world.set_cell(cell);
   }
-  if (scenario.thermal.enabled) apply_thermal(scenario, world);
+  if (scenario.thermal.enabled) apply_thermal(scenario, specimen, world);
   for (std::size_t i = 0; i < scenario.walls.size(); ++i) {
     physics::Wall w = scenario.walls[i];
     if (i < scenario.wall_gaps.size() && !std::isnan(scenario.wall_gaps[i])) {

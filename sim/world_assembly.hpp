@@ -74,7 +74,8 @@ Eigen::Vector3d grain_c_axis(const io::ThermalDef& thermal, int grain_id);
 
 /// [thermal] on a world of grains (make_world calls it): every grain at the temperature (and
 /// the gradient's linear field; a field below 0 K is a io::ScenarioError at thermal.gradient), its
-/// expansion tensor alpha_a I + (alpha_c - alpha_a) c c^T about its c-axis, the conduction.
-void apply_thermal(const io::Scenario& scenario, physics::World& world);
+/// expansion tensor alpha_a I + (alpha_c - alpha_a) c c^T about its c-axis (c_axis =
+/// crystal: R diag(alpha_a, alpha_b, alpha_c) R^T with R its grain's crystal), the conduction.
+void apply_thermal(const io::Scenario& scenario, const geometry::Specimen& specimen, physics::World& world);
 
 }  // namespace cleave::sim

@@ -208,6 +208,52 @@ TEST(Transgranular, GrainPulledAcrossItsCleavagePlaneSplitsThereWhenKIReachesKIc
   FAIL() << "the grain never split; last bond force " << previous << " N, F* = " << f_star;
 }
 
+TEST(Transgranular, AFamilysResistanceScalesTheLoadItsPlaneSplitsAt) {
+  // The same pull as above with the plane's family 1.7 times as tough (a 3D crystal's
+  // family, FractureBook::set_resistance): eq. 3.25 with K_Ic x 1.7, so the split comes when
+  // F passes 1.7 F*, not before.
+  const double resistance = 1.7;
+  int angle = -1;
+  for (const int a : {0, 60, 120}) {
+    Rig probe;
+    const BodyId g = probe.grain(0, {0, 0, 0}, {geometry::CleavageFamily::m_10_10, a});
+    if (std::abs(probe.book.world_plane(probe.world, g, 0).first.x()) > 1.0 - 1e-12) angle = a;
+  }
+  ASSERT_GE(angle, 0);
+  Rig s;
+  const double pitch = std::sqrt(3.0) * kSide + 2 * kDilation - 1e-6;
+  const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(),
+                                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0);
+  s.book.add_grain(s.world, g, 0, s.prism->cleavage_planes({geometry::CleavageFamily::m_10_10, angle}));
+  s.book.set_resistance(0, {resistance});
+  EXPECT_EQ(s.book.resistance(g, 0), resistance);
+  const BodyId left = s.world.add_body(s.shape, kRho, {-pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
+  const BodyId right = s.world.add_body(s.shape, kRho, {pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
+  const double area = M_PI * kDilation * kDilation;
+  ASSERT_EQ(s.world.initialise_bonds(BondParams{5000.0 / area, 2000.0 / area, 1e9, 1e9}, 0.0), 2u);
+  s.world.set_fixed(left, true);
+  s.world.set_fixed(right, true);
+  s.world.state(left).v = {-1e-3, 0, 0};
+  s.world.state(right).v = {1e-3, 0, 0};
+  FractureParams p;
+  p.crack_length = 0.1e-3;
+  const double a_c = 2 * kSide * kThick, f_star = 2e-4;
+  p.k_ic = f_star / a_c * std::sqrt(M_PI * p.crack_length);
+  for (int step = 0; step < 40000; ++step) {
+    s.world.step();
+    const double f = s.world.bonds().front().state.normal;
+    const auto events = transgranular_step(s.world, s.book, p);
+    if (events.empty()) {
+      ASSERT_LT(f, resistance * f_star * (1 + 1e-6)) << "no split at F = " << f << " N";
+      continue;
+    }
+    EXPECT_GE(f, resistance * f_star * (1 - 1e-6));
+    EXPECT_NEAR(events.front().cause.result.criterion, std::pow(f / (resistance * f_star), 2), 1e-6);
+    return;
+  }
+  FAIL() << "the grain never split";
+}
+
 TEST(Transgranular, GrainSqueezedBetweenPlatensSplitsOnThePredictedPlaneNotBefore) {
   // A <11-20> grain (two cleavage planes) lying flat, squeezed between two platens closing
   // along y. Every step the criterion is evaluated for its planes (assess, eqs 3.22-3.25);

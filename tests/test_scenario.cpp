@@ -327,7 +327,7 @@ TEST(ScenarioReference, ListsEveryKeyTheReaderAccepts) {
   for (std::string_view t :
        {"scenario", "specimen", "grain", "mesh_grain", "orientation", "split", "output", "material",
         "contact", "contact.particle_particle", "contact.particle_wall", "dynamics", "wall", "bond",
-        "fracture", "thermal", "periodic", "stage"}) {
+        "fracture", "thermal", "periodic", "stage", "crystal", "cleavage"}) {
     EXPECT_TRUE(accepted.count(std::string(t))) << "no scenario reaches [" << t << "]";
   }
 }

@@ -72,6 +72,43 @@ TEST_P(FreeBar, LengthensByAlphaLDeltaTAndCarriesNoForce) {
 
 INSTANTIATE_TEST_SUITE_P(HeatedAndCooled, FreeBar, ::testing::Values(100.0, -100.0));
 
+class OrthorhombicBar : public ::testing::TestWithParam<int> {};
+
+TEST_P(OrthorhombicBar, LengthensByAlphaOfTheCrystalAxisAlongItAndByTheTensorObliquely) {
+  // Every grain of a free bar shares one orthorhombic crystal (seed 003's aluminium titanate:
+  // alpha_a, alpha_b, alpha_c). Turned so that its axis i lies along the bar, the bar
+  // lengthens by alpha_i L dT; turned obliquely, by (sum_i alpha_i (e_i . x)^2) L dT. (The
+  // tensor's shear part turns a free bar rigidly, so the end's sideways move is no check.)
+  const Eigen::Vector3d abc = Eigen::Vector3d(-2.38, 11.97, 20.80) * 0.8e-6;
+  const int axis = GetParam();
+  Eigen::Quaterniond crystal;
+  if (axis < 3) {
+    // Crystal axis `axis` onto x, turned about x by a further 0.7 rad (any turn about the bar).
+    crystal = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitX()) *
+              Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::Unit(axis), Eigen::Vector3d::UnitX());
+  } else {
+    crystal = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 3).normalized());
+  }
+  const Eigen::Matrix3d r = crystal.toRotationMatrix();
+  double along = 0.0;
+  for (int i = 0; i < 3; ++i) along += abc[i] * r(0, i) * r(0, i);
+  if (axis < 3) ASSERT_NEAR(along, abc[axis], 1e-20);
+  const double dT = -300.0;
+  World world = make_world();
+  const std::vector<BodyId> ids = row(world, 5);
+  world.set_temperature(1500.0);
+  for (BodyId id : ids) world.set_expansion(id, World::crystal_expansion(crystal, abc));
+  ASSERT_EQ(world.initialise_bonds(strong_bonds(), 1e-6), 4u);
+  const Eigen::Vector3d span = world.state(ids.back()).x - world.state(ids.front()).x;
+  heat(world, ids, dT);
+  const Eigen::Vector3d moved = world.state(ids.back()).x - world.state(ids.front()).x - span;
+  const double length = span.x();
+  const double scale = abc.cwiseAbs().maxCoeff() * length * std::abs(dT);
+  EXPECT_NEAR((span + moved).norm() - span.norm(), along * length * dT, 0.005 * scale);
+}
+
+INSTANTIATE_TEST_SUITE_P(AxesAndOblique, OrthorhombicBar, ::testing::Values(0, 1, 2, 3));
+
 TEST(ClampedBar, CarriesMinusEAlphaDeltaTInEveryBond) {
   // Both ends held: each bond's stress is -E_b alpha dT, E_b = k_bn l the bond's modulus
   // (eq. 2.9's k_bn is stress per opening; over its length l = pitch, stress per strain).

@@ -46,6 +46,12 @@ Eigen::Matrix3d ThermalField::crystal_expansion(const Eigen::Vector3d& c_axis, d
   return alpha_a * Eigen::Matrix3d::Identity() + (alpha_c - alpha_a) * c * c.transpose();
 }
 
+Eigen::Matrix3d ThermalField::crystal_expansion(const Eigen::Quaterniond& crystal,
+                                                const Eigen::Vector3d& alpha_abc) {
+  const Eigen::Matrix3d r = crystal.normalized().toRotationMatrix();
+  return r * alpha_abc.asDiagonal() * r.transpose();
+}
+
 void ThermalField::set_temperature(std::uint32_t slot, double kelvin) {
   if (!std::isfinite(kelvin))
     throw std::invalid_argument("set_temperature: not a finite temperature");

@@ -33,6 +33,10 @@ class ThermalField {
   [[nodiscard]] Eigen::Matrix3d expansion(std::uint32_t slot, const Eigen::Quaterniond& q) const;
   [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Vector3d& c_axis,
                                                          double alpha_a, double alpha_c);
+  /// An orthorhombic crystal's: R diag(alpha_a, alpha_b, alpha_c) R^T, R the crystal's
+  /// rotation (crystal -> world).
+  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Quaterniond& crystal,
+                                                         const Eigen::Vector3d& alpha_abc);
   void set_temperature(std::uint32_t slot, double kelvin);
   /// Every live body's.
   void set_temperature(const std::vector<BodyInfo>& infos, double kelvin);

@@ -115,6 +115,12 @@ class World {
                                                          double alpha_a, double alpha_c) {
     return ThermalField::crystal_expansion(c_axis, alpha_a, alpha_c);
   }
+  /// Three principal coefficients along the crystal's a, b, c axes (an orthorhombic
+  /// crystal, e.g. seed 003's aluminium titanate): R diag(alpha_a, alpha_b, alpha_c) R^T.
+  [[nodiscard]] static Eigen::Matrix3d crystal_expansion(const Eigen::Quaterniond& crystal,
+                                                         const Eigen::Vector3d& alpha_abc) {
+    return ThermalField::crystal_expansion(crystal, alpha_abc);
+  }
   /// Sets one body's temperature (K), or every live body's.
   void set_temperature(BodyId id, double kelvin);
   void set_temperature(double kelvin);

@@ -18,9 +18,28 @@ void FractureBook::add_shape(std::uint32_t shape_index,
 
 void FractureBook::add_grain(const World& world, BodyId id, int grain_id,
                              const geometry::CrystalOrientation& orientation) {
-  const std::uint32_t shape = world.info(id).shape;
-  const auto it = shapes_.find(shape);
+  const auto it = shapes_.find(world.info(id).shape);
   if (it == shapes_.end()) throw std::logic_error("FractureBook: body's shape is not registered");
+  add_grain(world, id, grain_id, it->second.exact->cleavage_planes(orientation));
+}
+
+void FractureBook::set_resistance(int grain_id, std::vector<double> per_plane) {
+  if (grain_id < 0) throw std::invalid_argument("FractureBook: negative grain id");
+  if (resistance_.size() <= static_cast<std::size_t>(grain_id)) resistance_.resize(grain_id + 1);
+  resistance_[static_cast<std::size_t>(grain_id)] = std::move(per_plane);
+}
+
+double FractureBook::resistance(BodyId id, int plane) const {
+  const auto grain = static_cast<std::size_t>(record(id).lineage.grain_id);
+  if (grain >= resistance_.size()) return 1.0;
+  const std::vector<double>& r = resistance_[grain];
+  return plane >= 0 && static_cast<std::size_t>(plane) < r.size() ? r[static_cast<std::size_t>(plane)] : 1.0;
+}
+
+void FractureBook::add_grain(const World& world, BodyId id, int grain_id,
+                             std::vector<geometry::ExactPlane> planes) {
+  const std::uint32_t shape = world.info(id).shape;
+  if (shapes_.find(shape) == shapes_.end()) throw std::logic_error("FractureBook: body's shape is not registered");
   if (by_slot_.size() <= id.index) by_slot_.resize(id.index + 1);
   Record& r = by_slot_[id.index];
   r = Record{};
@@ -28,8 +47,7 @@ void FractureBook::add_grain(const World& world, BodyId id, int grain_id,
   r.used = true;
   r.lineage.grain_id = grain_id;
   r.shape = shape;
-  r.planes = std::make_shared<const std::vector<geometry::ExactPlane>>(
-      it->second.exact->cleavage_planes(orientation));
+  r.planes = std::make_shared<const std::vector<geometry::ExactPlane>>(std::move(planes));
   for (int k = 0; k < static_cast<int>(r.planes->size()); ++k) r.candidates.push_back(k);
 }
 

@@ -164,13 +164,21 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
       value = solver.eigenvalues().maxCoeff();
     }
     if (!(value > params.sigma_f)) return out;
+    // A plane of resistance r (its family's strength over sigma_f) is open once the value
+    // passes r sigma_f; of those, the one whose normal stress is the largest share of its
+    // strength is cut (with every r = 1: the largest normal stress).
     CrackAssessment best;
-    double most = -std::numeric_limits<double>::infinity();
+    double most = -std::numeric_limits<double>::infinity(), most_share = most, best_r = 1.0;
     for (const int k : book.candidates(id)) {
+      const double r = book.resistance(id, k);
+      if (!(value > r * params.sigma_f)) continue;
       const Eigen::Vector3d n = book.world_plane(world, id, k).first;
       const double normal = n.dot(sigma * n);
-      if (normal > most) {
+      const double share = r == 1.0 ? normal : normal / r;
+      if (share > most_share) {
+        most_share = share;
         most = normal;
+        best_r = r;
         best.plane = k;
       }
     }
@@ -178,7 +186,7 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     best.id = id;
     best.result.mean_stress = sigma.trace() / 3.0;
     best.result.gate = true;
-    best.result.criterion = value / params.sigma_f;
+    best.result.criterion = value / (best_r * params.sigma_f);
     best.result.fails = true;
     best.stresses.sigma = most;
     out.push_back(best);
@@ -244,7 +252,15 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     a.section_force = load.force;
     a.section_moment = load.moment;
     a.stresses = beam_stresses(load);
-    a.result = fracture_check(params, sigma, a.stresses);
+    const double r = book.resistance(id, k);
+    if (r == 1.0) {
+      a.result = fracture_check(params, sigma, a.stresses);
+    } else {
+      // The plane's family has its own toughness (eq. 3.25 with its K_Ic).
+      FractureParams own = params;
+      own.k_ic *= r;
+      a.result = fracture_check(own, sigma, a.stresses);
+    }
     out.push_back(a);
   }
   return out;

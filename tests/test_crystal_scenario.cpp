@@ -1,0 +1,172 @@
+// [crystal], [[cleavage]] and the 3D orientation laws as a scenario writes them: what they
+// set, every error naming its file, line and key, and the scenario as run read back equal.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "geometry/orientation.hpp"
+#include "io/scenario.hpp"
+#include "io/scenario_writer.hpp"
+
+using namespace cleave;
+using namespace cleave::io;
+
+namespace {
+
+const std::string kVoronoi = R"([specimen]
+shape = "voronoi"
+size = [2, 2, 2]
+grains = 6
+)";
+
+const std::string kMoving = R"(
+[contact]
+dilation_radius = 0.02
+[contact.particle_particle]
+kn = 1e5
+[contact.particle_wall]
+kn = 1e5
+[dynamics]
+dt = 1e-8
+duration = 1e-6
+)";
+
+/// Parses `text` and checks it throws at `line`, naming `key`, with `part` in the message.
+void expect_error(const std::string& text, int line, const std::string& key, const std::string& part) {
+  try {
+    (void)parse_scenario(text, "mem.toml");
+    ADD_FAILURE() << "no error for:\n" << text;
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.key(), key) << e.what();
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what() << "\n  lacks: " << part;
+  }
+}
+
+}  // namespace
+
+TEST(CrystalScenario, CorundumWithFamilyToughnessesAndUniformOrientations) {
+  const Scenario s = parse_scenario(kVoronoi + R"([crystal]
+system = "trigonal"
+c_over_a = 2.730
+[[cleavage]]
+planes = "{11-20}"
+k_ic = "2.4 MPa m^0.5"
+[[cleavage]]
+planes = "{0001}"
+k_ic = 4.5e6
+planes_per_variant = 2
+[fracture]
+k_ic = 2.4e6
+sigma_f_hyd = 0
+crack_length = 0.1
+)" + kMoving, "mem.toml");
+  const auto& c = s.specimen.crystal;
+  ASSERT_TRUE(c.enabled);
+  EXPECT_EQ(c.lattice.system, geometry::CrystalSystem::trigonal);
+  EXPECT_EQ(c.lattice.c_over_a, 2.730);
+  ASSERT_EQ(c.families.size(), 2u);
+  EXPECT_EQ(c.families[0].family.text, "{11-20}");
+  EXPECT_NEAR(c.families[0].resistance, 1.0, 1e-15);
+  EXPECT_NEAR(c.families[1].resistance, 4.5 / 2.4, 1e-15);
+  EXPECT_EQ(c.families[1].planes_per_variant, 2);
+  // With a crystal the orientations are uniform unless a law is named.
+  EXPECT_EQ(s.specimen.orientation.law, geometry::OrientationLaw::uniform);
+}
+
+TEST(CrystalScenario, TexturesReadTheirAnglesInDegrees) {
+  const Scenario p = parse_scenario(kVoronoi + R"([crystal]
+system = "cubic"
+[orientation]
+law = "preferred"
+euler = [10, 20, 30]
+spread = 5
+)", "mem.toml");
+  EXPECT_EQ(p.specimen.orientation.law, geometry::OrientationLaw::preferred);
+  EXPECT_EQ(p.specimen.orientation.euler_deg, (std::array<double, 3>{10, 20, 30}));
+  EXPECT_EQ(p.specimen.orientation.spread_deg, 5.0);
+  const Scenario f = parse_scenario(kVoronoi + R"([crystal]
+system = "hexagonal"
+c_over_a = 1.6
+[orientation]
+law = "fibre"
+crystal_direction = [0, 0, 1]
+specimen_axis = [1, 0, 0]
+)", "mem.toml");
+  EXPECT_EQ(f.specimen.orientation.law, geometry::OrientationLaw::fibre);
+  EXPECT_EQ(f.specimen.orientation.specimen_axis, Eigen::Vector3d::UnitX());
+}
+
+TEST(CrystalScenario, AnOrientationFileGivesEachGrainItsBungeAngles) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cleave_crystal_scenario_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream o(dir / "grains.ori");
+    o << "# phi1 Phi phi2\n";
+    for (int g = 0; g < 6; ++g) o << 10 * g << " " << 20 + g << " " << 5 * g << "\n";
+  }
+  const std::string text = kVoronoi + "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = \"file\"\nfile = \"grains.ori\"\n";
+  {
+    std::ofstream o(dir / "s.toml");
+    o << text;
+  }
+  const Scenario s = load_scenario(dir / "s.toml");
+  ASSERT_EQ(s.specimen.orientation.given.size(), 6u);
+  constexpr double deg = M_PI / 180.0;
+  EXPECT_TRUE(s.specimen.orientation.given[3].isApprox(geometry::from_bunge(30 * deg, 23 * deg, 15 * deg), 1e-15));
+  const Scenario back = parse_scenario(scenario_to_toml(s), "as_run.toml");
+  EXPECT_TRUE(scenario_differences(s, back).empty());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CrystalScenario, BadCrystalInputNamesItsLineAndKey) {
+  expect_error(kVoronoi + "[[cleavage]]\nplanes = \"{100}\"\n", 5, "cleavage", "need a [crystal] table");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"monoclinic\"\n", 6, "crystal.system", "cubic, hexagonal");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\nc_over_a = 1.2\n", 7, "crystal.c_over_a", "c = a");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"hexagonal\"\n", 5, "crystal.c_over_a", "missing required key");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"trigonal\"\nc_over_a = 2.73\n[[cleavage]]\nplanes = \"{1-10}\"\n", 9,
+               "cleavage[1].planes", "Miller-Bravais");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[[cleavage]]\nplanes = \"{100}\"\n[[cleavage]]\nplanes = \"{100}\"\n",
+               10, "cleavage[2].planes", "same family");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[[cleavage]]\nplanes = \"{100}\"\nk_ic = 1e6\n", 7, "cleavage[1]",
+               "needs a [fracture] table");
+  expect_error(kVoronoi + "[orientation]\nlaw = \"uniform\"\n", 6, "orientation.law", "need a [crystal] table");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = \"uniform\"\nangles = [0]\n", 9,
+               "orientation.angles", "honeycomb");
+  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = \"preferred\"\neuler = [0, 190, 0]\n", 9,
+               "orientation.euler", "[0, 180]");
+  expect_error(kVoronoi + kMoving + "[thermal]\nalpha_a = 1e-6\nalpha_b = 2e-6\nalpha_c = 3e-6\n", 17, "thermal.alpha_b",
+               "c_axis = \"crystal\"");
+  expect_error(kVoronoi + kMoving + "[thermal]\nc_axis = \"crystal\"\n", 16, "thermal.c_axis", "[crystal]");
+}
+
+TEST(CrystalScenario, TheScenarioAsRunReadsBackEqual) {
+  const Scenario s = parse_scenario(kVoronoi + R"([crystal]
+system = "orthorhombic"
+b_over_a = 1.02
+c_over_a = 0.37
+[[cleavage]]
+planes = "{010}"
+sigma_f = 3e8
+[orientation]
+law = "preferred"
+euler = [10.5, 20, 30]
+spread = 7.25
+seed = 9
+[fracture]
+criterion = "rankine"
+sigma_f = 2e8
+[thermal]
+alpha_a = -1.904e-6
+alpha_b = 9.576e-6
+alpha_c = 16.64e-6
+)" + kMoving, "mem.toml");
+  EXPECT_EQ(s.thermal.c_axis, ThermalDef::Axis::crystal);
+  EXPECT_NEAR(s.specimen.crystal.families[0].resistance, 1.5, 1e-15);
+  const std::string text = scenario_to_toml(s);
+  const Scenario back = parse_scenario(text, "as_run.toml");
+  const auto diff = scenario_differences(s, back);
+  EXPECT_TRUE(diff.empty()) << (diff.empty() ? "" : diff.front()) << "\n" << text;
+  EXPECT_EQ(scenario_to_toml(back), text);
+}
