@@ -7,6 +7,7 @@
 #include <string>
 
 #include "geometry/exact_polyhedron.hpp"
+#include "geometry/orientation.hpp"
 #include "geometry/voronoi.hpp"
 #include "io/neper_tess.hpp"
 
@@ -415,4 +416,15 @@ TEST(GrainFile, BadLinesAreRefusedNamingTheLine) {
   EXPECT_NE(error("0.5 0.5 0.5 -1 0 0 0\n").find("grains.txt:1: volume must be positive"),
             std::string::npos);
   EXPECT_NE(error("0.5 0.5 0.5 0.5 0 0 0\n").find("sum to"), std::string::npos);
+}
+
+TEST(NeperOrientation, BungeConversionAgreesWithTheOrientationLibrary) {
+  // Both follow the binding convention (crystal -> specimen = g^T); they must agree.
+  const double d = M_PI / 180.0;
+  for (const auto& e :
+       {Eigen::Vector3d(30, 40, 50), Eigen::Vector3d(200, 10, 300), Eigen::Vector3d(0, 90, 0)}) {
+    const Eigen::Quaterniond a = io::quaternion_from_bunge_degrees(e[0], e[1], e[2]);
+    const Eigen::Quaterniond b = g::from_bunge(e[0] * d, e[1] * d, e[2] * d);
+    EXPECT_LT((a.toRotationMatrix() - b.toRotationMatrix()).norm(), 1e-12) << e.transpose();
+  }
 }
