@@ -154,6 +154,16 @@ ExactPlane ExactPlane::bisector(const Eigen::Vector3d& p, const Eigen::Vector3d&
   return make_plane(CGAL::bisector(a, b));
 }
 
+ExactPlane ExactPlane::power_bisector(const Eigen::Vector3d& p, double wp, const Eigen::Vector3d& q,
+                                      double wq, const Eigen::Vector3d& shift) {
+  const Point3 a = to_point(p), b = to_point(q) + (to_point(shift) - CGAL::ORIGIN);
+  if (a == b) throw GeometryError("power bisector of a point with itself");
+  const Kernel::Vector_3 pa = a - CGAL::ORIGIN, pb = b - CGAL::ORIGIN;
+  // (a x + d) = (|x - q'|^2 - wq) - (|x - p|^2 - wp): positive where p's power is smaller.
+  const Kernel::Vector_3 n = FT(2) * (pa - pb);
+  return make_plane(Plane3(n.x(), n.y(), n.z(), pb.squared_length() - pa.squared_length() - FT(wq) + FT(wp)));
+}
+
 ExactPlane ExactPlane::opposite() const { return make_plane(impl_->plane.opposite()); }
 
 Eigen::Vector3d ExactPlane::normal_approx() const {
@@ -692,6 +702,19 @@ SplitResult ExactPolyhedron::split(const ExactPlane& exact_plane, double min_vol
   result.below = std::move(b);
   result.above = std::move(a);
   return result;
+}
+
+std::optional<ExactPolyhedron> ExactPolyhedron::clipped(const ExactPlane& exact_plane) const {
+  const Plane3& plane = ExactAccess::plane(exact_plane);
+  int pos = 0, neg = 0;
+  for (const auto& v : impl_->vertices) {
+    const auto side = plane.oriented_side(v);
+    pos += side == CGAL::ON_POSITIVE_SIDE;
+    neg += side == CGAL::ON_NEGATIVE_SIDE;
+  }
+  if (neg == 0) return *this;
+  if (pos == 0) return std::nullopt;
+  return split(exact_plane).above;
 }
 
 // ---------------------------------------------------------------------------------------

@@ -76,6 +76,14 @@ class ExactPlane {
   /// The bisector of `p` and `q + shift`, the sum taken exactly (an image of q in a
   /// periodic box: the bisectors of images match their translates exactly).
   static ExactPlane bisector(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& shift);
+  /// The power (Laguerre) bisector of `p` with weight `wp` and `q + shift` with weight `wq`:
+  /// the points x with |x - p|^2 - wp = |x - q'|^2 - wq, i.e.
+  /// 2 (q' - p) . x = |q'|^2 - |p|^2 - (wq - wp), every term formed exactly from the doubles.
+  /// Its positive side is where p's power is the smaller (p's cell), which need not hold p.
+  /// Throws if p == q'.
+  static ExactPlane power_bisector(const Eigen::Vector3d& p, double wp, const Eigen::Vector3d& q,
+                                   double wq,
+                                   const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
 
   [[nodiscard]] ExactPlane opposite() const;
   /// The area of a region of this plane whose projection (ExactPolyhedron::
@@ -173,6 +181,10 @@ class ExactPolyhedron {
   /// when either part would be smaller than `min_volume_fraction` of this volume.
   /// Planes through vertices, along edges or touching faces are handled exactly.
   [[nodiscard]] SplitResult split(const ExactPlane& plane, double min_volume_fraction = 0.0) const;
+
+  /// The part on the closed positive side of `plane`, exactly: this shape when no vertex is
+  /// strictly below it, nothing when no vertex is strictly above it (no interior left).
+  [[nodiscard]] std::optional<ExactPolyhedron> clipped(const ExactPlane& plane) const;
 
   /// Splits the shape into its cleavage slabs (figs 2.8/2.9; see cleavage_planes), ordered
   /// along the cleavage normal. For the prism every plane passes through existing

@@ -1,12 +1,13 @@
 #include "geometry/specimen.hpp"
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <map>
-#include <tuple>
 #include <stdexcept>
+#include <tuple>
 
+#include "geometry/laguerre.hpp"
 #include "geometry/orientation.hpp"
 
 namespace cleave::geometry {
@@ -87,12 +88,29 @@ Specimen build_specimen(const SpecimenDef& def) {
     require(!def.angles.empty(), "angles must not be empty");
     for (int a : def.angles) require(a == 0 || a == 60 || a == 120, "angles must be 0, 60 or 120");
   }
+  if (def.kind == SpecimenKind::voronoi && def.voronoi.lognormal) {
+    const VoronoiDef& v = def.voronoi;
+    require(v.gap == 0.0, "a log-normal (Laguerre) specimen has no gap");
+    LaguerreTessellation t = lognormal_laguerre(v.size, v.cells, v.size_spread, v.seed, v.periodic);
+    // A Laguerre cell need not hold its point: the frame's origin is the mean of its
+    // (rounded) vertices, inside the convex cell and cheap beside its exact centroid.
+    std::vector<Eigen::Vector3d> centres;
+    for (const auto& cell : t.cells) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      const auto vertices = cell.vertices_approx();
+      for (const auto& v : vertices) mean += v / static_cast<double>(vertices.size());
+      centres.push_back(mean);
+    }
+    return place_grains(def, t.cells, centres);
+  }
   if (def.kind == SpecimenKind::voronoi) {
     const std::vector<ExactPolyhedron> cells = voronoi_cells(def.voronoi);
     return place_grains(def, cells, voronoi_points(def.voronoi));
   }
   if (def.kind == SpecimenKind::meshes) {
     require(!def.custom_grains.empty(), "a mesh specimen needs at least one grain");
+    require(def.orientations.empty() || def.orientations.size() == def.custom_grains.size(),
+            "one orientation per grain, or none");
     std::vector<ExactPolyhedron> shapes;
     std::vector<Eigen::Vector3d> centres;
     for (const auto& c : def.custom_grains) {

@@ -4,6 +4,7 @@
 /// crystallographic orientation; and the fragments they are cut into.
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -69,6 +70,9 @@ struct SpecimenDef {
   OrientationDef orientation;  ///< with `crystal`: how its orientations are drawn
   VoronoiDef voronoi;      ///< SpecimenKind::voronoi (its size is also `outline`'s)
   std::vector<CustomGrainDef> custom_grains;  ///< SpecimenKind::meshes, in grain id order
+  /// Per grain (in grain id order), its crystal orientation as given by an imported
+  /// microstructure: the rotation from crystal to specimen coordinates. Empty: none given.
+  std::vector<Eigen::Quaterniond> orientations;
 };
 
 struct Grain {
@@ -102,10 +106,11 @@ struct Specimen {
 
 /// Builds the specimen: for SpecimenKind::lattice the lattice sites whose cell fits the
 /// outline; for voronoi the cells of `def.voronoi` (each moved so its point is the grain
-/// frame's origin, exactly); for meshes each custom grain moved so its rounded centroid is
-/// the origin (exactly). Orientations are drawn per grain id in every case.
-/// Throws std::invalid_argument for impossible definitions (non-positive sizes, r_bar > r,
-/// t_bar > t, family_mix outside [0, 1], angles other than 0/60/120, no custom grains).
+/// frame's origin, exactly; log-normal Laguerre cells so the mean of their vertices is); for
+/// meshes each custom grain moved so its rounded centroid is the origin (exactly). Orientations are
+/// drawn per grain id in every case. Throws std::invalid_argument for impossible definitions
+/// (non-positive sizes, r_bar > r, t_bar > t, family_mix outside [0, 1], angles other than
+/// 0/60/120, no custom grains).
 Specimen build_specimen(const SpecimenDef& def);
 
 /// The exact cleavage planes of grain `g` (grain coordinates): the honeycomb crystal's

@@ -28,6 +28,12 @@ struct VoronoiDef {
   /// reaches across it, matching its neighbours' images there); along the other axes the
   /// cells are cut by the box.
   std::array<bool, 3> periodic{false, false, false};
+  /// false: the Voronoi cells of the points. true: Laguerre cells of the same points whose
+  /// volumes follow a log-normal distribution of equivalent-sphere diameters with
+  /// coefficient of variation `size_spread` (geometry/laguerre.hpp, lognormal_laguerre);
+  /// needs gap 0; periodic axes as above (laguerre_box_cells).
+  bool lognormal = false;
+  double size_spread = 0.35;  ///< standard deviation / mean of the equivalent diameters
 };
 
 /// The seed points: point i is uniform in the box, drawn from its own stream of `seed`.

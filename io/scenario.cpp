@@ -19,10 +19,12 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/laguerre.hpp"
 #include "io/budget.hpp"
 #include "io/field_expression.hpp"
 #include "io/material_library.hpp"
 #include "io/mesh_grains.hpp"
+#include "io/neper_tess.hpp"
 #include "io/orientation_file.hpp"
 #include "io/result_dir.hpp"
 #include "io/toml_reader.hpp"
@@ -85,10 +87,10 @@ void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
 
 // ---- [specimen] ---------------------------------------------------------------------------
 
-constexpr std::string_view kSpecimenKeys[] = {"shape",       "size",        "diameter",
-                                              "thickness",   "length",      "height",
-                                              "notch_width", "notch_depth", "keep",
-                                              "grains",      "gap",         "seed"};
+constexpr std::string_view kSpecimenKeys[] = {
+    "shape",       "size",        "diameter",    "thickness", "length", "height",
+    "notch_width", "notch_depth", "keep",        "grains",    "gap",    "seed",
+    "sizes",       "size_mean",   "size_spread", "file",      "scale"};
 constexpr std::string_view kCommonSpecimenKeys[] = {"shape", "keep"};
 constexpr std::string_view kBoxKeys[] = {"size"};
 constexpr std::string_view kDiscKeys[] = {"diameter", "thickness"};
@@ -145,7 +147,11 @@ Outline read_beam(const TableReader& t) {
 }
 
 // Specimens that make their own grains (no honeycomb lattice, no [grain] table).
-constexpr std::string_view kVoronoiKeys[] = {"size", "grains", "gap", "seed"};
+constexpr std::string_view kVoronoiKeys[] = {"size",  "grains",    "gap",        "seed",
+                                             "sizes", "size_mean", "size_spread"};
+// Imported microstructures: a Neper .tess (its own domain) or a grain file in a box.
+constexpr std::string_view kTessKeys[] = {"file", "scale"};
+constexpr std::string_view kGrainFileKeys[] = {"size", "file", "scale"};
 constexpr int kMaxVoronoiCells = 10000;
 
 Outline read_no_outline(const TableReader&) {
@@ -158,6 +164,8 @@ constexpr ShapeSpec kShapes[] = {
     {"beam", kBeamKeys, &read_beam},
     {"voronoi", kVoronoiKeys, &read_box},
     {"mesh", {}, &read_no_outline},
+    {"tess", kTessKeys, &read_no_outline},
+    {"grain_file", kGrainFileKeys, &read_box},
 };
 
 /// shape = "voronoi": the cells' count, gap and point seed; the points are checked against
@@ -165,9 +173,47 @@ constexpr ShapeSpec kShapes[] = {
 void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def) {
   def.kind = geometry::SpecimenKind::voronoi;
   def.voronoi.size = def.outline.size;
-  if (t.find("grains") == nullptr) t.fail_absent("grains", "missing required key: the number of Voronoi cells");
-  const std::int64_t cells = t.integer("grains", 1, 1);
-  if (cells > kMaxVoronoiCells) {
+  const std::vector<Choice<bool>> sizes = {{"voronoi", false}, {"lognormal", true}};
+  def.voronoi.lognormal = t.choose("sizes", sizes, std::optional(false));
+  const toml::node* mean_node = t.find("size_mean");
+  if (!def.voronoi.lognormal) {
+    for (std::string_view key : {"size_mean", "size_spread"}) {
+      if (const toml::node* n = t.find(key))
+        t.fail(*n, key, "applies to sizes = \"lognormal\" (Laguerre cells with log-normal sizes)");
+    }
+  } else {
+    def.voronoi.size_spread = t.number("size_spread", Range::non_negative(), 0.35).value;
+    if (mean_node != nullptr && t.find("grains") != nullptr) {
+      t.fail(*mean_node, "size_mean",
+             "give grains or size_mean, not both: size_mean sets the number of grains");
+    }
+    if (const toml::node* gap = t.find("gap")) {
+      t.fail(*gap, "gap", "log-normal (Laguerre) cells tile the box: no gap");
+    }
+  }
+  std::int64_t cells = 0;
+  if (def.voronoi.lognormal && mean_node != nullptr) {
+    const Number mean = t.number("size_mean", Range::positive());
+    const geometry::Outline& o = def.outline;
+    try {
+      cells = geometry::lognormal_grain_count(o.size.x() * o.size.y() * o.size.z(), mean.value,
+                                              def.voronoi.size_spread);
+    } catch (const std::invalid_argument& e) {
+      t.fail(*mean_node, "size_mean", e.what());
+    }
+    if (cells > kMaxVoronoiCells) {
+      t.fail(*mean_node, "size_mean",
+             fmt::format("makes {} grains in the box; at most {}", cells, kMaxVoronoiCells));
+    }
+  } else {
+    if (t.find("grains") == nullptr) {
+      t.fail_absent("grains", def.voronoi.lognormal
+                                  ? "missing required key: the number of cells (or size_mean)"
+                                  : "missing required key: the number of Voronoi cells");
+    }
+    cells = t.integer("grains", 1, 1);
+  }
+  if (cells > kMaxVoronoiCells && t.find("grains") != nullptr) {
     t.fail(*t.find("grains"), "grains", fmt::format("must be <= {}, found {}", kMaxVoronoiCells, cells));
   }
   def.voronoi.cells = static_cast<int>(cells);
@@ -213,13 +259,14 @@ void read_specimen_table(const TableReader& t, double unit, geometry::SpecimenDe
   }
 
   def.outline = shape.read(t);
-  if (shape.name == "voronoi" || shape.name == "mesh") {
+  if (shape.name == "voronoi" || shape.name == "mesh" || shape.name == "tess" ||
+      shape.name == "grain_file") {
     if (const toml::node* keep = t.find("keep")) {
       t.fail(*keep, "keep", fmt::format("applies to the lattice shapes 'box', 'disc', 'beam'; "
                                         "shape '{}' makes its own grains", shape.name));
     }
     if (shape.name == "voronoi") read_voronoi(t, unit, def);
-    if (shape.name == "mesh") def.kind = geometry::SpecimenKind::meshes;
+    if (shape.name != "voronoi") def.kind = geometry::SpecimenKind::meshes;
     return;
   }
   const std::vector<Choice<KeepRule>> rules = {{"cell_inside", KeepRule::cell_inside},
@@ -348,6 +395,59 @@ void read_own_grains(const toml::table& root, const std::string& source, const U
     for (const auto& v : g.shape.vertices_approx()) hi = hi.cwiseMax(v);
   }
   def.outline = Outline::box(std::max(hi.x(), 1e-9), std::max(hi.y(), 1e-9), std::max(hi.z(), 1e-9));
+}
+
+/// shape = "tess" or "grain_file": the grains of a Neper .tess or of a grain file (its path
+/// relative to the scenario's folder, lengths times `scale`), exact and tiling their domain;
+/// their orientations go to specimen.orientations.
+void read_imported_grains(const toml::table& root, const std::string& source,
+                          const UnitContext* units, Scenario& s) {
+  const std::string shape = specimen_shape(root);
+  if (const auto* grain = root.get_as<toml::table>("grain")) {
+    TableReader(source, "grain", grain)
+        .fail_table(fmt::format("[grain] sets the honeycomb lattice's cells; specimen shape '{}' "
+                                "takes its grains from its file: remove [grain]",
+                                shape));
+  }
+  if (const auto* meshes = root.get_as<toml::array>("mesh_grain")) {
+    const toml::node& first = *meshes->get(0);
+    throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "mesh_grain",
+                        "[[mesh_grain]] tables need [specimen] shape = \"mesh\"");
+  }
+  const TableReader t(source, "specimen", root.get_as<toml::table>("specimen"), units);
+  const std::string file = t.string("file");
+  if (file.empty()) t.fail(*t.find("file"), "file", "must not be empty");
+  const std::filesystem::path folder = std::filesystem::path(source).parent_path();
+  TessellationFileSpec spec;
+  spec.shape = shape;
+  spec.file =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : folder / file;
+  spec.scale = t.number("scale", Range::positive(), units->length_unit).value;  // 1 length unit
+  ImportedTessellation imported;
+  try {
+    imported = shape == "tess" ? read_neper_tess(spec.file, spec.scale)
+                               : read_grain_file(spec.file, spec.scale, s.specimen.outline.size);
+  } catch (const TessellationFileError& e) {
+    t.fail(*t.find("file"), "file", e.what());
+  } catch (const std::invalid_argument& e) {
+    t.fail(*t.find("file"), "file", fmt::format("{}: {}", spec.file.string(), e.what()));
+  }
+  const std::string name = spec.file.filename().string();
+  for (std::size_t i = 0; i < imported.cells.size(); ++i) {
+    s.specimen.custom_grains.push_back(
+        {fmt::format("{}#{}", name, imported.ids[i]), imported.cells[i]});
+  }
+  s.specimen.orientations = imported.orientations;
+  if (shape == "tess") {  // the domain's extent, as for mesh grains
+    Eigen::Vector3d hi = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+    for (const auto& g : s.specimen.custom_grains) {
+      for (const auto& v : g.shape.vertices_approx()) hi = hi.cwiseMax(v);
+    }
+    s.specimen.outline =
+        Outline::box(std::max(hi.x(), 1e-9), std::max(hi.y(), 1e-9), std::max(hi.z(), 1e-9));
+  }
+  spec.file = std::filesystem::absolute(spec.file);
+  s.tessellation = spec;
 }
 
 // ---- [orientation] ------------------------------------------------------------------------
@@ -1247,8 +1347,10 @@ std::vector<SizeKey> specimen_size_keys(const toml::table& root, const Scenario&
       break;
     case geometry::SpecimenKind::voronoi:
       add(specimen ? specimen->get("grains") : nullptr, "specimen.grains");
+      add(specimen ? specimen->get("size_mean") : nullptr, "specimen.size_mean");
       break;
     case geometry::SpecimenKind::meshes:
+      if (s.tessellation) add(specimen ? specimen->get("file") : nullptr, "specimen.file");
       if (const auto* tables = root.get_as<toml::array>("mesh_grain"))
         for (std::size_t i = 0; i < tables->size() && i < 3; ++i)
           if (const auto* g = tables->get(i)->as_table())
@@ -1277,7 +1379,9 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
                           std::string(name),
                           fmt::format("expected a table, found {}", type_name(*node)));
     }
-    const bool own_grains = specimen_shape(root) == "voronoi" || specimen_shape(root) == "mesh";
+    const std::string shape_name = specimen_shape(root);
+    const bool own_grains = shape_name == "voronoi" || shape_name == "mesh" ||
+                            shape_name == "tess" || shape_name == "grain_file";
     if (node == nullptr && contains(kRequiredTables, name) && !(name == "grain" && own_grains)) {
       throw ScenarioError(source, 1, 1, std::string(name),
                           fmt::format("missing required table [{}]", name));
@@ -1303,6 +1407,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
       throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "mesh_grain",
                           "[[mesh_grain]] tables need [specimen] shape = \"mesh\"");
     }
+  } else if (specimen_shape(root) == "tess" || specimen_shape(root) == "grain_file") {
+    read_imported_grains(root, source, &units, s);
   } else {
     read_own_grains(root, source, &units, s.specimen, s.mesh_grains);
   }

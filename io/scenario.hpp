@@ -5,10 +5,10 @@
 /// errors that name the file, line, column and key.
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
-
 #include <vector>
 
 #include "geometry/specimen.hpp"
@@ -16,9 +16,9 @@
 #include "io/mesh_io.hpp"
 #include "physics/bonds/bond_law.hpp"
 #include "physics/dem/contact_law.hpp"
-#include "physics/transgranular/fracture_criterion.hpp"
 #include "physics/dem/neighbour_search.hpp"
 #include "physics/dem/wall.hpp"
+#include "physics/transgranular/fracture_criterion.hpp"
 
 namespace cleave::io {
 
@@ -234,6 +234,13 @@ double length_unit_metres(std::string_view name);
 /// The `length_unit` of a scenario file that names none: what its bare lengths are in.
 std::string_view default_length_unit();
 
+/// [specimen] shape = "tess" or "grain_file": where the grains were read from (SI).
+struct TessellationFileSpec {
+  std::string shape;           ///< "tess" or "grain_file"
+  std::filesystem::path file;  ///< absolute
+  double scale = 1.0;          ///< file lengths x scale = metres
+};
+
 struct Scenario {
   std::string source;            ///< file path (or a name for in-memory text)
   std::string name;              ///< [scenario] name, default: the file stem
@@ -261,6 +268,9 @@ struct Scenario {
   /// [[mesh_grain]] entries as read (absolute paths, SI); their grains are in
   /// specimen.custom_grains.
   std::vector<MeshGrainSpec> mesh_grains;
+  /// shape = "tess" or "grain_file": the file read; its grains are in specimen.custom_grains
+  /// and its orientations in specimen.orientations.
+  std::optional<TessellationFileSpec> tessellation;
 };
 
 /// Reads and validates a scenario file. Throws ScenarioError (file, line, key) for a

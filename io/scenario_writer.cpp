@@ -65,8 +65,21 @@ std::string scenario_to_toml(const Scenario& s) {
   const geometry::SpecimenDef& d = s.specimen;
   const geometry::Outline& o = d.outline;
   if (d.kind == geometry::SpecimenKind::voronoi) {
-    out += fmt::format("\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\ngap = {}\nseed = {}\n",
-                       vec(d.voronoi.size), d.voronoi.cells, num(d.voronoi.gap), d.voronoi.seed);
+    if (d.voronoi.lognormal) {
+      out += fmt::format(
+          "\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\nseed = {}\nsizes = "
+          "\"lognormal\"\nsize_spread = {}\n",
+          vec(d.voronoi.size), d.voronoi.cells, d.voronoi.seed, num(d.voronoi.size_spread));
+    } else {
+      out += fmt::format(
+          "\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\ngap = {}\nseed = {}\n",
+          vec(d.voronoi.size), d.voronoi.cells, num(d.voronoi.gap), d.voronoi.seed);
+    }
+  } else if (d.kind == geometry::SpecimenKind::meshes && s.tessellation) {
+    const TessellationFileSpec& t = *s.tessellation;
+    out += fmt::format("\n[specimen]\nshape = {}\nfile = {}\nscale = {}\n", str(t.shape),
+                       str(t.file.string()), num(t.scale));
+    if (t.shape == "grain_file") out += fmt::format("size = {}\n", vec(d.outline.size));
   } else if (d.kind == geometry::SpecimenKind::meshes) {
     out += "\n[specimen]\nshape = \"mesh\"\n";
     for (const MeshGrainSpec& m : s.mesh_grains) {
@@ -74,24 +87,25 @@ std::string scenario_to_toml(const Scenario& s) {
                          str(m.file.string()), num(m.scale), vec(m.offset), boolean(m.convex_hull));
     }
   } else {
-  out += fmt::format("\n[specimen]\nshape = \"{}\"\n", outline_name(o.kind));
-  switch (o.kind) {
-    case geometry::Outline::Kind::box:
-      out += fmt::format("size = {}\n", vec(o.size));
-      break;
-    case geometry::Outline::Kind::disc:
-      out += fmt::format("diameter = {}\nthickness = {}\n", num(o.size.x()), num(o.size.z()));
-      break;
-    case geometry::Outline::Kind::beam:
-      out += fmt::format("length = {}\nheight = {}\nthickness = {}\nnotch_width = {}\nnotch_depth = {}\n",
-                         num(o.size.x()), num(o.size.y()), num(o.size.z()), num(o.notch_width),
-                         num(o.notch_depth));
-      break;
-  }
-  out += fmt::format("keep = \"{}\"\n",
-                     d.keep == geometry::KeepRule::cell_inside ? "cell_inside" : "centre_inside");
-  out += fmt::format("\n[grain]\nr = {}\nr_bar = {}\nt = {}\nt_bar = {}\n", num(d.r), num(d.r_bar),
-                     num(d.t), num(d.t_bar));
+    out += fmt::format("\n[specimen]\nshape = \"{}\"\n", outline_name(o.kind));
+    switch (o.kind) {
+      case geometry::Outline::Kind::box:
+        out += fmt::format("size = {}\n", vec(o.size));
+        break;
+      case geometry::Outline::Kind::disc:
+        out += fmt::format("diameter = {}\nthickness = {}\n", num(o.size.x()), num(o.size.z()));
+        break;
+      case geometry::Outline::Kind::beam:
+        out += fmt::format(
+            "length = {}\nheight = {}\nthickness = {}\nnotch_width = {}\nnotch_depth = {}\n",
+            num(o.size.x()), num(o.size.y()), num(o.size.z()), num(o.notch_width),
+            num(o.notch_depth));
+        break;
+    }
+    out += fmt::format("keep = \"{}\"\n",
+                       d.keep == geometry::KeepRule::cell_inside ? "cell_inside" : "centre_inside");
+    out += fmt::format("\n[grain]\nr = {}\nr_bar = {}\nt = {}\nt_bar = {}\n", num(d.r),
+                       num(d.r_bar), num(d.t), num(d.t_bar));
   }  // lattice specimens
   if (d.crystal.enabled) {
     const geometry::CrystalLattice& l = d.crystal.lattice;
@@ -336,6 +350,12 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("specimen.grains", sa.voronoi.cells, sb.voronoi.cells);
   d.same("specimen.gap", sa.voronoi.gap, sb.voronoi.gap);
   d.same("specimen.seed", sa.voronoi.seed, sb.voronoi.seed);
+  d.same("specimen.sizes", sa.voronoi.lognormal, sb.voronoi.lognormal);
+  d.same("specimen.size_spread", sa.voronoi.size_spread, sb.voronoi.size_spread);
+  d.same("specimen.file", a.tessellation ? a.tessellation->file : std::filesystem::path(),
+         b.tessellation ? b.tessellation->file : std::filesystem::path());
+  d.same("specimen.scale", a.tessellation ? a.tessellation->scale : 0.0,
+         b.tessellation ? b.tessellation->scale : 0.0);
   d.same("mesh_grain", a.mesh_grains.size(), b.mesh_grains.size());
   for (std::size_t i = 0; i < std::min(a.mesh_grains.size(), b.mesh_grains.size()); ++i) {
     const std::string key = fmt::format("mesh_grain[{}]", i + 1);

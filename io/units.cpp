@@ -294,6 +294,8 @@ std::span<const KeyDimension> scenario_key_dimensions() {
       {"specimen.notch_width", D::length, 1},
       {"specimen.notch_depth", D::length, 1},
       {"specimen.gap", D::length, 1},
+      {"specimen.size_mean", D::length, 1},
+      {"specimen.scale", D::length, 1},
       {"mesh_grain.scale", D::length, 1},
       {"mesh_grain.position", D::length, 1},
       {"grain.r", D::length, 1},

@@ -49,14 +49,26 @@ std::string describe_own_grains(const Specimen& s) {
     const Eigen::Vector3d mm = def.voronoi.size * 1e3;
     const geometry::ExactScalar cells = geometry::total_volume(s.shapes);
     const geometry::ExactScalar box = geometry::exact_box(Eigen::Vector3d::Zero(), def.voronoi.size).volume();
-    return fmt::format("  specimen   {} Voronoi cells in a box {:g} x {:g} x {:g} mm (point seed {}, "
-                       "gap {:g} mm); the cells' exact volumes {}",
-                       s.grains.size(), mm.x(), mm.y(), mm.z(), def.voronoi.seed, def.voronoi.gap * 1e3,
-                       cells == box ? std::string("sum exactly to the box's")
-                                    : fmt::format("fill {:.2f}% of the box", 100 * cells.to_double() / box.to_double()));
+    return fmt::format(
+        "  specimen   {} {} in a box {:g} x {:g} x {:g} mm (point seed {}, "
+        "gap {:g} mm); the cells' exact volumes {}",
+        s.grains.size(),
+        def.voronoi.lognormal
+            ? fmt::format("Laguerre cells (log-normal sizes, spread {:g})", def.voronoi.size_spread)
+            : std::string("Voronoi cells"),
+        mm.x(), mm.y(), mm.z(), def.voronoi.seed, def.voronoi.gap * 1e3,
+        cells == box
+            ? std::string("sum exactly to the box's")
+            : fmt::format("fill {:.2f}% of the box", 100 * cells.to_double() / box.to_double()));
   }
   std::string names;
-  for (const auto& g : def.custom_grains) names += (names.empty() ? "" : ", ") + g.name;
+  for (std::size_t i = 0; i < def.custom_grains.size(); ++i) {
+    if (i == 3 && def.custom_grains.size() > 4) {  // an imported tessellation has many
+      names += fmt::format(", ... {}", def.custom_grains.back().name);
+      break;
+    }
+    names += (names.empty() ? "" : ", ") + def.custom_grains[i].name;
+  }
   return fmt::format("  specimen   {} grains from meshes: {}", s.grains.size(), names);
 }
 
