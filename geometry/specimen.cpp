@@ -23,6 +23,10 @@ namespace {
 /// Each grain's crystal: the honeycomb's turn about z, or with [crystal] its law's draw.
 void orient_grains(const SpecimenDef& def, std::vector<Grain>& grains) {
   const OrientationDef& o = def.orientation;
+  if (def.crystal.enabled && o.law == OrientationLaw::imported && def.orientations.size() != grains.size()) {
+    throw std::invalid_argument("the specimen file gives " + std::to_string(def.orientations.size()) +
+                                " orientations for " + std::to_string(grains.size()) + " grains");
+  }
   if (def.crystal.enabled && o.law == OrientationLaw::given && o.given.size() != grains.size()) {
     throw std::invalid_argument("the orientation file gives " + std::to_string(o.given.size()) +
                                 " orientations for " + std::to_string(grains.size()) +
@@ -46,6 +50,7 @@ void orient_grains(const SpecimenDef& def, std::vector<Grain>& grains) {
         break;
       case OrientationLaw::preferred: g.crystal = preferred_orientation(def.seed, id, mean, spread); break;
       case OrientationLaw::given: g.crystal = o.given[static_cast<std::size_t>(g.id)]; break;
+      case OrientationLaw::imported: g.crystal = def.orientations.at(static_cast<std::size_t>(g.id)); break;
       case OrientationLaw::honeycomb: break;
     }
   }

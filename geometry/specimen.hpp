@@ -32,6 +32,7 @@ enum class OrientationLaw {
   fibre,      ///< a crystal direction along a specimen axis, the turn about it uniform
   preferred,  ///< one orientation with a spread
   given,      ///< one per grain, read from a file
+  imported,   ///< the specimen file's own (a Neper .tess, a grain file): SpecimenDef::orientations
 };
 
 /// The orientation law and its parameters, as a scenario gives them (degrees).

@@ -512,8 +512,16 @@ void read_orientation_table(const TableReader& t, geometry::SpecimenDef& def) {
                                     {"uniform", OrientationLaw::uniform},
                                     {"fibre", OrientationLaw::fibre},
                                     {"preferred", OrientationLaw::preferred},
-                                    {"file", OrientationLaw::given}},
-                                   def.crystal.enabled ? OrientationLaw::uniform : OrientationLaw::honeycomb);
+                                    {"file", OrientationLaw::given},
+                                    {"imported", OrientationLaw::imported}},
+                                   !def.crystal.enabled         ? OrientationLaw::honeycomb
+                                   : def.orientations.empty() ? OrientationLaw::uniform
+                                                              : OrientationLaw::imported);
+  if (o.law == OrientationLaw::imported && def.orientations.empty()) {
+    t.fail(*t.find("law"), "law",
+           "\"imported\" takes the orientations of the specimen's file (shape = \"tess\" with *ori, or "
+           "\"grain_file\"); this specimen has none");
+  }
   if (o.law != OrientationLaw::honeycomb && !def.crystal.enabled) {
     t.fail(*t.find("law"), "law", "3D orientations need a [crystal] table (the grains' crystal system and cleavage planes)");
   }

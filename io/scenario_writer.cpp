@@ -136,6 +136,7 @@ std::string scenario_to_toml(const Scenario& s) {
                          num(law.euler_deg[0]), num(law.euler_deg[1]), num(law.euler_deg[2]));
       break;
     case OrientationLaw::given: out += fmt::format("law = \"file\"\nfile = {}\n", str(law.file)); break;
+    case OrientationLaw::imported: out += "law = \"imported\"\n"; break;
   }
   out += fmt::format("\n[split]\nmin_fragment_fraction = {}\n", num(s.split.min_fragment_fraction));
   out += fmt::format("\n[output]\nmesh_format = \"{}\"\nmesh_layout = \"{}\"\nframe_meshes = {}\n",

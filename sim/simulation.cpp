@@ -133,6 +133,7 @@ const char* orientation_law_name(geometry::OrientationLaw law) {
     case geometry::OrientationLaw::fibre: return "fibre";
     case geometry::OrientationLaw::preferred: return "preferred";
     case geometry::OrientationLaw::given: return "from a file";
+    case geometry::OrientationLaw::imported: return "from the specimen's file";
   }
   return "?";
 }

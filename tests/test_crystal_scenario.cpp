@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "geometry/orientation.hpp"
+#include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 
@@ -169,4 +170,29 @@ alpha_c = 16.64e-6
   const auto diff = scenario_differences(s, back);
   EXPECT_TRUE(diff.empty()) << (diff.empty() ? "" : diff.front()) << "\n" << text;
   EXPECT_EQ(scenario_to_toml(back), text);
+}
+
+TEST(CrystalScenario, ATessellationsOwnOrientationsBecomeTheGrainsCrystals) {
+  // The hand-written two_halves.tess gives Bunge (90, 0, 0) and (0, 90, 0), passive: with a
+  // [crystal] and no law, each grain's crystal is its cell's orientation.
+  const auto dir = std::filesystem::temp_directory_path() / ("cleave_crystal_tess_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string tess = std::string(CLEAVE_SOURCE_DIR) + "/scenarios/tessellations/two_halves.tess";
+  {
+    std::ofstream o(dir / "s.toml");
+    o << "[specimen]\nshape = \"tess\"\nfile = \"" << tess << "\"\n[crystal]\nsystem = \"cubic\"\n";
+  }
+  const Scenario s = load_scenario(dir / "s.toml");
+  EXPECT_EQ(s.specimen.orientation.law, geometry::OrientationLaw::imported);
+  const geometry::Specimen sp = geometry::build_specimen(s.specimen);
+  ASSERT_EQ(sp.grains.size(), 2u);
+  // (90, 0, 0): the crystal x axis along specimen y; (0, 90, 0): the crystal z axis along -y.
+  EXPECT_TRUE((sp.grains[0].crystal * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+  EXPECT_TRUE((sp.grains[1].crystal * Eigen::Vector3d::UnitZ()).isApprox(-Eigen::Vector3d::UnitY(), 1e-12));
+  const Scenario back = parse_scenario(scenario_to_toml(s), "as_run.toml");
+  EXPECT_TRUE(scenario_differences(s, back).empty());
+  expect_error("[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 2\n[crystal]\nsystem = \"cubic\"\n"
+               "[orientation]\nlaw = \"imported\"\n",
+               8, "orientation.law", "has none");
+  std::filesystem::remove_all(dir);
 }
