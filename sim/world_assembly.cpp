@@ -597,7 +597,21 @@ AssembledWorld assemble_world(const Scenario& scenario, const geometry::Specimen
   physics::World world(ws);
   // World shape k is specimen shape k (sim/dynamics.cpp registers them so with the fracture book).
   std::vector<std::uint32_t> ids;
-  for (const auto& shape : shapes) ids.push_back(world.add_shape(shape));
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    try {
+      ids.push_back(world.add_shape(shapes[k]));
+    } catch (const std::invalid_argument& e) {
+      // Name the grain: shape k is the first grain of that shape.
+      int grain = -1;
+      for (const auto& g : specimen.grains) {
+        if (g.shape == static_cast<int>(k)) {
+          grain = g.id;
+          break;
+        }
+      }
+      throw std::invalid_argument(fmt::format("{}: grain {}: {}", scenario.source, grain, e.what()));
+    }
+  }
   std::vector<double> shape_low;
   for (const auto& s : specimen.shapes) {
     double low = std::numeric_limits<double>::infinity();

@@ -5,6 +5,7 @@
 
 #include <set>
 
+#include "geometry/polygon_mesh.hpp"
 #include "physics/transgranular/fracture_book.hpp"
 #include "physics/transgranular/transgranular.hpp"
 
@@ -441,4 +442,58 @@ TEST(DAlembert, APushedGrainsSectionDrivesTheFarHalfWithItsMassTimesTheAccelerat
   const Eigen::Vector3d n = s.book.world_plane(s.world, g, a.plane).first;
   EXPECT_LT((a.section_force + 0.5 * push * n).norm(), 1e-6 * push)
       << a.section_force.transpose() << " vs " << (-0.5 * push * n).transpose();
+}
+
+namespace {
+/// A right prism on a regular n-gon of circumradius r, height h, centred on the origin.
+geometry::ExactPolyhedron polygon_prism(int n, double r, double h) {
+  geometry::PolygonMesh m;
+  for (int z = 0; z < 2; ++z)
+    for (int k = 0; k < n; ++k)
+      m.vertices.emplace_back(r * std::cos(2 * M_PI * k / n), r * std::sin(2 * M_PI * k / n), z ? h / 2 : -h / 2);
+  std::vector<int> bottom, top;
+  for (int k = 0; k < n; ++k) {
+    bottom.push_back(n - 1 - k);
+    top.push_back(n + k);
+    m.faces.push_back({k, (k + 1) % n, n + (k + 1) % n, n + k});
+  }
+  m.faces.push_back(bottom);
+  m.faces.push_back(top);
+  return geometry::ExactPolyhedron::from_mesh(m);
+}
+}  // namespace
+
+TEST(ContactLimits, AShapeBeyondTheContactSearchIsRefusedNotLeftWithoutContacts) {
+  // The narrow phase's buffers take 48 vertices: a 25-gon prism (50) would meet nothing.
+  World world(Rig::settings());
+  const auto big = polygon_prism(25, 1e-3, 1e-3);
+  try {
+    (void)world.add_shape(make_rigid_shape(big, kDilation));
+    FAIL() << "a 50-vertex shape was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("50 vertices"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW((void)world.add_shape(make_rigid_shape(polygon_prism(24, 1e-3, 1e-3), kDilation)));
+}
+
+TEST(ContactLimits, ACutThatWouldMakeAPieceTooBigForTheContactSearchIsRefused) {
+  // A 24-gon prism has 48 vertices, the most the contact search takes. Cutting a corner off
+  // turns one vertex into three: the large piece would have 50, so the cut is refused and
+  // the plane dropped, as a sliver's is; a plane across the middle still cuts.
+  World world(Rig::settings());
+  FractureBook book(kDilation, 0.0);
+  const auto prism = std::make_shared<const geometry::ExactPolyhedron>(polygon_prism(24, 1e-3, 1e-3));
+  const std::uint32_t shape = world.add_shape(make_rigid_shape(*prism, kDilation));
+  book.add_shape(shape, prism);
+  const BodyId g = world.add_body(shape, kRho, Eigen::Vector3d::Zero(), world.shape(shape).orientation_for());
+  // Corner 0 sits at (r, 0, -h/2): a plane cutting just that corner off, and one through the middle.
+  const Eigen::Vector3d corner(1e-3, 0.0, -0.5e-3), n = Eigen::Vector3d(1.0, 0.0, -1.0).normalized();
+  std::vector<geometry::ExactPlane> planes{geometry::ExactPlane::from_normal_offset(n, n.dot(corner) - 1e-5),
+                                           geometry::ExactPlane::from_normal_offset(Eigen::Vector3d::UnitX(), 0.0)};
+  book.add_grain(world, g, 0, planes);
+  const SplitEvent refused = book.split(world, g, 0);
+  EXPECT_TRUE(refused.ids.empty());
+  EXPECT_EQ(book.candidates(g), (std::vector<int>{1}));
+  const SplitEvent cut = book.split(world, g, 1);
+  EXPECT_EQ(cut.ids.size(), 2u);
 }

@@ -14,8 +14,8 @@ namespace cleave::physics {
 
 namespace {
 
-constexpr std::size_t kMaxVertices = 48;
-constexpr std::size_t kMaxFaces = 32;
+constexpr std::size_t kMaxVertices = kContactLimits.vertices;
+constexpr std::size_t kMaxFaces = kContactLimits.faces;
 
 /// Signed distances of every vertex of `from` to every face plane of `to`. Left
 /// uninitialised: only the entries plane_distances writes are read.
@@ -401,7 +401,8 @@ bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, doub
 }
 
 /// A convex polyhedron has at most 3 V - 6 edges.
-constexpr std::size_t kMaxEdges = 3 * kMaxVertices;
+constexpr std::size_t kMaxEdges = kContactLimits.edges;
+static_assert(kMaxEdges == 3 * kMaxVertices, "a convex polyhedron has at most 3V - 6 edges");
 static_assert(kMaxVertices <= 64 && kMaxEdges <= 192, "feature masks are 64 and 192 bits");
 using EdgeMask = std::array<std::uint64_t, 3>;
 bool has_edge(const EdgeMask& m, std::size_t e) { return ((m[e >> 6] >> (e & 63)) & 1u) != 0; }
@@ -695,7 +696,7 @@ bool gap_holds(const PosedShape& a, const PosedShape& b, const NearFeatures& nea
 
 void polyhedron_contacts(const PosedShape& a, const PosedShape& b, double margin,
                          std::vector<FeatureContact>& out, bool culls) {
-  if (!within_buffers(a, b)) return;  // shapes beyond the fixed buffers are not produced by cleave
+  if (!within_buffers(a, b)) return;  // World::add_shape refuses shapes beyond the buffers
   const double reach = a.radius + b.radius + margin;
   if (early_out(a, b, reach)) return;
   FeatureSet all = every_feature(a, b);

@@ -50,6 +50,18 @@ inline double turn_between(const Eigen::Quaterniond& q, const Eigen::Quaterniond
                             (px * px + pz * pz) + (py * py + pw * pw)));
 }
 
+/// The largest shape the polyhedron contact search takes: its buffers are fixed (vertex
+/// masks are 64 bits, face masks 32). A shape beyond them would meet nothing, so
+/// World::add_shape refuses it and a split that would make one is refused.
+struct ContactLimits {
+  std::size_t vertices = 48, faces = 32, edges = 144;
+};
+inline constexpr ContactLimits kContactLimits{};
+[[nodiscard]] inline bool within_contact_limits(const geometry::ContactPrimitives& p) {
+  return p.vertices.size() <= kContactLimits.vertices && p.faces.size() <= kContactLimits.faces &&
+         p.edges.size() <= kContactLimits.edges;
+}
+
 /// A body's primitives placed in the world for one step (computed once per body per step).
 struct PosedShape {
   // What a pair that the near-feature cache holds apart reads comes first, in one cache line.

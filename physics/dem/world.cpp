@@ -145,6 +145,14 @@ void World::remove_listener(StepListener* listener) {
 // Bodies
 
 std::uint32_t World::add_shape(RigidShape shape) {
+  const auto& p = shape.primitives;
+  if (!within_contact_limits(p)) {
+    throw std::invalid_argument(
+        "a grain of " + std::to_string(p.vertices.size()) + " vertices, " + std::to_string(p.faces.size()) +
+        " faces and " + std::to_string(p.edges.size()) + " edges is beyond what the contact search takes (" +
+        std::to_string(kContactLimits.vertices) + ", " + std::to_string(kContactLimits.faces) + " and " +
+        std::to_string(kContactLimits.edges) + "): use more grains, a smaller size spread or another seed");
+  }
   return bodies_.add_shape(std::move(shape));
 }
 

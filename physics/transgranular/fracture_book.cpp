@@ -144,9 +144,17 @@ SplitEvent FractureBook::split(World& world, BodyId id, int plane) {
     const geometry::SplitResult parts = shapes_.at(r.shape).exact->split(cut, min_fraction_);
     std::vector<std::uint32_t> made;
     if (parts.ok()) {
+      std::vector<std::pair<std::shared_ptr<const geometry::ExactPolyhedron>, RigidShape>> two;
       for (const auto* part : {&*parts.below, &*parts.above}) {
         auto exact = std::make_shared<const geometry::ExactPolyhedron>(*part);
-        const std::uint32_t index = world.add_shape(make_rigid_shape(*exact, dilation_));
+        RigidShape rigid = make_rigid_shape(*exact, dilation_);
+        two.emplace_back(std::move(exact), std::move(rigid));
+      }
+      // A piece the contact search cannot take would meet nothing: the cut is refused.
+      const bool fits = within_contact_limits(two[0].second.primitives) && within_contact_limits(two[1].second.primitives);
+      for (auto& [exact, rigid] : two) {
+        if (!fits) break;
+        const std::uint32_t index = world.add_shape(std::move(rigid));
         shapes_[index] = {exact, world.shape(index)};
         made.push_back(index);
       }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <exception>
 #include <omp.h>
 #include <limits>
 #include <optional>
@@ -48,11 +49,13 @@ void pose_faces(const World& world, BodyId id, PosedFaces& out) {
   for (auto& list : out.forces) list.clear();
 }
 
-/// The face a point acts on: the one it lies farthest out from (see the header).
-std::size_t face_of(const PosedFaces& faces, const Eigen::Vector3d& point) {
+/// The face a point acts on: the one it lies farthest out from (see the header), of the
+/// faces that have an area in doubles (`flat[f]` marks those that have none).
+std::size_t face_of(const PosedFaces& faces, const Eigen::Vector3d& point, const std::vector<char>& flat) {
   std::size_t best = 0;
   double out = -std::numeric_limits<double>::infinity();
   for (std::size_t f = 0; f < faces.normals.size(); ++f) {
+    if (flat[f]) continue;
     const double d = faces.normals[f].dot(point) - faces.offsets[f];
     if (d > out) {
       out = d;
@@ -204,16 +207,27 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
   thread_local std::vector<Eigen::Vector3d> cut;
   thread_local std::vector<FaceLoad> loads;
   thread_local std::vector<Eigen::Vector3d> part;
+  thread_local std::vector<char> flat;
   pose_faces(world, id, faces);
-  const std::span<const PointForce> forces = acting();
-  for (const PointForce& f : forces) faces.forces[face_of(faces, f.point)].push_back(f);
-  // Eq. 3.15 on every face.
+  // A sliver face of an exact piece can round to no area in doubles: it carries nothing,
+  // and the forces go to the faces around it.
   geometry.clear();
-  tractions.clear();
+  flat.assign(faces.polygons.size(), 0);
   for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
     const auto& poly = faces.polygons[f];
-    geometry.push_back(face_geometry(poly, faces.normals[f], poly[1] - poly[0]));
-    tractions.push_back(face_tractions(geometry.back(), faces.forces[f]));
+    try {
+      geometry.push_back(face_geometry(poly, faces.normals[f], poly[1] - poly[0]));
+    } catch (const std::invalid_argument&) {
+      geometry.emplace_back();
+      flat[f] = 1;
+    }
+  }
+  const std::span<const PointForce> forces = acting();
+  for (const PointForce& f : forces) faces.forces[face_of(faces, f.point, flat)].push_back(f);
+  // Eq. 3.15 on every face.
+  tractions.clear();
+  for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
+    tractions.push_back(flat[f] ? FaceTractions{} : face_tractions(geometry[f], faces.forces[f]));
   }
   const Eigen::Vector3d centroid = world.state(id).x;
   RigidMotion motion;
@@ -232,19 +246,27 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     loads.clear();
     SolidMassSum mass = params.inertia ? fragment_mass_sum(cut, plane) : SolidMassSum(plane.point);
     for (std::size_t f = 0; f < faces.polygons.size(); ++f) {
+      if (flat[f]) {
+        loads.emplace_back();
+        continue;
+      }
       clip_polygon_into(faces.polygons[f], plane, part);
       loads.push_back(part_load(geometry[f], tractions[f], part));
       if (params.inertia) mass.add_face(part, faces.normals[f]);
     }
     CrackPlaneLoad load;
-    if (params.inertia) {
-      /// Eq. 3.8's m a for the fragment, with its dH/dt about its own centroid (sec. 3.3).
-      mass.add_face(cut, plane.normal);
-      const SolidMass fragment = mass.result();
-      load = crack_plane_load(loads, fragment.centroid, cut, plane, cut[1] - cut[0],
-                              fragment_inertia(motion, rho, fragment));
-    } else {
-      load = crack_plane_load(loads, centroid, cut, plane, cut[1] - cut[0]);
+    try {
+      if (params.inertia) {
+        /// Eq. 3.8's m a for the fragment, with its dH/dt about its own centroid (sec. 3.3).
+        mass.add_face(cut, plane.normal);
+        const SolidMass fragment = mass.result();
+        load = crack_plane_load(loads, fragment.centroid, cut, plane, cut[1] - cut[0],
+                                fragment_inertia(motion, rho, fragment));
+      } else {
+        load = crack_plane_load(loads, centroid, cut, plane, cut[1] - cut[0]);
+      }
+    } catch (const std::invalid_argument&) {
+      continue;  // the plane grazes the body: a section with no area in doubles carries nothing
     }
     CrackAssessment a;
     a.id = id;
@@ -299,15 +321,20 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
   const auto slots = static_cast<std::ptrdiff_t>(world.slot_states().size());
   const int nt = slots >= 512 ? check_threads(world) : 1;
   std::vector<std::vector<CrackAssessment>> found_by(static_cast<std::size_t>(nt));
+  // An exception may not leave a parallel region (the process would terminate): each thread
+  // keeps the first it meets, with its slot, and the lowest slot's is thrown after.
+  std::vector<std::pair<std::uint32_t, std::exception_ptr>> failed_by(static_cast<std::size_t>(nt));
 #pragma omp parallel num_threads(nt) if (nt > 1)
   {
     std::vector<World::AppliedForce> applied;
     std::vector<PointForce> acting;
     std::vector<CrackAssessment>& mine = found_by[static_cast<std::size_t>(omp_get_thread_num())];
+    auto& failed = failed_by[static_cast<std::size_t>(omp_get_thread_num())];
 #pragma omp for schedule(dynamic, 256)
     for (std::ptrdiff_t k = 0; k < slots; ++k) {
       const auto slot = static_cast<std::uint32_t>(k);
-      if (!world.slot_infos()[slot].alive) continue;
+      if (failed.second || !world.slot_infos()[slot].alive) continue;
+      try {
       // The gate first: it reads the step's small arrays, the book's record (a cache line
       // of its own) only past it.
       if (params.criterion != GrainCriterion::rankine) {
@@ -325,8 +352,16 @@ std::vector<TransgranularEvent> transgranular_step(World& world, FractureBook& b
         if (a.result.fails && (!worst || a.result.criterion > worst->result.criterion)) worst = a;
       }
       if (worst) mine.push_back(*worst);
+      } catch (...) {
+        failed = {slot, std::current_exception()};
+      }
     }
   }
+  const std::pair<std::uint32_t, std::exception_ptr>* first = nullptr;
+  for (const auto& f : failed_by) {
+    if (f.second && (first == nullptr || f.first < first->first)) first = &f;
+  }
+  if (first != nullptr) std::rethrow_exception(first->second);
   std::vector<CrackAssessment> failing;
   for (const auto& list : found_by) failing.insert(failing.end(), list.begin(), list.end());
   std::sort(failing.begin(), failing.end(),
