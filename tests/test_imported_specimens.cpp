@@ -2,6 +2,8 @@
 // cells (shape "voronoi", sizes = "lognormal"), a Neper .tess (shape "tess") and a grain file
 // (shape "grain_file"): values read back, exact volumes, and errors naming file, line, key.
 #include <gtest/gtest.h>
+
+#include "folder_test.hpp"
 #include <unistd.h>
 
 #include <cmath>
@@ -59,27 +61,8 @@ ks = 2.0
 kn = 5.0
 )";
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("cleave_test_imported_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  [[nodiscard]] const fs::path& path() const { return path_; }
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name) << text;
-  }
-
- private:
-  fs::path path_;
-};
+/// A scratch folder for each test (tests/folder_test.hpp).
+class ImportedFiles : public cleave::testing::FolderTest {};
 
 std::string two_halves() {
   std::ifstream in(CLEAVE_SOURCE_DIR "/scenarios/tessellations/two_halves.tess");
@@ -159,13 +142,12 @@ TEST(ImportedSpecimen, LognormalKeyErrorsNameTheirKeyAndLine) {
   }
 }
 
-TEST(ImportedSpecimen, TessShapeReadsTheFileRelativeToTheScenarioWithItsScale) {
-  TempDir dir;
-  dir.write("two.tess", two_halves());
+TEST_F(ImportedFiles, TessShapeReadsTheFileRelativeToTheScenarioWithItsScale) {
+  write("two.tess", two_halves());
   const std::string text =
       "[specimen]\nshape = \"tess\"\nfile = \"two.tess\"\nscale = 2.0\n" + kTail;
-  dir.write("s.toml", text);
-  const Scenario s = load_scenario(dir.path() / "s.toml");
+  write("s.toml", text);
+  const Scenario s = load_scenario(dir_ / "s.toml");
   EXPECT_EQ(s.specimen.kind, geometry::SpecimenKind::meshes);
   ASSERT_TRUE(s.tessellation.has_value());
   EXPECT_EQ(s.tessellation->shape, "tess");
@@ -186,19 +168,18 @@ TEST(ImportedSpecimen, TessShapeReadsTheFileRelativeToTheScenarioWithItsScale) {
   EXPECT_NEAR(s.specimen.outline.size.x(), 2e-3, 1e-15);
   const geometry::Specimen sp = geometry::build_specimen(s.specimen);
   EXPECT_EQ(sp.grains.size(), 2u);
-  const Scenario again = parse_scenario(scenario_to_toml(s), (dir.path() / "again.toml").string());
+  const Scenario again = parse_scenario(scenario_to_toml(s), (dir_ / "again.toml").string());
   EXPECT_TRUE(scenario_differences(s, again).empty());
 }
 
-TEST(ImportedSpecimen, TessFileErrorsNameTheScenarioKeyAndTheFilesLine) {
-  TempDir dir;
+TEST_F(ImportedFiles, TessFileErrorsNameTheScenarioKeyAndTheFilesLine) {
   const std::string bad = [] {
     std::string t = two_halves();
     return t.replace(t.find("   3.4"), 6, "   9.9");
   }();
-  dir.write("bad.tess", bad);
+  write("bad.tess", bad);
   const std::string text = "[specimen]\nshape = \"tess\"\nfile = \"bad.tess\"\n" + kTail;
-  const std::string source = (dir.path() / "s.toml").string();
+  const std::string source = (dir_ / "s.toml").string();
   check_error(text, source, 3, "specimen.file", "bad.tess:3: format version 9.9");
   check_error("[specimen]\nshape = \"tess\"\nfile = \"none.tess\"\n" + kTail, source, 3,
               "specimen.file", "cannot open");
@@ -208,16 +189,15 @@ TEST(ImportedSpecimen, TessFileErrorsNameTheScenarioKeyAndTheFilesLine) {
               "missing required key");
 }
 
-TEST(ImportedSpecimen, GrainFileShapeTilesTheBoxWithTheGivenVolumes) {
-  TempDir dir;
-  dir.write("grains.txt",
+TEST_F(ImportedFiles, GrainFileShapeTilesTheBoxWithTheGivenVolumes) {
+  write("grains.txt",
             "# x y z volume phi1 Phi phi2 (mm, mm^3, degrees)\n"
             "0.5 0.5 0.5 0.8 0 0 0\n"
             "1.5 0.5 0.5 1.2 90 0 0\n");
   const std::string text =
       "[specimen]\nshape = \"grain_file\"\nfile = \"grains.txt\"\nsize = [2, 1, 1]\n" + kTail;
-  dir.write("s.toml", text);
-  const Scenario s = load_scenario(dir.path() / "s.toml");
+  write("s.toml", text);
+  const Scenario s = load_scenario(dir_ / "s.toml");
   ASSERT_EQ(s.specimen.custom_grains.size(), 2u);
   std::vector<geometry::ExactPolyhedron> shapes;
   for (const auto& g : s.specimen.custom_grains) shapes.push_back(g.shape);
@@ -227,12 +207,12 @@ TEST(ImportedSpecimen, GrainFileShapeTilesTheBoxWithTheGivenVolumes) {
   EXPECT_NEAR(shapes[0].volume().to_double(), 0.8e-9, 1e-3 * 0.8e-9);
   EXPECT_NEAR(shapes[1].volume().to_double(), 1.2e-9, 1e-3 * 1.2e-9);
   ASSERT_EQ(s.specimen.orientations.size(), 2u);
-  const Scenario again = parse_scenario(scenario_to_toml(s), (dir.path() / "again.toml").string());
+  const Scenario again = parse_scenario(scenario_to_toml(s), (dir_ / "again.toml").string());
   EXPECT_TRUE(scenario_differences(s, again).empty());
-  dir.write("short.txt", "0.5 0.5 0.5 0.8 0 0\n");
+  write("short.txt", "0.5 0.5 0.5 0.8 0 0\n");
   check_error(
       "[specimen]\nshape = \"grain_file\"\nfile = \"short.txt\"\nsize = [2, 1, 1]\n" + kTail,
-      (dir.path() / "t.toml").string(), 3, "specimen.file", "short.txt:1: expected 7 values");
+      (dir_ / "t.toml").string(), 3, "specimen.file", "short.txt:1: expected 7 values");
 }
 
 TEST(ImportedSpecimen, PeriodicLognormalSpecimenTilesItsCellExactly) {
