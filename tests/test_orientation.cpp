@@ -155,11 +155,14 @@ TEST(BungeEuler, GimbalLockKeepsTheDefinedCombination) {
 }
 
 TEST(SymmetryOperators, FormAGroupOfTheCrystalsOrder) {
-  for (auto [group, order] : {std::pair{PointGroup::cubic, 24},
-                              {PointGroup::hexagonal, 12},
-                              {PointGroup::trigonal, 6},
-                              {PointGroup::orthorhombic, 4},
-                              {PointGroup::none, 1}}) {
+  for (const auto& entry : {std::pair{PointGroup::cubic, 24},
+                             {PointGroup::hexagonal, 12},
+                             {PointGroup::trigonal, 6},
+                             {PointGroup::orthorhombic, 4},
+                             {PointGroup::none, 1}}) {
+    // Named copies, not a structured binding: clang 14 refuses a binding in a lambda.
+    const PointGroup group = entry.first;
+    const int order = entry.second;
     const auto ops = symmetry_operators(group);
     ASSERT_EQ(static_cast<int>(ops.size()), order) << to_string(group);
     const auto index_of = [&](const Quaterniond& q) {
