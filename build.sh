@@ -118,7 +118,7 @@ run_sanitized_tests() {
 # build-asan/fuzz/artifacts/.
 run_fuzzers() {
   local t scratch artifacts
-  for t in fuzz_scenario fuzz_validation_scenario fuzz_mesh fuzz_checkpoint fuzz_cli; do
+  for t in fuzz_scenario fuzz_validation_scenario fuzz_mesh fuzz_checkpoint fuzz_cli fuzz_tessellation; do
     scratch="$asan_dir/fuzz/corpus/$t"
     artifacts="$asan_dir/fuzz/artifacts"
     mkdir -p "$scratch" "$artifacts"
