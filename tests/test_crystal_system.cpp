@@ -40,6 +40,16 @@ Eigen::Matrix3d bunge_crystal_to_specimen(double phi1, double Phi, double phi2) 
   return g.transpose();
 }
 
+/// A cubic crystal with these families, each `per_variant` planes a variant.
+CrystalDef cubic_crystal(std::initializer_list<const char*> families, int per_variant = 1) {
+  CrystalDef crystal;
+  crystal.enabled = true;
+  crystal.lattice = lattice(CrystalSystem::cubic);
+  for (const char* f : families)
+    crystal.families.push_back({parse_miller_family(f, CrystalSystem::cubic), 1.0, per_variant});
+  return crystal;
+}
+
 ExactPolyhedron a_voronoi_cell() {
   VoronoiDef v;
   v.size = {2e-3, 2e-3, 2e-3};
@@ -147,10 +157,7 @@ TEST(CrystalCleavagePlanes, ExactNormalsAgreeWithTheRotatedCrystalNormalsWithin1
 
 TEST(CrystalCleavagePlanes, PlanesSitAtTheirFractionOfTheGrainsExtent) {
   const ExactPolyhedron cell = a_voronoi_cell();
-  CrystalDef crystal;
-  crystal.enabled = true;
-  crystal.lattice = lattice(CrystalSystem::cubic);
-  crystal.families.push_back({parse_miller_family("{111}", CrystalSystem::cubic), 1.0, 2});
+  const CrystalDef crystal = cubic_crystal({"{111}"}, 2);
   const Eigen::Quaterniond q = from_bunge(10 * kDeg, 20 * kDeg, 30 * kDeg);
   const CleavagePlanes planes = crystal_cleavage_planes(cell, crystal, q);
   ASSERT_EQ(planes.planes.size(), 8u);
@@ -170,11 +177,7 @@ TEST(CrystalCleavagePlanes, CuttingAGrainOnEveryPlaneInTurnKeepsItsExactVolume) 
   // Each plane cuts every piece it reaches (pieces split again on the remaining planes); the
   // pieces' exact volumes sum to the grain's exactly and each piece is a valid convex solid.
   const ExactPolyhedron cell = a_voronoi_cell();
-  CrystalDef crystal;
-  crystal.enabled = true;
-  crystal.lattice = lattice(CrystalSystem::cubic);
-  crystal.families.push_back({parse_miller_family("{100}", CrystalSystem::cubic), 1.0, 1});
-  crystal.families.push_back({parse_miller_family("{111}", CrystalSystem::cubic), 1.0, 1});
+  const CrystalDef crystal = cubic_crystal({"{100}", "{111}"});
   const CleavagePlanes planes =
       crystal_cleavage_planes(cell, crystal, from_bunge(123 * kDeg, 45 * kDeg, 67 * kDeg));
   std::vector<ExactPolyhedron> pieces{cell};
