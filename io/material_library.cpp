@@ -279,18 +279,24 @@ std::vector<std::filesystem::path> library_files() {
 
 std::string describe_material(const MaterialPreset& m) {
   std::string out = fmt::format("{}: {}\n  file {}\n", m.name, m.description, m.file);
-  for (const auto& p : m.properties) {
-    std::string meaning;
-    for (const auto& spec : property_specs()) {
-      if (spec.key == p.key) meaning = std::string(spec.meaning);
-    }
-    out += fmt::format("  {:<18} {:>10g} {:<10} = {:<12.6g} {:<9} [{}]{}\n", p.key, p.written,
-                       p.unit, p.value, si_unit(p.quantity), p.source,
-                       p.note.empty() ? "" : "  " + p.note);
+  std::vector<const MaterialProperty*> all;  // every row, for the sources below
+  const auto row = [&](const MaterialProperty& p) {
+    all.push_back(&p);
+    out += fmt::format("  {:<18} {:>10g} {:<10} = {:<12.6g} {:<9} [{}]{}\n", p.key, p.written, p.unit, p.value,
+                       si_unit(p.quantity), p.source, p.note.empty() ? "" : "  " + p.note);
+  };
+  for (const auto& p : m.properties) row(p);
+  if (m.crystal) {
+    // The single crystal ([crystal] preset = NAME): its system, ratios, cleavage families.
+    out += fmt::format("  crystal: {}\n", m.crystal->system);
+    if (m.crystal->c_over_a) row(*m.crystal->c_over_a);
+    if (m.crystal->b_over_a) row(*m.crystal->b_over_a);
+    for (const auto& p : m.crystal->cleavage) row(p);
   }
   out += "  sources:\n";
   std::vector<std::string> listed;
-  for (const auto& p : m.properties) {
+  for (const MaterialProperty* q : all) {
+    const MaterialProperty& p = *q;
     if (std::find(listed.begin(), listed.end(), p.source) != listed.end()) continue;
     listed.push_back(p.source);
     out += fmt::format("    [{}] {}\n", p.source, p.citation);

@@ -196,3 +196,28 @@ TEST(CrystalScenario, ATessellationsOwnOrientationsBecomeTheGrainsCrystals) {
                8, "orientation.law", "has none");
   std::filesystem::remove_all(dir);
 }
+
+TEST(CrystalScenario, TheAluminaPresetGivesCorundumAndItsFamiliesToughness) {
+  // materials/alumina.toml: corundum c/a = 12.9920 / 4.7588, Iwasa and Bradt's toughness
+  // 2.4 (a), 2.4 (r), 3.1 (m), 4.5 (c) MPa m^0.5, read against [fracture] k_ic = 2.4 MPa m^0.5.
+  const Scenario s = parse_scenario(kVoronoi + R"([crystal]
+preset = "alumina"
+[fracture]
+k_ic = "2.4 MPa m^0.5"
+sigma_f_hyd = 0
+crack_length = 0.005
+)" + kMoving, "mem.toml");
+  const auto& c = s.specimen.crystal;
+  EXPECT_EQ(c.lattice.system, geometry::CrystalSystem::trigonal);
+  EXPECT_NEAR(c.lattice.c_over_a, 12.9920 / 4.7588, 1e-4);
+  ASSERT_EQ(c.families.size(), 4u);
+  const std::pair<const char*, double> want[] = {{"{11-20}", 2.4}, {"{10-12}", 2.4}, {"{10-10}", 3.1}, {"{0001}", 4.5}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(c.families[i].family.text, want[i].first);
+    EXPECT_NEAR(c.families[i].resistance, want[i].second / 2.4, 1e-12) << want[i].first;
+  }
+  // The scenario's own keys win over the preset's.
+  const Scenario own = parse_scenario(kVoronoi + "[crystal]\npreset = \"alumina\"\nc_over_a = 2.5\n", "mem.toml");
+  EXPECT_EQ(own.specimen.crystal.lattice.c_over_a, 2.5);
+  expect_error(kVoronoi + "[crystal]\npreset = \"sic_alpha\"\n", 6, "crystal.preset", "has no [crystal] table");
+}
