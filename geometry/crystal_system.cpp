@@ -119,6 +119,17 @@ std::vector<Eigen::Vector3d> family_normals(const CrystalLattice& lattice,
   return out;
 }
 
+std::vector<int> plane_families(const CrystalDef& crystal) {
+  std::vector<int> out;
+  for (std::size_t f = 0; f < crystal.families.size(); ++f) {
+    const CleavageFamilyDef& def = crystal.families[f];
+    const std::size_t n = family_normals(crystal.lattice, def.family).size() *
+                          static_cast<std::size_t>(std::max(def.planes_per_variant, 1));
+    out.insert(out.end(), n, static_cast<int>(f));
+  }
+  return out;
+}
+
 CleavagePlanes crystal_cleavage_planes(const ExactPolyhedron& shape, const CrystalDef& crystal,
                                        const Eigen::Quaterniond& orientation) {
   CleavagePlanes out;

@@ -96,6 +96,10 @@ struct CleavagePlanes {
   std::vector<int> family;
 };
 
+/// The family (index into crystal.families) of each of a grain's cleavage planes, in the
+/// order crystal_cleavage_planes makes them: the same for every grain of the crystal.
+std::vector<int> plane_families(const CrystalDef& crystal);
+
 /// The exact cleavage planes of `shape` (grain coordinates, specimen axes) whose crystal is
 /// `crystal` turned by `orientation` (crystal -> specimen): per family, per variant normal
 /// n = q n_c, planes_per_variant planes across the shape's extent along n. Each plane's

@@ -23,14 +23,13 @@ namespace {
 /// Each grain's crystal: the honeycomb's turn about z, or with [crystal] its law's draw.
 void orient_grains(const SpecimenDef& def, std::vector<Grain>& grains) {
   const OrientationDef& o = def.orientation;
-  if (def.crystal.enabled && o.law == OrientationLaw::imported && def.orientations.size() != grains.size()) {
-    throw std::invalid_argument("the specimen file gives " + std::to_string(def.orientations.size()) +
-                                " orientations for " + std::to_string(grains.size()) + " grains");
-  }
-  if (def.crystal.enabled && o.law == OrientationLaw::given && o.given.size() != grains.size()) {
-    throw std::invalid_argument("the orientation file gives " + std::to_string(o.given.size()) +
-                                " orientations for " + std::to_string(grains.size()) +
-                                " grains; give one per grain");
+  // Orientations read from a file: the orientation file's or the specimen file's own.
+  const std::vector<Eigen::Quaterniond>* read =
+      o.law == OrientationLaw::given ? &o.given : o.law == OrientationLaw::imported ? &def.orientations : nullptr;
+  if (def.crystal.enabled && read != nullptr && read->size() != grains.size()) {
+    throw std::invalid_argument(std::string(o.law == OrientationLaw::given ? "the orientation file" : "the specimen file") +
+                                " gives " + std::to_string(read->size()) + " orientations for " +
+                                std::to_string(grains.size()) + " grains; give one per grain");
   }
   constexpr double deg = M_PI / 180.0;
   const double spread = o.spread_deg * deg;
@@ -49,8 +48,8 @@ void orient_grains(const SpecimenDef& def, std::vector<Grain>& grains) {
                                       o.specimen_axis.normalized(), spread);
         break;
       case OrientationLaw::preferred: g.crystal = preferred_orientation(def.seed, id, mean, spread); break;
-      case OrientationLaw::given: g.crystal = o.given[static_cast<std::size_t>(g.id)]; break;
-      case OrientationLaw::imported: g.crystal = def.orientations.at(static_cast<std::size_t>(g.id)); break;
+      case OrientationLaw::given:
+      case OrientationLaw::imported: g.crystal = (*read)[static_cast<std::size_t>(g.id)]; break;
       case OrientationLaw::honeycomb: break;
     }
   }

@@ -123,14 +123,12 @@ class Dynamics::Runner {
       }
     }
     if (book_ && specimen_.def.crystal.enabled) {
-      // Each plane's family sets its resistance; from the specimen, fresh or resumed.
-      const auto& families = specimen_.def.crystal.families;
-      for (const auto& g : specimen_.grains) {
-        std::vector<double> per_plane;
-        for (const int f : geometry::grain_cleavage_planes(specimen_, g).family)
-          per_plane.push_back(families.at(static_cast<std::size_t>(f)).resistance);
-        book_->set_resistance(g.id, std::move(per_plane));
-      }
+      // Each plane's family sets its resistance; from the scenario, fresh or resumed.
+      const auto& crystal = specimen_.def.crystal;
+      std::vector<double> per_plane;
+      for (const int f : geometry::plane_families(crystal))
+        per_plane.push_back(crystal.families.at(static_cast<std::size_t>(f)).resistance);
+      book_->set_plane_resistance(std::move(per_plane));
     }
     if (book_) {
       fracture_.emplace(*book_, scenario_.fracture.params,

@@ -306,13 +306,12 @@ void Simulation::State::start() {
     }
     if (def.crystal.enabled) {
       std::string families;
-      std::size_t planes = 0;
-      for (const auto& f : def.crystal.families) {
-        const std::size_t n = geometry::family_normals(def.crystal.lattice, f.family).size() *
-                              static_cast<std::size_t>(std::max(f.planes_per_variant, 1));
-        planes += n;
-        families += fmt::format("{}{} x{} (resistance {:g})", families.empty() ? "" : ", ", f.family.text, n,
-                                f.resistance);
+      const std::vector<int> of_plane = geometry::plane_families(def.crystal);
+      const std::size_t planes = of_plane.size();
+      for (std::size_t f = 0; f < def.crystal.families.size(); ++f) {
+        const auto& family = def.crystal.families[f];
+        families += fmt::format("{}{} x{} (resistance {:g})", families.empty() ? "" : ", ", family.family.text,
+                                std::count(of_plane.begin(), of_plane.end(), static_cast<int>(f)), family.resistance);
       }
       say(fmt::format("  crystals   {} {} grains, orientations {}, seed {}; {} cleavage planes a grain{}{}",
                       specimen->grains.size(), geometry::to_string(def.crystal.lattice.system),

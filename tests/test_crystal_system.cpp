@@ -230,6 +230,7 @@ TEST(SpecimenCrystals, A3DCrystalGivesEveryGrainItsPlanesAndKeepsTheGrainsWhole)
     const CleavagePlanes p = grain_cleavage_planes(s, g);
     EXPECT_EQ(p.planes.size(), 4u);
     EXPECT_EQ(p.family, (std::vector<int>{0, 1, 1, 1}));
+    EXPECT_EQ(plane_families(def.crystal), p.family);
     // The basal plane is normal to the grain's c axis.
     EXPECT_LT(angle_between(p.planes[0].normal_approx(), g.crystal * Eigen::Vector3d::UnitZ()), 1e-9);
   }

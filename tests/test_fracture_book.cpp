@@ -211,7 +211,7 @@ TEST(Transgranular, GrainPulledAcrossItsCleavagePlaneSplitsThereWhenKIReachesKIc
 
 TEST(Transgranular, AFamilysResistanceScalesTheLoadItsPlaneSplitsAt) {
   // The same pull as above with the plane's family 1.7 times as tough (a 3D crystal's
-  // family, FractureBook::set_resistance): eq. 3.25 with K_Ic x 1.7, so the split comes when
+  // family, FractureBook::set_plane_resistance): eq. 3.25 with K_Ic x 1.7, so the split comes when
   // F passes 1.7 F*, not before.
   const double resistance = 1.7;
   int angle = -1;
@@ -226,8 +226,8 @@ TEST(Transgranular, AFamilysResistanceScalesTheLoadItsPlaneSplitsAt) {
   const BodyId g = s.world.add_body(s.shape, kRho, {0, 0, 0}, s.world.shape(s.shape).orientation_for(),
                                     Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0);
   s.book.add_grain(s.world, g, 0, s.prism->cleavage_planes({geometry::CleavageFamily::m_10_10, angle}));
-  s.book.set_resistance(0, {resistance});
-  EXPECT_EQ(s.book.resistance(g, 0), resistance);
+  s.book.set_plane_resistance({resistance});
+  EXPECT_EQ(s.book.resistance(0), resistance);
   const BodyId left = s.world.add_body(s.shape, kRho, {-pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
   const BodyId right = s.world.add_body(s.shape, kRho, {pitch, 0, 0}, s.world.shape(s.shape).orientation_for());
   const double area = M_PI * kDilation * kDilation;

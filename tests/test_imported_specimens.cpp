@@ -43,12 +43,6 @@ void check_error(const std::string& text, const std::string& source, int line,
   }
 }
 
-int line_of(const std::string& text, const std::string& needle) {
-  const std::size_t at = text.find(needle);
-  EXPECT_NE(at, std::string::npos) << needle;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
-}
-
 const std::string kTail = R"(
 [material]
 density = 3000

@@ -23,17 +23,9 @@ void FractureBook::add_grain(const World& world, BodyId id, int grain_id,
   add_grain(world, id, grain_id, it->second.exact->cleavage_planes(orientation));
 }
 
-void FractureBook::set_resistance(int grain_id, std::vector<double> per_plane) {
-  if (grain_id < 0) throw std::invalid_argument("FractureBook: negative grain id");
-  if (resistance_.size() <= static_cast<std::size_t>(grain_id)) resistance_.resize(grain_id + 1);
-  resistance_[static_cast<std::size_t>(grain_id)] = std::move(per_plane);
-}
-
-double FractureBook::resistance(BodyId id, int plane) const {
-  const auto grain = static_cast<std::size_t>(record(id).lineage.grain_id);
-  if (grain >= resistance_.size()) return 1.0;
-  const std::vector<double>& r = resistance_[grain];
-  return plane >= 0 && static_cast<std::size_t>(plane) < r.size() ? r[static_cast<std::size_t>(plane)] : 1.0;
+double FractureBook::resistance(int plane) const {
+  return plane >= 0 && static_cast<std::size_t>(plane) < resistance_.size() ? resistance_[static_cast<std::size_t>(plane)]
+                                                                            : 1.0;
 }
 
 void FractureBook::add_grain(const World& world, BodyId id, int grain_id,

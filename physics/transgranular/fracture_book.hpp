@@ -54,12 +54,13 @@ class FractureBook {
   /// As above with the grain's cleavage planes given (grain coordinates), e.g. a 3D
   /// crystal's (geometry::grain_cleavage_planes).
   void add_grain(const World& world, BodyId id, int grain_id, std::vector<geometry::ExactPlane> planes);
-  /// Grain `grain_id`'s cleavage resistance per plane (index into its planes), the factor on
-  /// the criterion's K_Ic or strength; 1 for planes and grains not given. Not checkpointed:
-  /// it follows from the specimen, and a resumed run sets it again.
-  void set_resistance(int grain_id, std::vector<double> per_plane);
-  /// Body `id`'s resistance factor on its plane `plane`.
-  [[nodiscard]] double resistance(BodyId id, int plane) const;
+  /// The cleavage resistance of plane k of every grain (a 3D crystal's planes come in the
+  /// same family order in every grain), the factor on the criterion's K_Ic or strength; 1
+  /// for planes not given. Not checkpointed: it follows from the scenario, and a resumed
+  /// run sets it again.
+  void set_plane_resistance(std::vector<double> per_plane) { resistance_ = std::move(per_plane); }
+  /// The resistance factor of cleavage plane `plane` (an index into a body's planes).
+  [[nodiscard]] double resistance(int plane) const;
 
   /// Whether body `id` is registered (bodies that are not, e.g. fixed rig parts, never split).
   [[nodiscard]] bool knows(BodyId id) const;
@@ -161,7 +162,7 @@ class FractureBook {
   /// the cut is refused.
   std::map<std::pair<std::uint32_t, std::string>, std::vector<std::uint32_t>> cuts_;
   std::vector<Record> by_slot_;
-  std::vector<std::vector<double>> resistance_;  // by grain id, then plane
+  std::vector<double> resistance_;  // by plane index
   /// (shape, plane text) -> projected_area_on; made again after a restore.
   mutable std::map<std::pair<std::uint32_t, std::string>, geometry::ExactScalar> projected_;
 };

@@ -173,7 +173,7 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     CrackAssessment best;
     double most = -std::numeric_limits<double>::infinity(), most_share = most, best_r = 1.0;
     for (const int k : book.candidates(id)) {
-      const double r = book.resistance(id, k);
+      const double r = book.resistance(k);
       if (!(value > r * params.sigma_f)) continue;
       const Eigen::Vector3d n = book.world_plane(world, id, k).first;
       const double normal = n.dot(sigma * n);
@@ -274,7 +274,7 @@ std::vector<CrackAssessment> assess_with(const World& world, const FractureBook&
     a.section_force = load.force;
     a.section_moment = load.moment;
     a.stresses = beam_stresses(load);
-    const double r = book.resistance(id, k);
+    const double r = book.resistance(k);
     if (r == 1.0) {
       a.result = fracture_check(params, sigma, a.stresses);
     } else {
