@@ -464,25 +464,25 @@ geometry::ExactPolyhedron polygon_prism(int n, double r, double h) {
 }  // namespace
 
 TEST(ContactLimits, AShapeBeyondTheContactSearchIsRefusedNotLeftWithoutContacts) {
-  // The narrow phase's buffers take 48 vertices: a 25-gon prism (50) would meet nothing.
+  // The narrow phase's buffers take 64 vertices: a 33-gon prism (66) would meet nothing.
   World world(Rig::settings());
-  const auto big = polygon_prism(25, 1e-3, 1e-3);
+  const auto big = polygon_prism(33, 1e-3, 1e-3);
   try {
     (void)world.add_shape(make_rigid_shape(big, kDilation));
-    FAIL() << "a 50-vertex shape was accepted";
+    FAIL() << "a 66-vertex shape was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("50 vertices"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("66 vertices"), std::string::npos) << e.what();
   }
-  EXPECT_NO_THROW((void)world.add_shape(make_rigid_shape(polygon_prism(24, 1e-3, 1e-3), kDilation)));
+  EXPECT_NO_THROW((void)world.add_shape(make_rigid_shape(polygon_prism(32, 1e-3, 1e-3), kDilation)));
 }
 
 TEST(ContactLimits, ACutThatWouldMakeAPieceTooBigForTheContactSearchIsRefused) {
-  // A 24-gon prism has 48 vertices, the most the contact search takes. Cutting a corner off
-  // turns one vertex into three: the large piece would have 50, so the cut is refused and
+  // A 32-gon prism has 64 vertices, the most the contact search takes. Cutting a corner off
+  // turns one vertex into three: the large piece would have 66, so the cut is refused and
   // the plane dropped, as a sliver's is; a plane across the middle still cuts.
   World world(Rig::settings());
   FractureBook book(kDilation, 0.0);
-  const auto prism = std::make_shared<const geometry::ExactPolyhedron>(polygon_prism(24, 1e-3, 1e-3));
+  const auto prism = std::make_shared<const geometry::ExactPolyhedron>(polygon_prism(32, 1e-3, 1e-3));
   const std::uint32_t shape = world.add_shape(make_rigid_shape(*prism, kDilation));
   book.add_shape(shape, prism);
   const BodyId g = world.add_body(shape, kRho, Eigen::Vector3d::Zero(), world.shape(shape).orientation_for());

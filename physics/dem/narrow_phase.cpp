@@ -24,7 +24,7 @@ struct PlaneDistances {
   std::size_t stride = 0;  ///< a row's length: faces, made even
   std::array<double, kMaxVertices * kMaxFaces> d;
   /// Bit f of vertex v: the vertex is `reach` or more beyond face f's plane.
-  std::array<std::uint32_t, kMaxVertices> beyond;
+  std::array<std::uint64_t, kMaxVertices> beyond;
   double deep = 0.0;  ///< minus reach times `to`'s edge cone spread (see edge_pair_culled)
   double at(std::size_t v, std::size_t f) const { return d[v * stride + f]; }
 };
@@ -44,12 +44,12 @@ void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t
   const double* __restrict offset = nz + stride;
   // The rows left out have no `beyond` bits: what reads them unmasked (the near-edge test
   // of contacts_over) then drops them on their own mask.
-  std::fill_n(out.beyond.begin(), from.vertices.size(), 0u);
+  std::fill_n(out.beyond.begin(), from.vertices.size(), std::uint64_t{0});
   for (; rows != 0; rows &= rows - 1) {
     const auto v = static_cast<std::size_t>(std::countr_zero(rows));
     const double x = from.vertices[v].x(), y = from.vertices[v].y(), z = from.vertices[v].z();
     double* __restrict d = out.d.data() + v * stride;
-    std::uint32_t beyond = 0;
+    std::uint64_t beyond = 0;
 #ifdef __SSE2__
     // Two faces at a time, rounded as the scalar loop below would be.
     const __m128d px = _mm_set1_pd(x), py = _mm_set1_pd(y), pz = _mm_set1_pd(z), pr = _mm_set1_pd(reach);
@@ -57,12 +57,12 @@ void plane_distances(const PosedShape& from, const PosedShape& to, std::uint64_t
       const __m128d xy = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(nx + f), px), _mm_mul_pd(_mm_loadu_pd(ny + f), py));
       const __m128d dist = _mm_sub_pd(_mm_add_pd(xy, _mm_mul_pd(_mm_loadu_pd(nz + f), pz)), _mm_loadu_pd(offset + f));
       _mm_storeu_pd(d + f, dist);
-      beyond |= static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmpge_pd(dist, pr))) << f;
+      beyond |= static_cast<std::uint64_t>(_mm_movemask_pd(_mm_cmpge_pd(dist, pr))) << f;
     }
-    beyond &= static_cast<std::uint32_t>(all_bits(out.faces));  // not the padding
+    beyond &= all_bits(out.faces);  // not the padding
 #else
     for (std::size_t f = 0; f < stride; ++f) d[f] = nx[f] * x + ny[f] * y + nz[f] * z - offset[f];
-    for (std::size_t f = 0; f < out.faces; ++f) beyond |= static_cast<std::uint32_t>(d[f] >= reach) << f;
+    for (std::size_t f = 0; f < out.faces; ++f) beyond |= static_cast<std::uint64_t>(d[f] >= reach) << f;
 #endif
     out.beyond[v] = beyond;
   }
@@ -403,7 +403,8 @@ bool separated_by_facing_face(const PosedShape& s, const PosedShape& other, doub
 /// A convex polyhedron has at most 3 V - 6 edges.
 constexpr std::size_t kMaxEdges = kContactLimits.edges;
 static_assert(kMaxEdges == 3 * kMaxVertices, "a convex polyhedron has at most 3V - 6 edges");
-static_assert(kMaxVertices <= 64 && kMaxEdges <= 192, "feature masks are 64 and 192 bits");
+static_assert(kMaxVertices <= 64 && kMaxFaces <= 64 && kMaxEdges <= 192,
+              "vertex and face masks are 64 bits, edge masks 192");
 using EdgeMask = std::array<std::uint64_t, 3>;
 bool has_edge(const EdgeMask& m, std::size_t e) { return ((m[e >> 6] >> (e & 63)) & 1u) != 0; }
 EdgeMask all_edges(std::size_t n) {

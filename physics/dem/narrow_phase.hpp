@@ -51,10 +51,10 @@ inline double turn_between(const Eigen::Quaterniond& q, const Eigen::Quaterniond
 }
 
 /// The largest shape the polyhedron contact search takes: its buffers are fixed (vertex
-/// masks are 64 bits, face masks 32). A shape beyond them would meet nothing, so
+/// and face masks are 64 bits). A shape beyond them would meet nothing, so
 /// World::add_shape refuses it and a split that would make one is refused.
 struct ContactLimits {
-  std::size_t vertices = 48, faces = 32, edges = 144;
+  std::size_t vertices = 64, faces = 64, edges = 192;
 };
 inline constexpr ContactLimits kContactLimits{};
 [[nodiscard]] inline bool within_contact_limits(const geometry::ContactPrimitives& p) {
