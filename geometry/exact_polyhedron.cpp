@@ -690,8 +690,10 @@ SplitResult ExactPolyhedron::split(const ExactPlane& exact_plane, double min_vol
   const double vb = b.volume_approx(), va = a.volume_approx();
   result.below_fraction = vb / (vb + va);
   result.above_fraction = va / (vb + va);
+  // A corner cut far below a double's resolution can round a part's volume to zero or
+  // less; both parts are exact and non-empty here, so only a positive minimum refuses one.
   const double smaller = std::min(result.below_fraction, result.above_fraction);
-  if (smaller < min_volume_fraction) {
+  if (min_volume_fraction > 0.0 && smaller < min_volume_fraction) {
     result.status = SplitStatus::sliver;
     result.reason = "a fragment would hold " + std::to_string(smaller) +
                     " of the volume, below the minimum fraction " +

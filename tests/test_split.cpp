@@ -258,3 +258,27 @@ TEST(CleavageSlabs, CutsBelowTheMinimumFragmentFractionAreSkipped) {
   // <10-10> halves survive any threshold the scenario accepts (below 0.5).
   EXPECT_EQ(prism.cleavage_slabs({CleavageFamily::m_10_10, 0}, 0.49).size(), 2u);
 }
+
+TEST(DegeneratePlanes, ACornerCutBelowDoubleResolutionStillSplitsExactly) {
+  // The plane x + y + z = 24 - d cuts the unit cube's corner (8, 8, 8) off as a tetrahedron
+  // of legs d: exactly d^3 / 6, however small. Its volume in doubles (coordinates near 1)
+  // rounds to nothing or below (the cube sits at [7, 8]^3, where the double sum of the
+  // faces' volume terms cancels); with no minimum fraction the cut must still be made.
+  PolygonMesh m;
+  m.vertices = {{7, 7, 7}, {8, 7, 7}, {8, 8, 7}, {7, 8, 7}, {7, 7, 8}, {8, 7, 8}, {8, 8, 8}, {7, 8, 8}};
+  m.faces = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  const ExactPolyhedron cube = ExactPolyhedron::from_mesh(m);
+  for (double d : {0x1p-20, 0x1p-30, 0x1p-36, 0x1p-40, 0x1p-44, 0x1p-46}) {
+    const ExactPlane plane = ExactPlane::from_normal_offset({-1.0, -1.0, -1.0}, -(24.0 - d));
+    const SplitResult r = cube.split(plane);
+    ASSERT_TRUE(r.ok()) << d << ": " << r.reason;
+    EXPECT_EQ(r.above->volume() + r.below->volume(), cube.volume()) << d;
+    const ExactScalar corner = r.below->volume();  // the negative side: x + y + z > 24 - d
+    EXPECT_EQ(corner + corner + corner + corner + corner + corner,
+              ExactScalar(d) * ExactScalar(d) * ExactScalar(d))
+        << d;
+    const std::optional<ExactPolyhedron> kept = cube.clipped(plane);
+    ASSERT_TRUE(kept.has_value()) << d;
+    EXPECT_EQ(kept->volume(), r.above->volume()) << d;
+  }
+}
