@@ -279,8 +279,9 @@ namespace {
 std::vector<ExactPolyhedron> exact_cells(const ExactPolyhedron& domain,
                                          const std::vector<Eigen::Vector3d>& points,
                                          const Neighbours& nb, const std::vector<double>& weights,
-                                         const Hints* hints) {
+                                         const Hints* hints, double gap) {
   check_input(points, weights);
+  if (!(gap >= 0.0)) throw std::invalid_argument("the Laguerre gap must not be negative");
   const std::size_t n = nb.n, m = nb.at.size();
   std::vector<ExactPolyhedron> cells;
   cells.reserve(n);
@@ -300,11 +301,17 @@ std::vector<ExactPolyhedron> exact_cells(const ExactPolyhedron& domain,
         throw std::invalid_argument("Laguerre points " + std::to_string(std::min(i, j)) + " and " +
                                     std::to_string(std::max(i, j)) + " coincide");
       }
-      const double t = bisector_offset(p, weights[i], q, weights[j]);
+      const double t = bisector_offset(p, weights[i], q, weights[j]) - 0.5 * gap;
       if (t > reach * (1.0 + 1e-9)) return false;
       // The image's position summed exactly: bisectors of images match their translates.
+      // With a gap the bisector moves gap/2 towards p, its offset rounded, then taken
+      // exactly: (p - q) . x >= (|p|^2 - |q|^2 + w_q - w_p) / 2 + gap |p - q| / 2.
       std::optional<ExactPolyhedron> kept = cell.clipped(
-          ExactPlane::power_bisector(p, weights[i], points[j], weights[j], nb.shifts[k / n]));
+          gap == 0.0
+              ? ExactPlane::power_bisector(p, weights[i], points[j], weights[j], nb.shifts[k / n])
+              : ExactPlane::from_normal_offset(
+                    p - q, 0.5 * (p.squaredNorm() - q.squaredNorm() + weights[j] - weights[i]) +
+                               0.5 * gap * (p - q).norm()));
       if (!kept) {
         throw std::invalid_argument(
             "Laguerre point " + std::to_string(i) + " (weight " + std::to_string(weights[i]) +
@@ -347,19 +354,19 @@ LaguerreFit fit_weights(const Poly& start, double length, const Neighbours& nb,
 
 std::vector<ExactPolyhedron> laguerre_cells(const ExactPolyhedron& domain,
                                             const std::vector<Eigen::Vector3d>& points,
-                                            const std::vector<double>& weights) {
-  return exact_cells(domain, points, plain_neighbours(points), weights, nullptr);
+                                            const std::vector<double>& weights, double gap) {
+  return exact_cells(domain, points, plain_neighbours(points), weights, nullptr, gap);
 }
 
 std::vector<ExactPolyhedron> laguerre_box_cells(const Eigen::Vector3d& size,
                                                 const std::array<bool, 3>& periodic,
                                                 const std::vector<Eigen::Vector3d>& points,
-                                                const std::vector<double>& weights) {
+                                                const std::vector<double>& weights, double gap) {
   for (int d = 0; d < 3; ++d) {
     if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
   }
   return exact_cells(start_box(size, periodic), points, neighbours_of(points, size, periodic),
-                     weights, nullptr);
+                     weights, nullptr, gap);
 }
 
 LaguerreFit fit_laguerre_weights(const PolygonMesh& domain,
@@ -489,7 +496,7 @@ int lognormal_grain_count(double volume, double mean_diameter, double spread) {
 LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
                                      const std::vector<Eigen::Vector3d>& points,
                                      std::vector<double> targets,
-                                     const std::array<bool, 3>& periodic) {
+                                     const std::array<bool, 3>& periodic, double gap) {
   for (int d = 0; d < 3; ++d) {
     if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
   }
@@ -512,19 +519,20 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
   out.targets = targets;
   out.fit = fit_weights(poly, length, nb, targets, 1e-3, 60);
   const LaguerreApprox last = approx_cells(poly, length, nb, out.fit.weights, nullptr);
-  out.cells = exact_cells(start, points, nb, out.fit.weights, &last.faces);
+  out.cells = exact_cells(start, points, nb, out.fit.weights, &last.faces, gap);
   return out;
 }
 
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
-                                        std::uint64_t seed, const std::array<bool, 3>& periodic) {
+                                        std::uint64_t seed, const std::array<bool, 3>& periodic,
+                                        double gap) {
   VoronoiDef def;
   def.size = size;
   def.cells = cells;
   def.seed = seed;
   const double volume = size.x() * size.y() * size.z();
   return fitted_laguerre(size, voronoi_points(def), lognormal_volumes(cells, spread, seed, volume),
-                         periodic);
+                         periodic, gap);
 }
 
 }  // namespace cleave::geometry

@@ -21,18 +21,22 @@ namespace cleave::geometry {
 /// inside the convex `domain`. A point's cell need not contain the point. Throws
 /// std::invalid_argument for unequal lengths, no points, two equal points, or a point whose
 /// cell is empty (named with its index; such a point is an error, never dropped).
+/// `gap` > 0 moves each power bisector gap/2 towards each of its two cells (faces on the
+/// domain stay), as VoronoiDef::gap does: the cells are then apart by `gap` and no longer
+/// tile the domain.
 std::vector<ExactPolyhedron> laguerre_cells(const ExactPolyhedron& domain,
                                             const std::vector<Eigen::Vector3d>& points,
-                                            const std::vector<double>& weights);
+                                            const std::vector<double>& weights, double gap = 0.0);
 
 /// The exact cells of the box [0, size], periodic along the marked axes: there the points'
 /// images one box over are neighbours too, so the cells tile the box as a periodic cell (a
 /// cell near a periodic face reaches across it and matches its neighbours' images there, as
-/// voronoi_cells does). Errors as laguerre_cells.
+/// voronoi_cells does). Errors and `gap` as laguerre_cells.
 std::vector<ExactPolyhedron> laguerre_box_cells(const Eigen::Vector3d& size,
                                                 const std::array<bool, 3>& periodic,
                                                 const std::vector<Eigen::Vector3d>& points,
-                                                const std::vector<double>& weights);
+                                                const std::vector<double>& weights,
+                                                double gap = 0.0);
 
 /// Cell volumes and neighbours from a double-precision clipper (for fitting and checks, not
 /// for invariants): the domain given as a closed convex polygon mesh (faces CCW from outside).
@@ -85,17 +89,20 @@ struct LaguerreTessellation {
 
 /// Cells of the box [0, size] at `points` whose volumes match `targets` (scaled first so they
 /// sum to the box's volume): weights fitted in doubles, then the exact cells built once.
-/// Periodic along the marked axes as laguerre_box_cells.
+/// Periodic along the marked axes as laguerre_box_cells. A `gap` is cut after the fit: the
+/// cells are the fitted ones, each shrunk by gap/2 on every face it shares with another.
 LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
                                      const std::vector<Eigen::Vector3d>& points,
                                      std::vector<double> targets,
-                                     const std::array<bool, 3>& periodic = {false, false, false});
+                                     const std::array<bool, 3>& periodic = {false, false, false},
+                                     double gap = 0.0);
 
 /// `cells` points uniform in the box (voronoi_points with `seed`) with log-normal target
 /// volumes (lognormal_volumes with `spread` and `seed`), fitted as above.
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
                                         std::uint64_t seed,
                                         const std::array<bool, 3>& periodic = {false, false,
-                                                                               false});
+                                                                               false},
+                                        double gap = 0.0);
 
 }  // namespace cleave::geometry

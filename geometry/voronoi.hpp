@@ -31,7 +31,7 @@ struct VoronoiDef {
   /// false: the Voronoi cells of the points. true: Laguerre cells of the same points whose
   /// volumes follow a log-normal distribution of equivalent-sphere diameters with
   /// coefficient of variation `size_spread` (geometry/laguerre.hpp, lognormal_laguerre);
-  /// needs gap 0; periodic axes as above (laguerre_box_cells).
+  /// a gap is cut after the fit (the volumes are the tiling cells'); periodic axes as above.
   bool lognormal = false;
   double size_spread = 0.35;  ///< standard deviation / mean of the equivalent diameters
 };

@@ -187,9 +187,6 @@ void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def)
       t.fail(*mean_node, "size_mean",
              "give grains or size_mean, not both: size_mean sets the number of grains");
     }
-    if (const toml::node* gap = t.find("gap")) {
-      t.fail(*gap, "gap", "log-normal (Laguerre) cells tile the box: no gap");
-    }
   }
   std::int64_t cells = 0;
   if (def.voronoi.lognormal && mean_node != nullptr) {

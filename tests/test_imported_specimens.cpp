@@ -118,10 +118,6 @@ TEST(ImportedSpecimen, LognormalKeyErrorsNameTheirKeyAndLine) {
     check_error(t, "e.toml", 6, "specimen.size_mean", "not both");
   }
   {
-    const std::string t = head + "sizes = \"lognormal\"\ngap = 0.01\n" + kTail;
-    check_error(t, "e.toml", 6, "specimen.gap", "no gap");
-  }
-  {
     const std::string t = head + "sizes = \"gaussian\"\n" + kTail;
     check_error(t, "e.toml", 5, "specimen.sizes", "lognormal");
   }
