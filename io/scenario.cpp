@@ -682,7 +682,7 @@ void read_cleavage_tables(const toml::table& root, const std::string& source, Un
 
 // ---- [split], [output] --------------------------------------------------------------------
 
-constexpr std::string_view kSplitKeys[] = {"min_fragment_fraction"};
+constexpr std::string_view kSplitKeys[] = {"min_fragment_fraction", "min_fragment_diameter"};
 
 void read_split_table(const TableReader& t, SplitDef& split) {
   t.reject_unknown(kSplitKeys);
@@ -690,6 +690,7 @@ void read_split_table(const TableReader& t, SplitDef& split) {
       t.number("min_fragment_fraction", {.lo = 0.0, .hi = 0.5, .hi_open = true},
                SplitDef{}.min_fragment_fraction)
           .value;
+  split.min_fragment_diameter = t.number("min_fragment_diameter", Range::non_negative(), 0.0).value;
 }
 
 constexpr std::string_view kOutputKeys[] = {"mesh_format", "mesh_layout", "frame_meshes",

@@ -51,6 +51,9 @@ class ScenarioError : public std::runtime_error {
 struct SplitDef {
   /// Cuts leaving a fragment below this fraction of its parent's volume are refused.
   double min_fragment_fraction = 0.01;
+  /// Cuts leaving a fragment whose equivalent-sphere diameter (6 V / pi)^(1/3) is below this
+  /// (m) are refused; 0: no such bound.
+  double min_fragment_diameter = 0.0;
 };
 
 struct OutputDef {

@@ -68,8 +68,9 @@ std::string scenario_to_toml(const Scenario& s) {
     if (d.voronoi.lognormal) {
       out += fmt::format(
           "\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\nseed = {}\nsizes = "
-          "\"lognormal\"\nsize_spread = {}\n",
-          vec(d.voronoi.size), d.voronoi.cells, d.voronoi.seed, num(d.voronoi.size_spread));
+          "\"lognormal\"\nsize_spread = {}\ngap = {}\n",
+          vec(d.voronoi.size), d.voronoi.cells, d.voronoi.seed, num(d.voronoi.size_spread),
+          num(d.voronoi.gap));
     } else {
       out += fmt::format(
           "\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\ngap = {}\nseed = {}\n",
@@ -139,6 +140,8 @@ std::string scenario_to_toml(const Scenario& s) {
     case OrientationLaw::imported: out += "law = \"imported\"\n"; break;
   }
   out += fmt::format("\n[split]\nmin_fragment_fraction = {}\n", num(s.split.min_fragment_fraction));
+  if (s.split.min_fragment_diameter > 0.0)
+    out += fmt::format("min_fragment_diameter = {}\n", num(s.split.min_fragment_diameter));
   out += fmt::format("\n[output]\nmesh_format = \"{}\"\nmesh_layout = \"{}\"\nframe_meshes = {}\n",
                      to_string(s.output.mesh_format), to_string(s.output.mesh_layout),
                      boolean(s.output.frame_meshes));
@@ -390,6 +393,7 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("orientation.file", sa.orientation.file, sb.orientation.file);
   d.same("orientation.given", sa.orientation.given.size(), sb.orientation.given.size());
   d.same("split.min_fragment_fraction", a.split.min_fragment_fraction, b.split.min_fragment_fraction);
+  d.same("split.min_fragment_diameter", a.split.min_fragment_diameter, b.split.min_fragment_diameter);
   d.same("output.mesh_format", a.output.mesh_format, b.output.mesh_format);
   d.same("output.mesh_layout", a.output.mesh_layout, b.output.mesh_layout);
   d.same("output.frame_meshes", a.output.frame_meshes, b.output.frame_meshes);

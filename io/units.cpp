@@ -294,6 +294,7 @@ std::span<const KeyDimension> scenario_key_dimensions() {
       {"specimen.notch_width", D::length, 1},
       {"specimen.notch_depth", D::length, 1},
       {"specimen.gap", D::length, 1},
+      {"split.min_fragment_diameter", D::length, 1},
       {"specimen.size_mean", D::length, 1},
       {"specimen.scale", D::length, 1},
       {"mesh_grain.scale", D::length, 1},

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <numbers>
 
 #include "io/result_dir.hpp"
 #include "physics/dem/world.hpp"
@@ -121,6 +122,10 @@ class Dynamics::Runner {
           book_->add_grain(world_, id, grain, g.orientation);
         }
       }
+    }
+    if (book_ && scenario_.split.min_fragment_diameter > 0.0) {
+      const double d = scenario_.split.min_fragment_diameter;
+      book_->set_min_piece_volume(std::numbers::pi / 6.0 * d * d * d);
     }
     if (book_ && specimen_.def.crystal.enabled) {
       // Each plane's family sets its resistance; from the scenario, fresh or resumed.

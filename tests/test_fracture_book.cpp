@@ -497,3 +497,32 @@ TEST(ContactLimits, ACutThatWouldMakeAPieceTooBigForTheContactSearchIsRefused) {
   const SplitEvent cut = book.split(world, g, 1);
   EXPECT_EQ(cut.ids.size(), 2u);
 }
+
+TEST(SmallestPiece, ACutLeavingAPieceBelowTheSmallestVolumeIsRefused) {
+  // A 24-gon prism of circumradius r and height h: a plane x = 0.8 r cuts off a cap far
+  // below a fifth of the prism; with the smallest piece set between the cap's volume and
+  // the half's, that cut is refused and the plane dropped, while x = 0 still halves it.
+  World world(Rig::settings());
+  FractureBook book(kDilation, 0.0);
+  const double r = 1e-3, h = 1e-3;
+  const auto prism = std::make_shared<const geometry::ExactPolyhedron>(polygon_prism(24, r, h));
+  const std::uint32_t shape = world.add_shape(make_rigid_shape(*prism, kDilation));
+  book.add_shape(shape, prism);
+  const BodyId g = world.add_body(shape, kRho, Eigen::Vector3d::Zero(), world.shape(shape).orientation_for());
+  std::vector<geometry::ExactPlane> planes{
+      geometry::ExactPlane::from_normal_offset(Eigen::Vector3d::UnitX(), 0.8 * r),
+      geometry::ExactPlane::from_normal_offset(Eigen::Vector3d::UnitX(), 0.0)};
+  book.add_grain(world, g, 0, planes);
+  // The cap beyond x = 0.8 r of a disc of radius r: r^2 (acos(0.8) - 0.8 sqrt(1 - 0.64)),
+  // about 0.052 of the disc; the prism's polygon has less. A quarter of the prism's volume
+  // sits between it and the half.
+  const double prism_volume = prism->volume().to_double();
+  book.set_min_piece_volume(0.25 * prism_volume);
+  const SplitEvent refused = book.split(world, g, 0);
+  EXPECT_TRUE(refused.ids.empty());
+  EXPECT_EQ(book.candidates(g), (std::vector<int>{1}));
+  const SplitEvent cut = book.split(world, g, 1);
+  ASSERT_EQ(cut.ids.size(), 2u);
+  for (const BodyId piece : cut.ids)
+    EXPECT_NEAR(world.shape(world.info(piece).shape).volume, 0.5 * prism_volume, 1e-9 * prism_volume);
+}

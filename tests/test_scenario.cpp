@@ -435,7 +435,7 @@ alpha = 2
   } catch (const ScenarioError& e) {
     EXPECT_EQ(std::string(e.what()),
               "mem.toml:8:3: key 'split.fraction': unknown key in [split]; accepted keys: "
-              "'min_fragment_fraction'");
+              "'min_fragment_fraction', 'min_fragment_diameter'");
   }
 }
 

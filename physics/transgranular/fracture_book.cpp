@@ -142,8 +142,11 @@ SplitEvent FractureBook::split(World& world, BodyId id, int plane) {
         RigidShape rigid = make_rigid_shape(*exact, dilation_);
         two.emplace_back(std::move(exact), std::move(rigid));
       }
-      // A piece the contact search cannot take would meet nothing: the cut is refused.
-      const bool fits = within_contact_limits(two[0].second.primitives) && within_contact_limits(two[1].second.primitives);
+      // A piece the contact search cannot take would meet nothing, and one below the
+      // smallest volume is not split off: the cut is refused.
+      const bool fits = within_contact_limits(two[0].second.primitives) &&
+                        within_contact_limits(two[1].second.primitives) &&
+                        two[0].second.volume >= min_volume_ && two[1].second.volume >= min_volume_;
       for (auto& [exact, rigid] : two) {
         if (!fits) break;
         const std::uint32_t index = world.add_shape(std::move(rigid));

@@ -59,6 +59,9 @@ class FractureBook {
   /// for planes not given. Not checkpointed: it follows from the scenario, and a resumed
   /// run sets it again.
   void set_plane_resistance(std::vector<double> per_plane) { resistance_ = std::move(per_plane); }
+  /// Cuts leaving a piece below `volume` (m^3) are refused from now on, as slivers are. Not
+  /// checkpointed either: a resumed run sets it again from its scenario.
+  void set_min_piece_volume(double volume) { min_volume_ = volume; }
   /// The resistance factor of cleavage plane `plane` (an index into a body's planes).
   [[nodiscard]] double resistance(int plane) const;
 
@@ -157,6 +160,7 @@ class FractureBook {
 
   double dilation_;
   double min_fraction_;
+  double min_volume_ = 0.0;
   std::map<std::uint32_t, Shape> shapes_;  // by world shape index
   /// (shape, plane text) -> the two pieces' world shape indices (below, above); empty when
   /// the cut is refused.
