@@ -14,6 +14,7 @@
 
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/polygon_mesh.hpp"
+#include "geometry/voronoi.hpp"
 
 namespace cleave::geometry {
 
@@ -75,10 +76,10 @@ std::vector<double> lognormal_volumes(int n, double spread, std::uint64_t seed, 
 /// volume / E[pi d^3 / 6], E[d^3] = exp(3 mu + 9 sigma^2 / 2), rounded, at least 1.
 int lognormal_grain_count(double volume, double mean_diameter, double spread);
 
-/// A fitted Laguerre tessellation of a box [0, size].
+/// A fitted Laguerre tessellation of a box [0, size] or another convex domain.
 struct LaguerreTessellation {
   std::vector<Eigen::Vector3d> points;
-  std::vector<double> targets;  ///< the volumes asked for (summing to the box's)
+  std::vector<double> targets;  ///< the volumes asked for (summing to the domain's)
   LaguerreFit fit;
   std::vector<ExactPolyhedron> cells;  ///< exact, in point order
 };
@@ -91,11 +92,21 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
                                      std::vector<double> targets,
                                      const std::array<bool, 3>& periodic = {false, false, false});
 
+/// The same in the convex `domain` (no periodic axes): targets scaled to its volume (in
+/// doubles), the exact cells summing to its exact volume.
+LaguerreTessellation fitted_laguerre(const ExactPolyhedron& domain,
+                                     const std::vector<Eigen::Vector3d>& points,
+                                     std::vector<double> targets);
+
 /// `cells` points uniform in the box (voronoi_points with `seed`) with log-normal target
 /// volumes (lognormal_volumes with `spread` and `seed`), fitted as above.
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
                                         std::uint64_t seed,
                                         const std::array<bool, 3>& periodic = {false, false,
                                                                                false});
+
+/// The same for a Voronoi definition's domain (a box with its periodic axes, or a disc):
+/// its `cells`, `seed` and `size_spread`; the gap is not used.
+LaguerreTessellation lognormal_laguerre(const VoronoiDef& def);
 
 }  // namespace cleave::geometry

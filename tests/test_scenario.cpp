@@ -421,7 +421,8 @@ shape = "box"
 size = [12, 12, 4]
 diameter = 15
 )" + kGrain,
-                        4, "specimen.diameter", "does not apply to shape 'box' (only to 'disc')");
+                        4, "specimen.diameter",
+                        "does not apply to shape 'box' (only to 'disc', 'voronoi')");
   EXPECT_SCENARIO_ERROR(R"([specimen]
 shape = "disc"
 diameter = 15
