@@ -244,6 +244,26 @@ TEST(LaguerreDisc, LognormalCellsTileThePrismExactlyWithTheRequestedSpread) {
   EXPECT_NEAR(std::sqrt(var), sigma, 5.0 * sigma / std::sqrt(2.0 * 200));
 }
 
+// Disabled: it fails today, and documents a defect for whoever fixes it. The weights fitted
+// for these 1,000 cells give every cell its target volume in the double clipper (and by
+// Monte Carlo), but the exact cells throw "point 60 has an empty cell: point 45's power
+// covers all of it": ExactPolyhedron::clipped finds no vertex of cell 60 on the kept side of
+// the power bisector with 45, where the same plane evaluated exactly from the texts of the
+// plane and the vertices puts 17 of 18 vertices there. Seen with and without -mavx2; other
+// seeds (spread 0.35 seed 4 in a disc, seed 3 in a 6.8 mm cube) fail alike in one build and
+// not the other, and whether a cut succeeds changed with volume() being evaluated first.
+TEST(LaguerreDisc, DISABLED_FittedCellsOfAThousandGrainDiscAreNotEmpty) {
+  g::VoronoiDef def;
+  def.domain = g::VoronoiDomain::disc;
+  def.size = Eigen::Vector3d(10e-3, 10e-3, 4e-3);
+  def.cells = 1000;
+  def.seed = 6;
+  def.lognormal = true;
+  def.size_spread = 0.25;
+  const auto t = g::lognormal_laguerre(def);
+  EXPECT_TRUE(g::total_volume(t.cells) == g::voronoi_domain(def).volume());
+}
+
 TEST(LaguerreDisc, SpecimenGrainsAreTheCellsOfTheDisc) {
   g::SpecimenDef def;
   def.kind = g::SpecimenKind::voronoi;
