@@ -493,13 +493,11 @@ int lognormal_grain_count(double volume, double mean_diameter, double spread) {
   return std::max(1, static_cast<int>(count));
 }
 
-LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
-                                     const std::vector<Eigen::Vector3d>& points,
-                                     std::vector<double> targets,
-                                     const std::array<bool, 3>& periodic, double gap) {
-  for (int d = 0; d < 3; ++d) {
-    if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
-  }
+namespace {
+/// Targets scaled to `volume`, weights fitted in `start`, the exact cells built once.
+LaguerreTessellation fitted_in(const ExactPolyhedron& start, double volume,
+                               const std::vector<Eigen::Vector3d>& points,
+                               std::vector<double> targets, const Neighbours& nb, double gap) {
   if (targets.size() != points.size()) throw std::invalid_argument("one target volume per point");
   if (points.empty())
     throw std::invalid_argument("a Laguerre tessellation needs at least one point");
@@ -508,12 +506,10 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
     if (!(t > 0.0)) throw std::invalid_argument("target volumes must be positive");
     sum += t;
   }
-  const double box_volume = size.x() * size.y() * size.z();
-  for (double& t : targets) t *= box_volume / sum;
-  const ExactPolyhedron start = start_box(size, periodic);
-  const Poly poly = poly_of(start.to_mesh());
-  const double length = domain_length(start.to_mesh());
-  const Neighbours nb = neighbours_of(points, size, periodic);
+  for (double& t : targets) t *= volume / sum;
+  const PolygonMesh mesh = start.to_mesh();
+  const Poly poly = poly_of(mesh);
+  const double length = domain_length(mesh);
   LaguerreTessellation out;
   out.points = points;
   out.targets = targets;
@@ -521,6 +517,25 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
   const LaguerreApprox last = approx_cells(poly, length, nb, out.fit.weights, nullptr);
   out.cells = exact_cells(start, points, nb, out.fit.weights, &last.faces, gap);
   return out;
+}
+}  // namespace
+
+LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
+                                     const std::vector<Eigen::Vector3d>& points,
+                                     std::vector<double> targets,
+                                     const std::array<bool, 3>& periodic, double gap) {
+  for (int d = 0; d < 3; ++d) {
+    if (!(size[d] > 0.0)) throw std::invalid_argument("Laguerre box sizes must be positive");
+  }
+  return fitted_in(start_box(size, periodic), size.x() * size.y() * size.z(), points,
+                   std::move(targets), neighbours_of(points, size, periodic), gap);
+}
+
+LaguerreTessellation fitted_laguerre(const ExactPolyhedron& domain,
+                                     const std::vector<Eigen::Vector3d>& points,
+                                     std::vector<double> targets, double gap) {
+  return fitted_in(domain, domain.volume().to_double(), points, std::move(targets),
+                   plain_neighbours(points), gap);
 }
 
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
@@ -530,9 +545,25 @@ LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, 
   def.size = size;
   def.cells = cells;
   def.seed = seed;
-  const double volume = size.x() * size.y() * size.z();
-  return fitted_laguerre(size, voronoi_points(def), lognormal_volumes(cells, spread, seed, volume),
-                         periodic, gap);
+  def.periodic = periodic;
+  def.size_spread = spread;
+  def.gap = gap;
+  return lognormal_laguerre(def);
+}
+
+LaguerreTessellation lognormal_laguerre(const VoronoiDef& def) {
+  const std::vector<Eigen::Vector3d> points = voronoi_points(def);
+  if (def.domain == VoronoiDomain::box) {
+    const double volume = def.size.x() * def.size.y() * def.size.z();
+    return fitted_laguerre(def.size, points,
+                           lognormal_volumes(def.cells, def.size_spread, def.seed, volume),
+                           def.periodic, def.gap);
+  }
+  const ExactPolyhedron domain = voronoi_domain(def);
+  return fitted_laguerre(
+      domain, points,
+      lognormal_volumes(def.cells, def.size_spread, def.seed, domain.volume().to_double()),
+      def.gap);
 }
 
 }  // namespace cleave::geometry

@@ -14,6 +14,7 @@
 
 #include "geometry/exact_polyhedron.hpp"
 #include "geometry/polygon_mesh.hpp"
+#include "geometry/voronoi.hpp"
 
 namespace cleave::geometry {
 
@@ -79,10 +80,10 @@ std::vector<double> lognormal_volumes(int n, double spread, std::uint64_t seed, 
 /// volume / E[pi d^3 / 6], E[d^3] = exp(3 mu + 9 sigma^2 / 2), rounded, at least 1.
 int lognormal_grain_count(double volume, double mean_diameter, double spread);
 
-/// A fitted Laguerre tessellation of a box [0, size].
+/// A fitted Laguerre tessellation of a box [0, size] or another convex domain.
 struct LaguerreTessellation {
   std::vector<Eigen::Vector3d> points;
-  std::vector<double> targets;  ///< the volumes asked for (summing to the box's)
+  std::vector<double> targets;  ///< the volumes asked for (summing to the domain's)
   LaguerreFit fit;
   std::vector<ExactPolyhedron> cells;  ///< exact, in point order
 };
@@ -97,6 +98,12 @@ LaguerreTessellation fitted_laguerre(const Eigen::Vector3d& size,
                                      const std::array<bool, 3>& periodic = {false, false, false},
                                      double gap = 0.0);
 
+/// The same in the convex `domain` (no periodic axes): targets scaled to its volume (in
+/// doubles), the exact cells summing to its exact volume when `gap` is 0.
+LaguerreTessellation fitted_laguerre(const ExactPolyhedron& domain,
+                                     const std::vector<Eigen::Vector3d>& points,
+                                     std::vector<double> targets, double gap = 0.0);
+
 /// `cells` points uniform in the box (voronoi_points with `seed`) with log-normal target
 /// volumes (lognormal_volumes with `spread` and `seed`), fitted as above.
 LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, double spread,
@@ -104,5 +111,9 @@ LaguerreTessellation lognormal_laguerre(const Eigen::Vector3d& size, int cells, 
                                         const std::array<bool, 3>& periodic = {false, false,
                                                                                false},
                                         double gap = 0.0);
+
+/// The same for a Voronoi definition's domain (a box with its periodic axes, or a disc):
+/// its `cells`, `seed`, `size_spread` and `gap`.
+LaguerreTessellation lognormal_laguerre(const VoronoiDef& def);
 
 }  // namespace cleave::geometry

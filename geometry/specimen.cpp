@@ -94,8 +94,7 @@ Specimen build_specimen(const SpecimenDef& def) {
   }
   if (def.kind == SpecimenKind::voronoi && def.voronoi.lognormal) {
     const VoronoiDef& v = def.voronoi;
-    LaguerreTessellation t =
-        lognormal_laguerre(v.size, v.cells, v.size_spread, v.seed, v.periodic, v.gap);
+    LaguerreTessellation t = lognormal_laguerre(v);
     // A Laguerre cell need not hold its point: the frame's origin is the mean of its
     // (rounded) vertices, inside the convex cell and cheap beside its exact centroid.
     std::vector<Eigen::Vector3d> centres;

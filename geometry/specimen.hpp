@@ -21,7 +21,7 @@ namespace cleave::geometry {
 /// Where a specimen's grains come from.
 enum class SpecimenKind {
   lattice,  ///< hexagonal prisms on the honeycomb lattice inside `outline` (the seed's model)
-  voronoi,  ///< the Voronoi cells of random points in a box (`voronoi`)
+  voronoi,  ///< the Voronoi cells of random points in a box or a disc (`voronoi`)
   meshes,   ///< convex shapes given one by one (`custom_grains`, e.g. from mesh files)
 };
 

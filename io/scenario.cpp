@@ -90,7 +90,8 @@ void read_scenario_table(const TableReader& t, Scenario& s, double& unit) {
 constexpr std::string_view kSpecimenKeys[] = {
     "shape",       "size",        "diameter",    "thickness", "length", "height",
     "notch_width", "notch_depth", "keep",        "grains",    "gap",    "seed",
-    "sizes",       "size_mean",   "size_spread", "file",      "scale"};
+    "sizes",       "size_mean",   "size_spread", "file",      "scale",  "domain",
+    "sides"};
 constexpr std::string_view kCommonSpecimenKeys[] = {"shape", "keep"};
 constexpr std::string_view kBoxKeys[] = {"size"};
 constexpr std::string_view kDiscKeys[] = {"diameter", "thickness"};
@@ -147,8 +148,10 @@ Outline read_beam(const TableReader& t) {
 }
 
 // Specimens that make their own grains (no honeycomb lattice, no [grain] table).
-constexpr std::string_view kVoronoiKeys[] = {"size",  "grains",    "gap",        "seed",
-                                             "sizes", "size_mean", "size_spread"};
+constexpr std::string_view kVoronoiKeys[] = {"size",     "grains",    "gap",         "seed",
+                                             "sizes",    "size_mean", "size_spread", "domain",
+                                             "diameter", "thickness", "sides"};
+constexpr std::string_view kVoronoiDiscKeys[] = {"diameter", "thickness", "sides"};
 // Imported microstructures: a Neper .tess (its own domain) or a grain file in a box.
 constexpr std::string_view kTessKeys[] = {"file", "scale"};
 constexpr std::string_view kGrainFileKeys[] = {"size", "file", "scale"};
@@ -158,11 +161,27 @@ Outline read_no_outline(const TableReader&) {
   return Outline::box(1.0, 1.0, 1.0);
 }
 
+/// shape = "voronoi": the box `size`, or with domain = "disc" a disc along z (`diameter`,
+/// `thickness`, `sides`); the other domain's keys are errors.
+Outline read_voronoi_outline(const TableReader& t) {
+  const bool disc = t.choose("domain", std::vector<Choice<bool>>{{"box", false}, {"disc", true}},
+                             std::optional(false));
+  for (std::string_view key : disc ? std::span<const std::string_view>(kBoxKeys)
+                                   : std::span<const std::string_view>(kVoronoiDiscKeys)) {
+    if (const toml::node* n = t.find(key)) {
+      t.fail(*n, key,
+             disc ? "applies to domain = \"box\"; a Voronoi disc takes diameter, thickness, sides"
+                  : "applies to domain = \"disc\"; a Voronoi box takes size");
+    }
+  }
+  return disc ? read_disc(t) : read_box(t);
+}
+
 constexpr ShapeSpec kShapes[] = {
     {"box", kBoxKeys, &read_box},
     {"disc", kDiscKeys, &read_disc},
     {"beam", kBeamKeys, &read_beam},
-    {"voronoi", kVoronoiKeys, &read_box},
+    {"voronoi", kVoronoiKeys, &read_voronoi_outline},
     {"mesh", {}, &read_no_outline},
     {"tess", kTessKeys, &read_no_outline},
     {"grain_file", kGrainFileKeys, &read_box},
@@ -173,6 +192,15 @@ constexpr ShapeSpec kShapes[] = {
 void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def) {
   def.kind = geometry::SpecimenKind::voronoi;
   def.voronoi.size = def.outline.size;
+  if (def.outline.kind == Outline::Kind::disc) {
+    def.voronoi.domain = geometry::VoronoiDomain::disc;
+    def.voronoi.sides = static_cast<int>(t.integer("sides", 8, 64, 4096));
+    if (def.voronoi.sides % 4 != 0) {
+      t.fail(*t.find("sides"), "sides",
+             fmt::format("must be a multiple of 4 (a flat side under each platen), found {}",
+                         def.voronoi.sides));
+    }
+  }
   const std::vector<Choice<bool>> sizes = {{"voronoi", false}, {"lognormal", true}};
   def.voronoi.lognormal = t.choose("sizes", sizes, std::optional(false));
   const toml::node* mean_node = t.find("size_mean");
@@ -191,16 +219,18 @@ void read_voronoi(const TableReader& t, double unit, geometry::SpecimenDef& def)
   std::int64_t cells = 0;
   if (def.voronoi.lognormal && mean_node != nullptr) {
     const Number mean = t.number("size_mean", Range::positive());
-    const geometry::Outline& o = def.outline;
     try {
-      cells = geometry::lognormal_grain_count(o.size.x() * o.size.y() * o.size.z(), mean.value,
-                                              def.voronoi.size_spread);
+      cells = geometry::lognormal_grain_count(
+          geometry::voronoi_domain(def.voronoi).volume().to_double(), mean.value,
+          def.voronoi.size_spread);
     } catch (const std::invalid_argument& e) {
       t.fail(*mean_node, "size_mean", e.what());
     }
     if (cells > kMaxVoronoiCells) {
       t.fail(*mean_node, "size_mean",
-             fmt::format("makes {} grains in the box; at most {}", cells, kMaxVoronoiCells));
+             fmt::format("makes {} grains in the {}; at most {}", cells,
+                         def.voronoi.domain == geometry::VoronoiDomain::disc ? "disc" : "box",
+                         kMaxVoronoiCells));
     }
   } else {
     if (t.find("grains") == nullptr) {
@@ -1032,6 +1062,9 @@ void read_periodic_table(const TableReader& t, Scenario& s) {
   }
   if (s.specimen.kind != geometry::SpecimenKind::voronoi)
     t.fail(*node, "axes", "a periodic cell is the box of a Voronoi specimen: [specimen] shape = \"voronoi\"");
+  if (s.specimen.voronoi.domain == geometry::VoronoiDomain::disc)
+    t.fail(*node, "axes",
+           "a Voronoi disc has no periodic axes: a periodic cell is a box (domain = \"box\")");
   s.periodic.enabled = true;
   s.periodic.position = {line_of(node->source()), column_of(node->source())};
   const Number tau = t.number("stress_control_time", Range::positive(), 0.0);

@@ -65,16 +65,19 @@ std::string scenario_to_toml(const Scenario& s) {
   const geometry::SpecimenDef& d = s.specimen;
   const geometry::Outline& o = d.outline;
   if (d.kind == geometry::SpecimenKind::voronoi) {
+    const std::string domain =
+        d.voronoi.domain == geometry::VoronoiDomain::disc
+            ? fmt::format("domain = \"disc\"\ndiameter = {}\nthickness = {}\nsides = {}\n",
+                          num(d.voronoi.size.x()), num(d.voronoi.size.z()), d.voronoi.sides)
+            : fmt::format("size = {}\n", vec(d.voronoi.size));
     if (d.voronoi.lognormal) {
       out += fmt::format(
-          "\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\nseed = {}\nsizes = "
+          "\n[specimen]\nshape = \"voronoi\"\n{}grains = {}\nseed = {}\nsizes = "
           "\"lognormal\"\nsize_spread = {}\ngap = {}\n",
-          vec(d.voronoi.size), d.voronoi.cells, d.voronoi.seed, num(d.voronoi.size_spread),
-          num(d.voronoi.gap));
+          domain, d.voronoi.cells, d.voronoi.seed, num(d.voronoi.size_spread), num(d.voronoi.gap));
     } else {
-      out += fmt::format(
-          "\n[specimen]\nshape = \"voronoi\"\nsize = {}\ngrains = {}\ngap = {}\nseed = {}\n",
-          vec(d.voronoi.size), d.voronoi.cells, num(d.voronoi.gap), d.voronoi.seed);
+      out += fmt::format("\n[specimen]\nshape = \"voronoi\"\n{}grains = {}\ngap = {}\nseed = {}\n",
+                         domain, d.voronoi.cells, num(d.voronoi.gap), d.voronoi.seed);
     }
   } else if (d.kind == geometry::SpecimenKind::meshes && s.tessellation) {
     const TessellationFileSpec& t = *s.tessellation;
@@ -351,6 +354,8 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("specimen.shape", sa.outline.kind, sb.outline.kind);
   d.same("specimen.shape", sa.kind, sb.kind);
   d.same("specimen.size", sa.voronoi.size, sb.voronoi.size);
+  d.same("specimen.domain", sa.voronoi.domain, sb.voronoi.domain);
+  d.same("specimen.sides", sa.voronoi.sides, sb.voronoi.sides);
   d.same("specimen.grains", sa.voronoi.cells, sb.voronoi.cells);
   d.same("specimen.gap", sa.voronoi.gap, sb.voronoi.gap);
   d.same("specimen.seed", sa.voronoi.seed, sb.voronoi.seed);

@@ -48,18 +48,22 @@ std::string describe_own_grains(const Specimen& s) {
   if (def.kind == geometry::SpecimenKind::voronoi) {
     const Eigen::Vector3d mm = def.voronoi.size * 1e3;
     const geometry::ExactScalar cells = geometry::total_volume(s.shapes);
-    const geometry::ExactScalar box = geometry::exact_box(Eigen::Vector3d::Zero(), def.voronoi.size).volume();
+    const geometry::ExactScalar domain = geometry::voronoi_domain(def.voronoi).volume();
+    const bool disc = def.voronoi.domain == geometry::VoronoiDomain::disc;
+    const std::string name = disc ? "disc" : "box";
     return fmt::format(
-        "  specimen   {} {} in a box {:g} x {:g} x {:g} mm (point seed {}, "
-        "gap {:g} mm); the cells' exact volumes {}",
+        "  specimen   {} {} in a {} (point seed {}, gap {:g} mm); the cells' exact volumes {}",
         s.grains.size(),
         def.voronoi.lognormal
             ? fmt::format("Laguerre cells (log-normal sizes, spread {:g})", def.voronoi.size_spread)
             : std::string("Voronoi cells"),
-        mm.x(), mm.y(), mm.z(), def.voronoi.seed, def.voronoi.gap * 1e3,
-        cells == box
-            ? std::string("sum exactly to the box's")
-            : fmt::format("fill {:.2f}% of the box", 100 * cells.to_double() / box.to_double()));
+        disc ? fmt::format("disc {:g} mm across, {:g} mm thick ({}-gon)", mm.x(), mm.z(),
+                           def.voronoi.sides)
+             : fmt::format("box {:g} x {:g} x {:g} mm", mm.x(), mm.y(), mm.z()),
+        def.voronoi.seed, def.voronoi.gap * 1e3,
+        cells == domain ? "sum exactly to the " + name + "'s"
+                        : fmt::format("fill {:.2f}% of the {}",
+                                      100 * cells.to_double() / domain.to_double(), name));
   }
   std::string names;
   for (std::size_t i = 0; i < def.custom_grains.size(); ++i) {

@@ -9,6 +9,7 @@
 #include "geometry/specimen.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
+#include "scenario_error_test.hpp"
 
 using namespace cleave;
 using namespace cleave::io;
@@ -32,18 +33,6 @@ kn = 1e5
 dt = 1e-8
 duration = 1e-6
 )";
-
-/// Parses `text` and checks it throws at `line`, naming `key`, with `part` in the message.
-void expect_error(const std::string& text, int line, const std::string& key, const std::string& part) {
-  try {
-    (void)parse_scenario(text, "mem.toml");
-    ADD_FAILURE() << "no error for:\n" << text;
-  } catch (const ScenarioError& e) {
-    EXPECT_EQ(e.line(), line) << e.what();
-    EXPECT_EQ(e.key(), key) << e.what();
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what() << "\n  lacks: " << part;
-  }
-}
 
 }  // namespace
 
@@ -122,24 +111,39 @@ TEST(CrystalScenario, AnOrientationFileGivesEachGrainItsBungeAngles) {
 }
 
 TEST(CrystalScenario, BadCrystalInputNamesItsLineAndKey) {
-  expect_error(kVoronoi + "[[cleavage]]\nplanes = \"{100}\"\n", 5, "cleavage", "need a [crystal] table");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"monoclinic\"\n", 6, "crystal.system", "cubic, hexagonal");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\nc_over_a = 1.2\n", 7, "crystal.c_over_a", "c = a");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"hexagonal\"\n", 5, "crystal.c_over_a", "missing required key");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"trigonal\"\nc_over_a = 2.73\n[[cleavage]]\nplanes = \"{1-10}\"\n", 9,
-               "cleavage[1].planes", "Miller-Bravais");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[[cleavage]]\nplanes = \"{100}\"\n[[cleavage]]\nplanes = \"{100}\"\n",
-               10, "cleavage[2].planes", "same family");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[[cleavage]]\nplanes = \"{100}\"\nk_ic = 1e6\n", 7, "cleavage[1]",
-               "needs a [fracture] table");
-  expect_error(kVoronoi + "[orientation]\nlaw = \"uniform\"\n", 6, "orientation.law", "need a [crystal] table");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = \"uniform\"\nangles = [0]\n", 9,
-               "orientation.angles", "honeycomb");
-  expect_error(kVoronoi + "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = \"preferred\"\neuler = [0, 190, 0]\n", 9,
-               "orientation.euler", "[0, 180]");
-  expect_error(kVoronoi + kMoving + "[thermal]\nalpha_a = 1e-6\nalpha_b = 2e-6\nalpha_c = 3e-6\n", 17, "thermal.alpha_b",
-               "c_axis = \"crystal\"");
-  expect_error(kVoronoi + kMoving + "[thermal]\nc_axis = \"crystal\"\n", 16, "thermal.c_axis", "[crystal]");
+  EXPECT_SCENARIO_ERROR(kVoronoi + "[[cleavage]]\nplanes = \"{100}\"\n", 5, "cleavage",
+                        "need a [crystal] table");
+  EXPECT_SCENARIO_ERROR(kVoronoi + "[crystal]\nsystem = \"monoclinic\"\n", 6, "crystal.system",
+                        "cubic, hexagonal");
+  EXPECT_SCENARIO_ERROR(kVoronoi + "[crystal]\nsystem = \"cubic\"\nc_over_a = 1.2\n", 7,
+                        "crystal.c_over_a", "c = a");
+  EXPECT_SCENARIO_ERROR(kVoronoi + "[crystal]\nsystem = \"hexagonal\"\n", 5, "crystal.c_over_a",
+                        "missing required key");
+  EXPECT_SCENARIO_ERROR(
+      kVoronoi +
+          "[crystal]\nsystem = \"trigonal\"\nc_over_a = 2.73\n[[cleavage]]\nplanes = \"{1-10}\"\n",
+      9, "cleavage[1].planes", "Miller-Bravais");
+  EXPECT_SCENARIO_ERROR(kVoronoi +
+                            "[crystal]\nsystem = \"cubic\"\n[[cleavage]]\nplanes = "
+                            "\"{100}\"\n[[cleavage]]\nplanes = \"{100}\"\n",
+                        10, "cleavage[2].planes", "same family");
+  EXPECT_SCENARIO_ERROR(
+      kVoronoi + "[crystal]\nsystem = \"cubic\"\n[[cleavage]]\nplanes = \"{100}\"\nk_ic = 1e6\n", 7,
+      "cleavage[1]", "needs a [fracture] table");
+  EXPECT_SCENARIO_ERROR(kVoronoi + "[orientation]\nlaw = \"uniform\"\n", 6, "orientation.law",
+                        "need a [crystal] table");
+  EXPECT_SCENARIO_ERROR(
+      kVoronoi + "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = \"uniform\"\nangles = [0]\n",
+      9, "orientation.angles", "honeycomb");
+  EXPECT_SCENARIO_ERROR(kVoronoi +
+                            "[crystal]\nsystem = \"cubic\"\n[orientation]\nlaw = "
+                            "\"preferred\"\neuler = [0, 190, 0]\n",
+                        9, "orientation.euler", "[0, 180]");
+  EXPECT_SCENARIO_ERROR(
+      kVoronoi + kMoving + "[thermal]\nalpha_a = 1e-6\nalpha_b = 2e-6\nalpha_c = 3e-6\n", 17,
+      "thermal.alpha_b", "c_axis = \"crystal\"");
+  EXPECT_SCENARIO_ERROR(kVoronoi + kMoving + "[thermal]\nc_axis = \"crystal\"\n", 16,
+                        "thermal.c_axis", "[crystal]");
 }
 
 TEST(CrystalScenario, TheScenarioAsRunReadsBackEqual) {
@@ -191,9 +195,11 @@ TEST(CrystalScenario, ATessellationsOwnOrientationsBecomeTheGrainsCrystals) {
   EXPECT_TRUE((sp.grains[1].crystal * Eigen::Vector3d::UnitZ()).isApprox(-Eigen::Vector3d::UnitY(), 1e-12));
   const Scenario back = parse_scenario(scenario_to_toml(s), "as_run.toml");
   EXPECT_TRUE(scenario_differences(s, back).empty());
-  expect_error("[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 2\n[crystal]\nsystem = \"cubic\"\n"
-               "[orientation]\nlaw = \"imported\"\n",
-               8, "orientation.law", "has none");
+  EXPECT_SCENARIO_ERROR(
+      "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 2\n[crystal]\nsystem = "
+      "\"cubic\"\n"
+      "[orientation]\nlaw = \"imported\"\n",
+      8, "orientation.law", "has none");
   std::filesystem::remove_all(dir);
 }
 
@@ -219,5 +225,6 @@ crack_length = 0.005
   // The scenario's own keys win over the preset's.
   const Scenario own = parse_scenario(kVoronoi + "[crystal]\npreset = \"alumina\"\nc_over_a = 2.5\n", "mem.toml");
   EXPECT_EQ(own.specimen.crystal.lattice.c_over_a, 2.5);
-  expect_error(kVoronoi + "[crystal]\npreset = \"sic_alpha\"\n", 6, "crystal.preset", "has no [crystal] table");
+  EXPECT_SCENARIO_ERROR(kVoronoi + "[crystal]\npreset = \"sic_alpha\"\n", 6, "crystal.preset",
+                        "has no [crystal] table");
 }

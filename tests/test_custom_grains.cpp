@@ -5,8 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include "io/result_dir.hpp"
-
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -21,8 +19,10 @@
 #include "geometry/voronoi.hpp"
 #include "io/mesh_grains.hpp"
 #include "io/mesh_io.hpp"
+#include "io/result_dir.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
+#include "scenario_error_test.hpp"
 #include "sim/world_assembly.hpp"
 
 namespace {
@@ -408,14 +408,8 @@ TEST(Voronoi, SpecimenGrainsSplitIntoSlabsThatSumToThemExactly) {
 // ---------------------------------------------------------------------------------------
 // Scenario files
 
-std::string scenario_error(const std::string& text) {
-  try {
-    cleave::io::parse_scenario(text, (kData / "inline.toml").string());
-  } catch (const cleave::io::ScenarioError& e) {
-    return e.what();
-  }
-  return {};
-}
+/// Scenarios read here as if from the meshes' folder, so mesh files resolve.
+const std::string kInline = (kData / "inline.toml").string();
 
 const std::string kContact = R"(
 [contact]
@@ -462,53 +456,58 @@ density = 2.0
 }
 
 TEST(CustomGrainScenario, BadMeshIsAnErrorAtItsFileKey) {
-  const std::string e = scenario_error(R"([specimen]
+  const std::string e =
+      cleave::testing::expect_scenario_error(R"([specimen]
 shape = "mesh"
 [[mesh_grain]]
 file = "cube_triangulated.obj"
 [[mesh_grain]]
 file = "nonconvex_l_prism.obj"
-)");
-  EXPECT_NE(e.find("inline.toml:6:8: key 'mesh_grain[2].file'"), std::string::npos) << e;
+)",
+                                             kInline, 6, "mesh_grain[2].file", "not convex", 8);
   EXPECT_NE(e.find("nonconvex_l_prism.obj"), std::string::npos) << e;
-  EXPECT_NE(e.find("not convex"), std::string::npos) << e;
   // The same mesh with convex_hull = true is accepted.
-  EXPECT_EQ(scenario_error(R"([specimen]
+  EXPECT_NO_THROW((void)cleave::io::parse_scenario(R"([specimen]
 shape = "mesh"
 [[mesh_grain]]
 file = "nonconvex_l_prism.obj"
 convex_hull = true
-)"),
-            "");
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"mesh\"\n[[mesh_grain]]\nfile = \"open_box.obj\"\n")
-                .find("inline.toml:4:8: key 'mesh_grain[1].file': mesh file"),
-            std::string::npos);
+)",
+                                                   kInline));
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline, "[specimen]\nshape = \"mesh\"\n[[mesh_grain]]\nfile = \"open_box.obj\"\n", 4,
+      "mesh_grain[1].file", "key 'mesh_grain[1].file': mesh file", 8);
 }
 
 TEST(CustomGrainScenario, KeysThatDoNotFitAreErrors) {
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"mesh\"\n").find("key 'specimen.shape'"), std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\n")
-                .find("key 'specimen.grains': missing required key"),
-            std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 3\n[grain]\nr = 1\nt = 1\n")
-                .find("inline.toml:5:1: key 'grain': [grain] sets the honeycomb lattice"),
-            std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 3\nkeep = \"cell_inside\"\n")
-                .find("key 'specimen.keep'"),
-            std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\ngrains = 3\n[grain]\nr = 1\nt = 1\n")
-                .find("key 'specimen.grains': does not apply to shape 'box' (only to 'voronoi')"),
-            std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n[grain]\nr = 1\nt = 1\n"
-                           "[[mesh_grain]]\nfile = \"cube_triangulated.obj\"\n")
-                .find("key 'mesh_grain': [[mesh_grain]] tables need [specimen] shape = \"mesh\""),
-            std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 50\ngap = 0.9\n")
-                .find("inline.toml:5:7: key 'specimen.gap'"),
-            std::string::npos);
-  EXPECT_NE(scenario_error("[specimen]\nshape = \"mesh\"\n[[mesh_grain]]\nfile = \"cube_triangulated.obj\"\nsize = 2\n")
-                .find("key 'mesh_grain[1].size': unknown key"),
-            std::string::npos);
+  EXPECT_SCENARIO_ERROR_IN(kInline, "[specimen]\nshape = \"mesh\"\n", 2, "specimen.shape",
+                           "[[mesh_grain]]");
+  EXPECT_SCENARIO_ERROR_IN(kInline, "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\n", 1,
+                           "specimen.grains", "key 'specimen.grains': missing required key");
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline,
+      "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 3\n[grain]\nr = 1\nt = 1\n", 5,
+      "grain", "key 'grain': [grain] sets the honeycomb lattice", 1);
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline,
+      "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 3\nkeep = \"cell_inside\"\n", 5,
+      "specimen.keep", "applies to the lattice shapes");
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline, "[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\ngrains = 3\n[grain]\nr = 1\nt = 1\n",
+      4, "specimen.grains",
+      "key 'specimen.grains': does not apply to shape 'box' (only to 'voronoi')");
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline,
+      "[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n[grain]\nr = 1\nt = 1\n"
+      "[[mesh_grain]]\nfile = \"cube_triangulated.obj\"\n",
+      7, "mesh_grain", "key 'mesh_grain': [[mesh_grain]] tables need [specimen] shape = \"mesh\"");
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline, "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 50\ngap = 0.9\n", 5,
+      "specimen.gap", "not more than the gap", 7);
+  EXPECT_SCENARIO_ERROR_IN(
+      kInline,
+      "[specimen]\nshape = \"mesh\"\n[[mesh_grain]]\nfile = \"cube_triangulated.obj\"\nsize = 2\n",
+      5, "mesh_grain[1].size", "key 'mesh_grain[1].size': unknown key");
 }
 
 TEST(CustomGrainScenario, VoronoiScenarioIsTheVoronoiDefinitionInMetres) {

@@ -2,18 +2,18 @@
 // cells (shape "voronoi", sizes = "lognormal"), a Neper .tess (shape "tess") and a grain file
 // (shape "grain_file"): values read back, exact volumes, and errors naming file, line, key.
 #include <gtest/gtest.h>
-
-#include "folder_test.hpp"
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "folder_test.hpp"
 #include "geometry/specimen.hpp"
 #include "geometry/voronoi.hpp"
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
+#include "scenario_error_test.hpp"
 
 using namespace cleave;
 using namespace cleave::io;
@@ -22,26 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
-
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-/// Parses `text` as `source` and checks it throws a ScenarioError at `line` naming `key`
-/// whose message holds `part`.
-void check_error(const std::string& text, const std::string& source, int line,
-                 const std::string& key, const std::string& part) {
-  try {
-    (void)parse_scenario(text, source);
-    ADD_FAILURE() << "no ScenarioError for:\n" << text;
-  } catch (const ScenarioError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(e.line(), line) << what;
-    EXPECT_EQ(e.key(), key) << what;
-    EXPECT_TRUE(has(what, source + ":" + std::to_string(line) + ":")) << what;
-    EXPECT_TRUE(has(what, part)) << what << "\n  lacks: " << part;
-  }
-}
 
 const std::string kTail = R"(
 [material]
@@ -111,24 +91,25 @@ TEST(ImportedSpecimen, LognormalKeyErrorsNameTheirKeyAndLine) {
   const std::string head = "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\ngrains = 5\n";
   {
     const std::string t = head + "size_spread = 0.3\n" + kTail;
-    check_error(t, "e.toml", 5, "specimen.size_spread", "applies to sizes = \"lognormal\"");
+    EXPECT_SCENARIO_ERROR_IN("e.toml", t, 5, "specimen.size_spread",
+                             "applies to sizes = \"lognormal\"");
   }
   {
     const std::string t = head + "sizes = \"lognormal\"\nsize_mean = 0.3\n" + kTail;
-    check_error(t, "e.toml", 6, "specimen.size_mean", "not both");
+    EXPECT_SCENARIO_ERROR_IN("e.toml", t, 6, "specimen.size_mean", "not both");
   }
   {
     const std::string t = head + "sizes = \"gaussian\"\n" + kTail;
-    check_error(t, "e.toml", 5, "specimen.sizes", "lognormal");
+    EXPECT_SCENARIO_ERROR_IN("e.toml", t, 5, "specimen.sizes", "lognormal");
   }
   {
     const std::string t = head + "sizes = \"lognormal\"\nsize_spread = -0.1\n" + kTail;
-    check_error(t, "e.toml", 6, "specimen.size_spread", "");
+    EXPECT_SCENARIO_ERROR_IN("e.toml", t, 6, "specimen.size_spread", "");
   }
   {
     const std::string t =
         "[specimen]\nshape = \"voronoi\"\nsize = [1, 1, 1]\nsizes = \"lognormal\"\n" + kTail;
-    check_error(t, "e.toml", 1, "specimen.grains", "size_mean");
+    EXPECT_SCENARIO_ERROR_IN("e.toml", t, 1, "specimen.grains", "size_mean");
   }
 }
 
@@ -170,13 +151,14 @@ TEST_F(ImportedFiles, TessFileErrorsNameTheScenarioKeyAndTheFilesLine) {
   write("bad.tess", bad);
   const std::string text = "[specimen]\nshape = \"tess\"\nfile = \"bad.tess\"\n" + kTail;
   const std::string source = (dir_ / "s.toml").string();
-  check_error(text, source, 3, "specimen.file", "bad.tess:3: format version 9.9");
-  check_error("[specimen]\nshape = \"tess\"\nfile = \"none.tess\"\n" + kTail, source, 3,
-              "specimen.file", "cannot open");
-  check_error("[specimen]\nshape = \"tess\"\nfile = \"bad.tess\"\ngrains = 3\n" + kTail, source, 4,
-              "specimen.grains", "does not apply to shape 'tess'");
-  check_error("[specimen]\nshape = \"tess\"\n" + kTail, source, 1, "specimen.file",
-              "missing required key");
+  EXPECT_SCENARIO_ERROR_IN(source, text, 3, "specimen.file", "bad.tess:3: format version 9.9");
+  EXPECT_SCENARIO_ERROR_IN(source, "[specimen]\nshape = \"tess\"\nfile = \"none.tess\"\n" + kTail,
+                           3, "specimen.file", "cannot open");
+  EXPECT_SCENARIO_ERROR_IN(
+      source, "[specimen]\nshape = \"tess\"\nfile = \"bad.tess\"\ngrains = 3\n" + kTail, 4,
+      "specimen.grains", "does not apply to shape 'tess'");
+  EXPECT_SCENARIO_ERROR_IN(source, "[specimen]\nshape = \"tess\"\n" + kTail, 1, "specimen.file",
+                           "missing required key");
 }
 
 TEST_F(ImportedFiles, GrainFileShapeTilesTheBoxWithTheGivenVolumes) {
@@ -200,9 +182,10 @@ TEST_F(ImportedFiles, GrainFileShapeTilesTheBoxWithTheGivenVolumes) {
   const Scenario again = parse_scenario(scenario_to_toml(s), (dir_ / "again.toml").string());
   EXPECT_TRUE(scenario_differences(s, again).empty());
   write("short.txt", "0.5 0.5 0.5 0.8 0 0\n");
-  check_error(
-      "[specimen]\nshape = \"grain_file\"\nfile = \"short.txt\"\nsize = [2, 1, 1]\n" + kTail,
-      (dir_ / "t.toml").string(), 3, "specimen.file", "short.txt:1: expected 7 values");
+  EXPECT_SCENARIO_ERROR_IN(
+      (dir_ / "t.toml").string(),
+      "[specimen]\nshape = \"grain_file\"\nfile = \"short.txt\"\nsize = [2, 1, 1]\n" + kTail, 3,
+      "specimen.file", "short.txt:1: expected 7 values");
 }
 
 TEST(ImportedSpecimen, PeriodicLognormalSpecimenTilesItsCellExactly) {

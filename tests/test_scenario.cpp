@@ -19,6 +19,7 @@
 #include "io/scenario_writer.hpp"
 #include "io/units.hpp"
 #include "io/validation_scenario.hpp"
+#include "scenario_error_test.hpp"
 #include "sim/world_assembly.hpp"
 
 namespace cleave::io {
@@ -37,31 +38,6 @@ const std::string kBase = "[specimen]\nshape = \"box\"\nsize = [1, 1, 1]\n" + kG
 bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
-
-/// Parses `text` (named "mem.toml") and checks that it throws a ScenarioError at `line`
-/// naming `key`, whose message holds `part`.
-void check_error(std::string_view text, int line, const std::string& key, const std::string& part) {
-  try {
-    (void)parse_scenario(text, "mem.toml");
-    ADD_FAILURE() << "no ScenarioError for:\n" << text;
-  } catch (const ScenarioError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(e.file(), "mem.toml") << what;
-    EXPECT_EQ(e.line(), line) << what;
-    EXPECT_EQ(e.key(), key) << what;
-    EXPECT_TRUE(has(what, "mem.toml:" + std::to_string(line) + ":")) << what;
-    if (!key.empty()) {
-      EXPECT_TRUE(has(what, "key '" + key + "': ")) << what;
-    }
-    EXPECT_TRUE(has(what, part)) << what << "\n  lacks: " << part;
-  }
-}
-
-#define EXPECT_SCENARIO_ERROR(text, line, key, part) \
-  do {                                               \
-    SCOPED_TRACE(key);                               \
-    check_error(text, line, key, part);              \
-  } while (false)
 
 /// A scratch folder under the system temp directory, removed afterwards.
 class TempDir {
@@ -445,7 +421,8 @@ shape = "box"
 size = [12, 12, 4]
 diameter = 15
 )" + kGrain,
-                        4, "specimen.diameter", "does not apply to shape 'box' (only to 'disc')");
+                        4, "specimen.diameter",
+                        "does not apply to shape 'box' (only to 'disc', 'voronoi')");
   EXPECT_SCENARIO_ERROR(R"([specimen]
 shape = "disc"
 diameter = 15
