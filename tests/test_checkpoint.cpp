@@ -346,6 +346,10 @@ TEST_F(Checkpoint, OtherVersionsAndOtherFilesAreRefusedByName) {
   bytes[8] = next;  // the version field
   EXPECT_NE(read_error(write("next", bytes)).find("version " + std::to_string(next) + " not supported"),
             std::string::npos);
+  // Version 3, before each bond had its stiffness factor, is refused, naming this one.
+  bytes[8] = 3;
+  EXPECT_NE(read_error(write("v3", bytes)).find("version 3 not supported (this cleave reads version 4)"),
+            std::string::npos);
   const std::string e = read_error(write("text", "this is not a checkpoint at all, just some text"));
   EXPECT_NE(e.find("not a cleave checkpoint"), std::string::npos) << e;
   EXPECT_NE(read_error(dir_ / "missing").find("cannot be read"), std::string::npos);
