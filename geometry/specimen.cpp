@@ -9,6 +9,7 @@
 
 #include "geometry/laguerre.hpp"
 #include "geometry/orientation.hpp"
+#include "geometry/phases.hpp"
 
 namespace cleave::geometry {
 
@@ -86,7 +87,8 @@ Specimen place_grains(const SpecimenDef& def, const std::vector<ExactPolyhedron>
 
 }  // namespace
 
-Specimen build_specimen(const SpecimenDef& def) {
+namespace {
+Specimen build_grains(const SpecimenDef& def) {
   if (def.kind != SpecimenKind::lattice) {
     require(def.family_mix >= 0.0 && def.family_mix <= 1.0, "family_mix must be in [0, 1]");
     require(!def.angles.empty(), "angles must not be empty");
@@ -143,6 +145,19 @@ Specimen build_specimen(const SpecimenDef& def) {
     s.grains.push_back(grain);
   }
   orient_grains(def, s.grains);
+  return s;
+}
+}  // namespace
+
+Specimen build_specimen(const SpecimenDef& def) {
+  Specimen s = build_grains(def);
+  if (!def.phase_fractions.empty()) {
+    std::vector<double> volumes;
+    volumes.reserve(s.grains.size());
+    for (const Grain& g : s.grains) volumes.push_back(s.shape_of(g).volume_approx());
+    const std::vector<int> phases = assign_phases(volumes, def.phase_fractions, def.seed);
+    for (std::size_t i = 0; i < s.grains.size(); ++i) s.grains[i].phase = phases[i];
+  }
   return s;
 }
 

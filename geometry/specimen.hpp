@@ -74,6 +74,9 @@ struct SpecimenDef {
   /// Per grain (in grain id order), its crystal orientation as given by an imported
   /// microstructure: the rotation from crystal to specimen coordinates. Empty: none given.
   std::vector<Eigen::Quaterniond> orientations;
+  /// [[phase]] tables: each phase's volume fraction (summing to 1), in table order; each
+  /// grain gets one (assign_phases, drawn from `seed`). Empty: one phase, every grain's 0.
+  std::vector<double> phase_fractions;
 };
 
 struct Grain {
@@ -87,6 +90,7 @@ struct Grain {
   /// by orientation.angle_deg about z.
   Eigen::Quaterniond crystal = Eigen::Quaterniond::Identity();
   int shape = 0;  ///< index into Specimen::shapes
+  int phase = 0;  ///< index into SpecimenDef::phase_fractions (0 with one phase)
 };
 
 /// Grains plus their exact shapes (in grain frames: a grain is its shape moved by its
@@ -111,7 +115,7 @@ struct Specimen {
 /// meshes each custom grain moved so its rounded centroid is the origin (exactly). Orientations are
 /// drawn per grain id in every case. Throws std::invalid_argument for impossible definitions
 /// (non-positive sizes, r_bar > r, t_bar > t, family_mix outside [0, 1], angles other than
-/// 0/60/120, no custom grains).
+/// 0/60/120, no custom grains). With phase_fractions, each grain's phase (assign_phases).
 Specimen build_specimen(const SpecimenDef& def);
 
 /// The exact cleavage planes of grain `g` (grain coordinates): the honeycomb crystal's

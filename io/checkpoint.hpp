@@ -37,8 +37,9 @@
 
 namespace cleave::io {
 
-inline constexpr std::uint32_t kCheckpointVersion = 3;  // 2: each bond's strength factor;
-                                                        // 3: crack areas and the cuts' times
+inline constexpr std::uint32_t kCheckpointVersion = 4;  // 2: each bond's strength factor;
+                                                        // 3: crack areas and the cuts' times;
+                                                        // 4: each bond's stiffness factor
 inline constexpr std::string_view kCheckpointMagic = "CLEAVECK";
 /// The checkpoint's name in a result folder.
 inline constexpr const char* kCheckpointName = "checkpoint";

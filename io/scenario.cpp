@@ -771,6 +771,111 @@ void read_material_table(const TableReader& t, MaterialDef& m) {
   m.density = t.number("density", Range::positive(), density.value_or(MaterialDef{}.density)).value;
 }
 
+// ---- [[phase]], [[boundary]] --------------------------------------------------------------
+
+constexpr std::string_view kPhaseKeys[] = {"name",  "fraction",  "preset",  "density",
+                                           "alpha", "stiffness", "strength"};
+constexpr std::string_view kBoundaryKeys[] = {"phases", "stiffness", "strength"};
+
+/// [[phase]] and [[boundary]]: the phases, their fractions (into the specimen's definition)
+/// and the boundaries' own factors.
+void read_phase_tables(const toml::table& root, const std::string& source, UnitContext* units,
+                       Scenario& s) {
+  const auto* phases = root.get_as<toml::array>("phase");
+  const auto* boundaries = root.get_as<toml::array>("boundary");
+  if (phases == nullptr) {
+    if (boundaries != nullptr) {
+      const toml::node& first = *boundaries->get(0);
+      throw ScenarioError(source, line_of(first.source()), column_of(first.source()), "boundary",
+                          "[[boundary]] tables need [[phase]] tables (the phases they join)");
+    }
+    return;
+  }
+  double sum = 0.0;
+  for (std::size_t i = 0; i < phases->size(); ++i) {
+    const TableReader t(source, fmt::format("phase[{}]", i + 1), phases->get(i)->as_table(), units);
+    t.reject_unknown(kPhaseKeys);
+    PhaseDef p;
+    p.position = {line_of(t.table()->source()), column_of(t.table()->source())};
+    p.name = t.string("name");
+    if (p.name.empty()) t.fail(*t.find("name"), "name", "a phase needs a name");
+    for (std::size_t j = 0; j < s.phases.size(); ++j) {
+      if (s.phases[j].name == p.name)
+        t.fail(*t.find("name"), "name", fmt::format("phase[{}] is named '{}' too", j + 1, p.name));
+    }
+    p.fraction = t.number("fraction", {.lo = 0.0, .hi = 1.0}).value;
+    sum += p.fraction;
+    std::optional<double> density;
+    if (t.find("preset") != nullptr) {
+      p.preset = t.string("preset");
+      const auto file = resolve_material(p.preset, std::filesystem::path(t.source()).parent_path());
+      if (!file) {
+        t.fail(*t.find("preset"), "preset",
+               fmt::format("no material '{}' (cleave materials lists them)", p.preset));
+      }
+      p.preset_file = file->string();
+      density = load_material(*file).si("density");
+    }
+    p.density = t.number("density", Range::positive(), density.value_or(s.material.density)).value;
+    if (const Number alpha = t.number("alpha", Range{}, 0.0); alpha.node != nullptr) {
+      if (!s.thermal.enabled)
+        t.fail(*alpha.node, "alpha", "a phase's expansion needs a [thermal] table");
+      p.alpha = alpha.value;
+    }
+    p.stiffness = t.number("stiffness", Range::positive(), 1.0).value;
+    p.strength = t.number("strength", Range::positive(), 1.0).value;
+    s.phases.push_back(p);
+    s.specimen.phase_fractions.push_back(p.fraction);
+    if (i + 1 == phases->size() && std::abs(sum - 1.0) > 1e-9) {
+      t.fail(*t.find("fraction"), "fraction",
+             fmt::format("the phases' fractions sum to {:.12g}, not 1 (within 1e-9)", sum));
+    }
+  }
+  if (boundaries == nullptr) return;
+  for (std::size_t i = 0; i < boundaries->size(); ++i) {
+    const TableReader t(source, fmt::format("boundary[{}]", i + 1), boundaries->get(i)->as_table(),
+                        units);
+    t.reject_unknown(kBoundaryKeys);
+    BoundaryDef b;
+    const toml::node* node = t.find("phases");
+    if (node == nullptr)
+      t.fail_absent("phases", "name the two phases it joins: phases = [\"a\", \"b\"]");
+    const auto* names = node->as_array();
+    if (names == nullptr || names->size() != 2) {
+      t.fail(*node, "phases", "expected two phase names, e.g. phases = [\"glass\", \"alumina\"]");
+    }
+    for (std::size_t k = 0; k < 2; ++k) {
+      const toml::node& e = *names->get(k);
+      const auto* name = e.as_string();
+      if (name == nullptr)
+        t.fail(e, "phases",
+               fmt::format("element {}: expected a phase name, found {}", k + 1, type_name(e)));
+      const auto it = std::find_if(s.phases.begin(), s.phases.end(),
+                                   [&](const PhaseDef& p) { return p.name == name->get(); });
+      if (it == s.phases.end()) {
+        std::vector<std::string> known;
+        for (const PhaseDef& p : s.phases) known.push_back(p.name);
+        t.fail(e, "phases",
+               fmt::format("element {}: no [[phase]] is named '{}' (the phases: {})", k + 1,
+                           name->get(), quoted_list(known)));
+      }
+      b.phases[k] = static_cast<int>(it - s.phases.begin());
+    }
+    if (b.phases[0] == b.phases[1]) {
+      t.fail(*node, "phases",
+             "names one phase twice: its own boundaries take its [[phase]] stiffness and strength");
+    }
+    if (b.phases[0] > b.phases[1]) std::swap(b.phases[0], b.phases[1]);
+    for (std::size_t j = 0; j < s.boundaries.size(); ++j) {
+      if (s.boundaries[j].phases == b.phases)
+        t.fail(*node, "phases", fmt::format("boundary[{}] joins the same two phases", j + 1));
+    }
+    b.stiffness = t.number("stiffness", Range::positive()).value;
+    b.strength = t.number("strength", Range::positive()).value;
+    s.boundaries.push_back(b);
+  }
+}
+
 constexpr std::string_view kContactKeys[] = {"dilation_radius", "particle_particle",
                                              "particle_wall"};
 constexpr std::string_view kContactParamKeys[] = {"kn",   "ks",   "kr",   "kt",
@@ -1310,11 +1415,10 @@ StageDef read_stage(const TableReader& t, double unit, const Scenario& s) {
 
 // ---- the file -----------------------------------------------------------------------------
 
-constexpr std::string_view kTables[] = {"scenario", "specimen", "grain",   "orientation",
-                                        "split",    "output",   "material", "contact",
-                                        "dynamics", "wall",     "bond",     "stage",
-                                        "fracture", "mesh_grain", "thermal", "periodic",
-                                        "crystal",  "cleavage"};
+constexpr std::string_view kTables[] = {
+    "scenario", "specimen", "grain",   "orientation", "split", "output",   "material",
+    "contact",  "dynamics", "wall",    "bond",        "stage", "fracture", "mesh_grain",
+    "thermal",  "periodic", "crystal", "cleavage",    "phase", "boundary"};
 constexpr std::string_view kRequiredTables[] = {"specimen", "grain"};
 
 }  // namespace
@@ -1405,7 +1509,8 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   const toml::table root = parse_root(text, source, kTables, "a scenario");
   for (std::string_view name : kTables) {
     const toml::node* node = root.get(name);
-    if (name == "wall" || name == "stage" || name == "mesh_grain" || name == "cleavage") {  // arrays of tables
+    if (name == "wall" || name == "stage" || name == "mesh_grain" || name == "cleavage" ||
+        name == "phase" || name == "boundary") {  // arrays of tables
       if (node != nullptr && !node->is_array_of_tables()) {
         throw ScenarioError(source, line_of(node->source()), column_of(node->source()),
                             std::string(name),
@@ -1483,6 +1588,7 @@ Scenario parse_scenario(std::string_view text, const std::string& source) {
   read_cleavage_tables(root, source, &units, s.fracture, preset_families, s.specimen.crystal);
   read_thermal_table(reader("thermal"), s.dynamics.enabled, s.specimen.crystal.enabled, s.thermal);
   read_periodic_table(reader("periodic"), s);
+  read_phase_tables(root, source, &units, s);
   if (stages != nullptr) {
     if (!s.dynamics.enabled) {
       const toml::node& first = *stages->get(0);

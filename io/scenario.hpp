@@ -4,7 +4,9 @@
 /// structs with documented defaults; unknown keys, wrong types and impossible values are
 /// errors that name the file, line, column and key.
 
+#include <array>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -171,6 +173,33 @@ struct PeriodicDef {
   double stress_control_modulus = 0.0;
 };
 
+/// One [[phase]]: a kind of grain in a several-phase specimen. Its grains take its density
+/// and expansion; the bonds between two of its grains take its factors on the [bond] table.
+struct PhaseDef {
+  std::string name;
+  double fraction = 0.0;  ///< the grains' volume fraction, in [0, 1] (the phases' sum to 1)
+  /// `preset`: a material of the library as written and its file (empty without one).
+  std::string preset;
+  std::string preset_file;
+  double density = 0.0;  ///< kg/m^3: `density`, else the preset's, else [material]'s
+  /// 1/K, isotropic; NaN: the grain expands as [thermal] says (no `alpha` key).
+  double alpha = std::numeric_limits<double>::quiet_NaN();
+  /// Factors on [bond]'s k_bn and k_bs (the beam law's E_m), and on t_bn, t_bs (sigma_c,
+  /// sigma_f), of a bond between two grains of this phase (physics::Bond::stiffness,
+  /// strength).
+  double stiffness = 1.0;
+  double strength = 1.0;
+  SourcePosition position;  ///< of the table's header
+};
+
+/// One [[boundary]]: the bonds between grains of two different phases. Without one, a pair
+/// takes the mixing rule (sim/phases.hpp).
+struct BoundaryDef {
+  std::array<int, 2> phases{0, 0};  ///< indices into Scenario::phases, first < second
+  double stiffness = 1.0;           ///< factor on [bond]'s k_bn, k_bs (E_m)
+  double strength = 1.0;            ///< factor on t_bn, t_bs (sigma_c, sigma_f)
+};
+
 /// One [[stage]] of a staged run (sec. 2.5.2: compaction, bond initialisation, loading).
 struct StageDef {
   enum class Kind { motion, bond };
@@ -274,6 +303,10 @@ struct Scenario {
   /// shape = "tess" or "grain_file": the file read; its grains are in specimen.custom_grains
   /// and its orientations in specimen.orientations.
   std::optional<TessellationFileSpec> tessellation;
+  /// [[phase]] tables in file order (empty: one material, as [material] and [thermal] say);
+  /// their fractions are also specimen.phase_fractions.
+  std::vector<PhaseDef> phases;
+  std::vector<BoundaryDef> boundaries;  ///< [[boundary]] tables in file order
 };
 
 /// Reads and validates a scenario file. Throws ScenarioError (file, line, key) for a

@@ -159,6 +159,24 @@ std::string scenario_to_toml(const Scenario& s) {
                        is_path ? std::filesystem::absolute(s.material.preset_file).string()
                                : s.material.preset);
   }
+  for (const PhaseDef& p : s.phases) {
+    out += fmt::format(
+        "\n[[phase]]\nname = {}\nfraction = {}\ndensity = {}\nstiffness = {}\nstrength = {}\n",
+        str(p.name), num(p.fraction), num(p.density), num(p.stiffness), num(p.strength));
+    if (!std::isnan(p.alpha)) out += fmt::format("alpha = {}\n", num(p.alpha));
+    if (!p.preset.empty()) {
+      const bool is_path = p.preset.find('/') != std::string::npos || p.preset.ends_with(".toml");
+      out +=
+          fmt::format("preset = {}\n",
+                      str(is_path ? std::filesystem::absolute(p.preset_file).string() : p.preset));
+    }
+  }
+  for (const BoundaryDef& b : s.boundaries) {
+    out += fmt::format("\n[[boundary]]\nphases = [{}, {}]\nstiffness = {}\nstrength = {}\n",
+                       str(s.phases.at(static_cast<std::size_t>(b.phases[0])).name),
+                       str(s.phases.at(static_cast<std::size_t>(b.phases[1])).name),
+                       num(b.stiffness), num(b.strength));
+  }
 
   // [contact] is optional without [dynamics]; when given, its dilation radius is > 0.
   if (s.contact.dilation_radius > 0.0) {
@@ -407,6 +425,26 @@ std::vector<std::string> scenario_differences(const Scenario& a, const Scenario&
   d.same("material.preset_file",
          a.material.preset_file.empty() ? std::string() : std::filesystem::weakly_canonical(a.material.preset_file).string(),
          b.material.preset_file.empty() ? std::string() : std::filesystem::weakly_canonical(b.material.preset_file).string());
+  d.same("phase (count)", a.phases.size(), b.phases.size());
+  for (std::size_t i = 0; i < std::min(a.phases.size(), b.phases.size()); ++i) {
+    const PhaseDef &pa = a.phases[i], &pb = b.phases[i];
+    const std::string k = fmt::format("phase[{}].", i + 1);
+    d.same(k + "name", pa.name, pb.name);
+    d.same(k + "fraction", pa.fraction, pb.fraction);
+    d.same(k + "density", pa.density, pb.density);
+    if (std::isnan(pa.alpha) != std::isnan(pb.alpha) ||
+        (!std::isnan(pa.alpha) && pa.alpha != pb.alpha))
+      d.keys.push_back(k + "alpha");
+    d.same(k + "stiffness", pa.stiffness, pb.stiffness);
+    d.same(k + "strength", pa.strength, pb.strength);
+  }
+  d.same("boundary (count)", a.boundaries.size(), b.boundaries.size());
+  for (std::size_t i = 0; i < std::min(a.boundaries.size(), b.boundaries.size()); ++i) {
+    const std::string k = fmt::format("boundary[{}].", i + 1);
+    d.same(k + "phases", a.boundaries[i].phases, b.boundaries[i].phases);
+    d.same(k + "stiffness", a.boundaries[i].stiffness, b.boundaries[i].stiffness);
+    d.same(k + "strength", a.boundaries[i].strength, b.boundaries[i].strength);
+  }
   d.same("contact.dilation_radius", a.contact.dilation_radius, b.contact.dilation_radius);
   d.contact("contact.particle_particle", a.contact.particle_particle, b.contact.particle_particle);
   d.contact("contact.particle_wall", a.contact.particle_wall, b.contact.particle_wall);

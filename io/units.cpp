@@ -304,6 +304,8 @@ std::span<const KeyDimension> scenario_key_dimensions() {
       {"grain.t", D::length, 1},
       {"grain.t_bar", D::length, 1},
       {"material.density", D::density},
+      {"phase.density", D::density},
+      {"phase.alpha", D::expansion},
       {"contact.dilation_radius", D::length, 1},
       {"contact.*.kn", D::stiffness},
       {"contact.*.ks", D::stiffness},

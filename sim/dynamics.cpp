@@ -18,6 +18,7 @@
 #include "sim/checkpoint_policy.hpp"
 #include "sim/fragments.hpp"
 #include "sim/frames.hpp"
+#include "sim/phases.hpp"
 #include "sim/run_history.hpp"
 #include "sim/stage_plan.hpp"
 #include "sim/step_checks.hpp"
@@ -343,14 +344,21 @@ class Dynamics::Runner {
     StageSummary& st = progress.st;
     current_ = &progress;
     sum_.bonds = world_.initialise_bonds(scenario_.bond.params, stage.bond_distance);
-    if (scenario_.bond.strength_modulus > 0.0) {
-      // Each bond's own strength, drawn from the microstructure's seed and its two grains.
+    if (scenario_.bond.strength_modulus > 0.0 || !scenario_.phases.empty()) {
+      // Each bond's own stiffness and strength: its two grains' phases (sim/phases.hpp), the
+      // strength times a draw from the microstructure's seed and its two grains.
       for (std::size_t k = 0; k < world_.bonds().size(); ++k) {
         const physics::Bond& bd = world_.bonds()[k];
-        world_.set_bond_strength(
-            k, physics::bond_strength_factor(
-                   scenario_.specimen.seed, world_.slot_infos()[bd.a].grain_id,
-                   world_.slot_infos()[bd.b].grain_id, scenario_.bond.strength_modulus));
+        const int ga = world_.slot_infos()[bd.a].grain_id, gb = world_.slot_infos()[bd.b].grain_id;
+        const BondFactors f =
+            bond_factors(scenario_, specimen_.grains.at(static_cast<std::size_t>(ga)).phase,
+                         specimen_.grains.at(static_cast<std::size_t>(gb)).phase);
+        const double drawn = scenario_.bond.strength_modulus > 0.0
+                                 ? physics::bond_strength_factor(scenario_.specimen.seed, ga, gb,
+                                                                 scenario_.bond.strength_modulus)
+                                 : 1.0;
+        world_.set_bond_strength(k, f.strength * drawn);
+        world_.set_bond_stiffness(k, f.stiffness);
       }
     }
     st.ended_by = "bonded";

@@ -42,6 +42,8 @@ io::BodyFrame body_frame(const physics::World& world, const geometry::Specimen& 
     const auto& o = grain.orientation;
     ids["family_11_20"].push_back(o.family == geometry::CleavageFamily::a_11_20 ? 1 : 0);
     ids["angle_deg"].push_back(o.angle_deg);
+    // A several-phase specimen's grains by phase (the [[phase]] table's index from 0).
+    if (!specimen.def.phase_fractions.empty()) ids["phase"].push_back(grain.phase);
     // The crystal's c axis in the world: the grain frame's (specimen axes at the start) turned
     // as the body turned; the honeycomb crystal's is the prism axis, z.
     const auto& shape = world.shape(b.shape);

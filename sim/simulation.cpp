@@ -114,8 +114,11 @@ void put_cracks(io::Manifest& manifest, const std::string& prefix, const CrackTo
 
 const char* version() { return CLEAVE_VERSION; }
 
-std::string specimen_csv(const Specimen& s) {
-  std::string out = "grain_id,plane,row,i,j,k,x_m,y_m,z_m,family,angle_deg,slabs,phi1_deg,Phi_deg,phi2_deg\n";
+std::string specimen_csv(const Specimen& s, const std::vector<std::string>& phases) {
+  // With [[phase]] tables, each grain's phase by name (last column).
+  std::string out =
+      "grain_id,plane,row,i,j,k,x_m,y_m,z_m,family,angle_deg,slabs,phi1_deg,Phi_deg,phi2_deg";
+  out += phases.empty() ? "\n" : ",phase\n";
   for (const auto& g : s.grains) {
     const auto& c = g.site.centre;
     // The crystal as Bunge angles (docs/ORIENTATIONS.md), as EBSD software and Neper write it.
@@ -126,6 +129,10 @@ std::string specimen_csv(const Specimen& s) {
                        to_string(g.orientation.family), g.orientation.angle_deg,
                        s.def.crystal.enabled ? 1 : slab_count(g.orientation.family), e[0] * deg, e[1] * deg,
                        e[2] * deg);
+    if (!phases.empty()) {
+      out.back() = ',';
+      out += phases.at(static_cast<std::size_t>(g.phase)) + "\n";
+    }
   }
   return out;
 }
@@ -378,7 +385,9 @@ void Simulation::State::start() {
 
     step = Stopwatch();
     io::write_exact_store(out / "geometry.exact", io::make_exact_store(*specimen, pieces));
-    io::write_file_atomically(out / "specimen.csv", specimen_csv(*specimen));
+    std::vector<std::string> phase_names;
+    for (const io::PhaseDef& p : scenario.phases) phase_names.push_back(p.name);
+    io::write_file_atomically(out / "specimen.csv", specimen_csv(*specimen, phase_names));
     io::write_file_atomically(out / "fragments.csv", fragments_csv(pieces));
     io::write_file_atomically(out / "specimen.svg", specimen_picture_svg(*specimen, pieces));
     say(fmt::format("  tables     specimen.csv, fragments.csv, geometry.exact, specimen.svg, "

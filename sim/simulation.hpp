@@ -130,8 +130,9 @@ class Simulation {
   std::unique_ptr<State> s_;
 };
 
-/// The text of specimen.csv and fragments.csv (also what the Python module returns).
-std::string specimen_csv(const geometry::Specimen& s);
+/// The text of specimen.csv and fragments.csv (also what the Python module returns);
+/// `phases`: the [[phase]] names, for a last column `phase` (none when empty).
+std::string specimen_csv(const geometry::Specimen& s, const std::vector<std::string>& phases = {});
 std::string fragments_csv(const std::vector<geometry::Piece>& pieces);
 
 }  // namespace cleave::sim

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geometry/rng.hpp"
+#include "sim/phases.hpp"
 
 namespace cleave::sim {
 
@@ -32,9 +33,10 @@ std::vector<physics::RigidShape> grain_shapes(const Scenario& scenario,
   return shapes;
 }
 
-/// The density the bodies carry: the material's, times [dynamics] density_scale.
-double grain_density(const Scenario& scenario) {
-  return scenario.material.density * scenario.dynamics.density_scale;
+/// The lightest density a body carries: the material's (the lightest phase's), times
+/// [dynamics] density_scale.
+double lightest_grain_density(const Scenario& scenario) {
+  return lightest_density(scenario) * scenario.dynamics.density_scale;
 }
 
 struct StableStep {
@@ -49,12 +51,15 @@ StableStep stable_step(const Scenario& scenario, double mass, double inertia, do
   // A bond (eq. 2.10: K = k A_b with the dilation radius) acts in parallel with the
   // particle-particle spring.
   const physics::BondSection section{scenario.contact.dilation_radius};
-  double bond_normal = scenario.bond.enabled ? scenario.bond.params.kbn * section.area() : 0.0;
-  double bond_rolling = scenario.bond.enabled ? scenario.bond.params.kbn * section.inertia() : 0.0;
+  // The stiffest phase's bonds (stiffest_bond_factor: 1 without phases).
+  const double kbn = scenario.bond.params.kbn * stiffest_bond_factor(scenario);
+  double bond_normal = scenario.bond.enabled ? kbn * section.area() : 0.0;
+  double bond_rolling = scenario.bond.enabled ? kbn * section.inertia() : 0.0;
   if (scenario.bond.enabled && scenario.bond.params.law == physics::BondLaw::beam) {
     // A beam of length L: E A / L along it, 12 E I / L^3 across it, 6 E I / L against an end
     // turned with the other (beam_force's element).
-    const physics::BondParams& b = scenario.bond.params;
+    physics::BondParams b = scenario.bond.params;
+    b.beam_young *= stiffest_bond_factor(scenario);
     const physics::BondSection beam{b.beam_radius};
     const double l = spacing;
     bond_normal = std::max(b.beam_young * beam.area() / l, 12.0 * b.beam_young * beam.inertia() / (l * l * l));
@@ -70,7 +75,7 @@ StableStep stable_step(const Scenario& scenario, double mass, double inertia, do
 }
 
 StableStep stable_step(const Scenario& scenario, const physics::RigidShape& shape) {
-  const double rho = grain_density(scenario);
+  const double rho = lightest_grain_density(scenario);
   // Two grains face to face: their centroids at least twice the nearest face apart.
   double inner = std::numeric_limits<double>::infinity();
   for (const auto& face : shape.primitives.faces) inner = std::min(inner, face.offset);
@@ -161,9 +166,21 @@ void apply_thermal(const Scenario& scenario, const geometry::Specimen& specimen,
       world.set_temperature(id, t);
     }
   }
-  if (thermal.alpha_a != 0.0 || thermal.alpha_b != 0.0 || thermal.alpha_c != 0.0) {
+  const bool phase_alpha = std::any_of(scenario.phases.begin(), scenario.phases.end(),
+                                       [](const io::PhaseDef& p) { return !std::isnan(p.alpha); });
+  if (thermal.alpha_a != 0.0 || thermal.alpha_b != 0.0 || thermal.alpha_c != 0.0 || phase_alpha) {
     for (const physics::BodyId id : world.body_ids()) {
       const int grain = world.info(id).grain_id;
+      const geometry::Grain& g = specimen.grains.at(static_cast<std::size_t>(grain));
+      if (!scenario.phases.empty()) {
+        // A phase with its own (isotropic) alpha.
+        const double alpha = scenario.phases.at(static_cast<std::size_t>(g.phase)).alpha;
+        if (!std::isnan(alpha)) {
+          world.set_expansion(
+              id, physics::World::crystal_expansion(Eigen::Vector3d::UnitZ(), alpha, alpha));
+          continue;
+        }
+      }
       if (thermal.c_axis == ThermalDef::Axis::crystal) {
         const Eigen::Vector3d abc(thermal.alpha_a, thermal.alpha_b, thermal.alpha_c);
         world.set_expansion(id, physics::World::crystal_expansion(
@@ -625,8 +642,9 @@ AssembledWorld assemble_world(const Scenario& scenario, const geometry::Specimen
   const Eigen::Vector3d lift(0, 0, dyn.lift - lowest);
   for (const auto& g : specimen.grains) {
     const auto k = static_cast<std::size_t>(g.shape);
-    world.add_body(ids.at(k), grain_density(scenario), g.site.centre + shapes[k].centroid + lift,
-                   shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), g.id);
+    world.add_body(ids.at(k), grain_density(scenario, g), g.site.centre + shapes[k].centroid + lift,
+                   shapes[k].orientation_for(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                   g.id);
   }
   if (dyn.in_plane) check_in_plane(scenario, world);
   if (scenario.periodic.enabled) {

@@ -569,3 +569,94 @@ TEST(Gallop, StopsWhereAForwardWalkStops) {
   }
   EXPECT_GT(far, 2000);  // long strides were taken, not only the first steps
 }
+
+namespace {
+/// The load a pair's bond carries along `mode` after load_to (its normal force, shear force,
+/// bending or torsion moment).
+double bond_load(const World& w, BondFailure mode) {
+  const BondState& s = w.bonds().front().state;
+  switch (mode) {
+    case BondFailure::tension:
+      return s.normal;
+    case BondFailure::shear:
+      return s.shear.norm();
+    case BondFailure::bending:
+      return s.bending.norm();
+    case BondFailure::torsion:
+      return std::abs(s.torsion);
+    case BondFailure::none:
+      break;
+  }
+  return 0.0;
+}
+}  // namespace
+
+class BondStiffnessFactor : public ::testing::TestWithParam<ModeCase> {};
+
+TEST_P(BondStiffnessFactor, ABondOfFactorSCarriesSTimesTheClosedFormLoad) {
+  // Eqs 2.10-2.13: the same relative motion loads a bond of stiffness factor s by s K delta
+  // (K_bn, K_bs) or s K theta (K_br = k_bn I, K_bt = k_bs J); its limits (eq. 2.15) stay.
+  const ModeCase c = GetParam();
+  const BondParams p = table_2_5();
+  const BondSection s{kDilation};
+  const double r = s.radius;
+  for (const double factor : {1.0, 0.25, 2.5}) {
+    Pair pair;
+    pair.world.set_bond_stiffness(0, factor);
+    // A third of the limit of factor 1: factor 2.5 loads the bond to 83 % of it.
+    load_to(pair, c.mode, 1.0 / 3.0);
+    ASSERT_EQ(pair.world.bond_counts().intact, 1u) << c.name << " s = " << factor;
+    double expected = 0.0;
+    switch (c.mode) {
+      case BondFailure::tension:
+        expected = p.kbn * s.area() * (p.tbn / p.kbn / 3.0);
+        break;
+      case BondFailure::shear:
+        expected = p.kbs * s.area() * (p.tbs / p.kbs / 3.0);
+        break;
+      case BondFailure::bending:
+        expected = p.kbn * s.inertia() * (p.tbn / (r * p.kbn) / 3.0);
+        break;
+      case BondFailure::torsion:
+        expected = p.kbs * s.polar() * (p.tbs / (r * p.kbs) / 3.0);
+        break;
+      case BondFailure::none:
+        break;
+    }
+    expected *= factor;
+    EXPECT_NEAR(bond_load(pair.world, c.mode), expected, 1e-6 * expected)
+        << c.name << " s = " << factor;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EachLoad, BondStiffnessFactor,
+                         ::testing::Values(ModeCase{BondFailure::tension, "tension"},
+                                           ModeCase{BondFailure::shear, "shear"},
+                                           ModeCase{BondFailure::bending, "bending"},
+                                           ModeCase{BondFailure::torsion, "torsion"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(BondStiffnessFactor, AChainOfBondsOfOwnFactorsPullsWithTheirSeriesStiffness) {
+  // Six prisms, five bonds of factors s_i (four side by side in the law's lanes, one alone):
+  // pulled by delta and held, each carries F = delta / sum(1 / (s_i K_bn)).
+  const std::vector<double> factors{1.0, 2.0, 0.5, 4.0, 3.0};
+  World world = make_world(2e-7, 0.7);
+  const auto ids = row(world, 6, 3e-6);
+  ASSERT_EQ(world.initialise_bonds(table_2_5(), 0.0), factors.size());
+  for (std::size_t k = 0; k < factors.size(); ++k) world.set_bond_stiffness(k, factors[k]);
+  EXPECT_THROW(world.set_bond_stiffness(0, 0.0), std::invalid_argument);
+  world.set_fixed(ids.front(), true);
+  world.set_fixed(ids.back(), true);
+  const double delta = 1e-9;
+  const int pull_steps = 2000;
+  world.state(ids.back()).v = {delta / (pull_steps * 2e-7), 0, 0};
+  for (int i = 0; i < pull_steps; ++i) world.step();
+  world.state(ids.back()).v.setZero();
+  for (int i = 0; i < 100000; ++i) world.step();
+  const double k_bn = table_2_5().kbn * M_PI * kDilation * kDilation;
+  double compliance = 0.0;
+  for (const double s : factors) compliance += 1.0 / (s * k_bn);
+  const double expected = delta / compliance;
+  EXPECT_NEAR(world.state(ids.back()).f.x(), -expected, 1e-6 * expected);
+  for (const Bond& b : world.bonds()) EXPECT_NEAR(b.state.normal, expected, 1e-6 * expected);
+}

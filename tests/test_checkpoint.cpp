@@ -163,7 +163,7 @@ TEST_F(Checkpoint, WorldStateRoundTripsBitForBitAndStepsOnIdentically) {
   EXPECT_NE(a.state_hash(), b.state_hash());
 }
 
-TEST_F(Checkpoint, ABondsOwnStrengthSurvivesTheRoundTrip) {
+TEST_F(Checkpoint, ABondsOwnStrengthAndStiffnessSurviveTheRoundTrip) {
   physics::World a = small_world();
   physics::BondParams bp;
   bp.kbn = 1e12;
@@ -171,7 +171,9 @@ TEST_F(Checkpoint, ABondsOwnStrengthSurvivesTheRoundTrip) {
   bp.tbn = bp.tbs = 1e6;
   ASSERT_GT(a.initialise_bonds(bp, 1e-3), 0u);
   a.set_bond_strength(0, 0.37);
+  a.set_bond_stiffness(0, 2.75);
   EXPECT_THROW(a.set_bond_strength(0, 0.0), std::invalid_argument);
+  EXPECT_THROW(a.set_bond_stiffness(0, -1.0), std::invalid_argument);
   physics::StateWriter w;
   a.save_state(w);
   physics::World b;
@@ -179,6 +181,8 @@ TEST_F(Checkpoint, ABondsOwnStrengthSurvivesTheRoundTrip) {
   b.load_state(r);
   ASSERT_EQ(b.bonds().size(), a.bonds().size());
   EXPECT_EQ(b.bonds()[0].strength, 0.37);
+  EXPECT_EQ(b.bonds()[0].stiffness, 2.75);
+  for (std::size_t k = 1; k < b.bonds().size(); ++k) EXPECT_EQ(b.bonds()[k].stiffness, 1.0);
 }
 
 TEST_F(Checkpoint, BrazilianDiscRestartedAfterBondsBrokeAndAGrainSplitEndsWithTheSameHash) {
@@ -341,6 +345,10 @@ TEST_F(Checkpoint, OtherVersionsAndOtherFilesAreRefusedByName) {
   const auto next = static_cast<char>(io::kCheckpointVersion + 1);  // a version not yet made
   bytes[8] = next;  // the version field
   EXPECT_NE(read_error(write("next", bytes)).find("version " + std::to_string(next) + " not supported"),
+            std::string::npos);
+  // Version 3, before each bond had its stiffness factor, is refused, naming this one.
+  bytes[8] = 3;
+  EXPECT_NE(read_error(write("v3", bytes)).find("version 3 not supported (this cleave reads version 4)"),
             std::string::npos);
   const std::string e = read_error(write("text", "this is not a checkpoint at all, just some text"));
   EXPECT_NE(e.find("not a cleave checkpoint"), std::string::npos) << e;

@@ -77,18 +77,26 @@ struct Bonds::LawPass {
     out.live = bd.intact();
     if (out.live) fill(out, v3(bd.point), v3(bd.force), v3(bd.moment));
   }
-  /// A bond's own strengths (Bond::strength != 1): the run's parameters with them.
+  /// Whether a bond has constants of its own (Bond::strength or Bond::stiffness != 1).
+  [[nodiscard]] static bool has_own(const Bond& bd) {
+    return bd.strength != 1.0 || bd.stiffness != 1.0;
+  }
+  /// A bond's own strengths and stiffnesses: the run's parameters with them (one law for
+  /// every bond; only its constants differ).
   [[nodiscard]] BondParams strengthened(const Bond& bd) const {
-    BondParams own = base;
-    own.tbn *= bd.strength;
-    own.tbs *= bd.strength;
-    own.sigma_c *= bd.strength;
-    return own;
+    BondParams p = base;
+    p.tbn *= bd.strength;
+    p.tbs *= bd.strength;
+    p.sigma_c *= bd.strength;
+    p.kbn *= bd.stiffness;
+    p.kbs *= bd.stiffness;
+    p.beam_young *= bd.stiffness;
+    return p;
   }
   /// Eqs 2.10, 2.11 and 2.15's constants of a bond: the run's, made again only when the
-  /// section changes from the bond before, or its own strengths'.
+  /// section changes from the bond before, or its own.
   BondConstants constants_of(const Bond& bd) {
-    if (bd.strength != 1.0) return bond_constants(strengthened(bd), bd.section);
+    if (has_own(bd)) return bond_constants(strengthened(bd), bd.section);
     if (!(bd.section.radius == constants_radius)) {
       constants = bond_constants(base, bd.section);
       constants_radius = bd.section.radius;
@@ -236,7 +244,7 @@ void Bonds::LawPass::one(std::size_t k) {
   }
   const BondParams* params = &base;
   BondParams own;
-  if (bd.strength != 1.0) {
+  if (has_own(bd)) {
     own = strengthened(bd);
     params = &own;
   }

@@ -115,6 +115,13 @@ void Bonds::set_strength(std::size_t k, double factor) {
   bonds_[k].strength = factor;
 }
 
+void Bonds::set_stiffness(std::size_t k, double factor) {
+  if (k >= bonds_.size()) throw std::out_of_range("set_bond_stiffness: no such bond");
+  if (!(factor > 0.0) || !std::isfinite(factor))
+    throw std::invalid_argument("set_bond_stiffness: the factor must be finite and > 0");
+  bonds_[k].stiffness = factor;
+}
+
 BondCounts Bonds::counts() const {
   BondCounts c;
   for (const Bond& bd : bonds_) {

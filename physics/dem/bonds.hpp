@@ -40,6 +40,9 @@ struct alignas(64) Bond {
   /// This bond's strengths over the [bond] table's (t_bn, t_bs; sigma_c of the cohesive law):
   /// 1 unless the scenario scatters them (bond_strength_factor).
   double strength = 1.0;
+  /// This bond's stiffnesses over the [bond] table's (k_bn and k_bs; E_m of the beam law):
+  /// 1 unless its grains' phases make it stiffer or softer ([[phase]], [[boundary]]).
+  double stiffness = 1.0;
   // Last force evaluation (world): the bond point, normal, and the force and moment on B;
   // from the third line (then the bonded-particle state: three lines written a step).
   alignas(64) Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -128,6 +131,8 @@ class Bonds {
   [[nodiscard]] const BondParams& params() const { return params_; }
   /// Sets bond k's strength factor (Bond::strength, > 0).
   void set_strength(std::size_t k, double factor);
+  /// Sets bond k's stiffness factor (Bond::stiffness, > 0).
+  void set_stiffness(std::size_t k, double factor);
   [[nodiscard]] BondCounts counts() const;
   /// While held, no intact bond breaks (World::hold_bonds).
   void hold(bool held) { held_ = held; }

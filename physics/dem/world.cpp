@@ -302,6 +302,9 @@ std::size_t World::initialise_bonds(const BondParams& params, double distance) {
 void World::set_bond_strength(std::size_t k, double factor) {
   bonds_.set_strength(k, factor);
 }
+void World::set_bond_stiffness(std::size_t k, double factor) {
+  bonds_.set_stiffness(k, factor);
+}
 BondCounts World::bond_counts() const {
   return bonds_.counts();
 }

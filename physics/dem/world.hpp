@@ -94,6 +94,8 @@ class World {
   std::size_t initialise_bonds(const BondParams& params, double distance);
   /// Sets bond k's strength factor (Bond::strength, > 0), e.g. drawn by bond_strength_factor.
   void set_bond_strength(std::size_t k, double factor);
+  /// Sets bond k's stiffness factor (Bond::stiffness, > 0): its grains' phases.
+  void set_bond_stiffness(std::size_t k, double factor);
   [[nodiscard]] const std::vector<Bond>& bonds() const { return bonds_.list(); }
   [[nodiscard]] BondCounts bond_counts() const;
   /// While held, no intact bond breaks, whatever its load (a stage's hold_cracks: an elastic

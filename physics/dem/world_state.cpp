@@ -14,8 +14,9 @@ namespace {
 /// The layout of this file's records; a change in what is saved changes it, and the
 /// checkpoint reader refuses other layouts.
 // 2: contact manifolds; 3: orientations at the search; 4: temperatures; 5: beam bonds;
-// 6: periodic cells; 7: expansion centres; 8: a bond break's face area.
-constexpr std::uint32_t kWorldLayout = 8;
+// 6: periodic cells; 7: expansion centres; 8: a bond break's face area; 9: each bond's
+// stiffness factor.
+constexpr std::uint32_t kWorldLayout = 9;
 
 void put_params(StateWriter& w, const ContactParams& p) {
   for (double v : {p.kn, p.ks, p.kr, p.kt, p.c_res, p.mu_s, p.mu_r, p.damping_ratio}) w.put(v);
@@ -303,6 +304,7 @@ void put_bonds(StateWriter& w, const Bonds& bonds, bool cell) {
     }
     w.put(bd.section.radius);
     w.put(bd.strength);
+    w.put(bd.stiffness);
     w.put(bd.thermal_gap);
     w.put(bd.transmission);
     put_bond_state(w, bd.state);
@@ -575,9 +577,12 @@ LoadedBonds get_bonds(StateReader& r, std::size_t slots, bool cell_on, const Per
     }
     bd.section.radius = r.get<double>();
     bd.strength = r.get<double>();
+    bd.stiffness = r.get<double>();
     bd.thermal_gap = r.get<double>();
     bd.transmission = r.get<double>();
     if (!(bd.strength > 0.0)) r.fail("a bond's strength factor is not positive");
+    if (!(bd.stiffness > 0.0) || !std::isfinite(bd.stiffness))
+      r.fail("a bond's stiffness factor is not positive and finite");
     bd.state = get_bond_state(r);
     bd.failure = r.get_enum(BondFailure::torsion);
     bd.broken_at = r.get<double>();

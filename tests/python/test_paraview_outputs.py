@@ -473,3 +473,26 @@ def test_fragments_are_the_components_of_the_last_frames_intact_bonds(result):
     for p in parent:
         counts[root(p)] = counts.get(root(p), 0) + 1
     assert sizes == sorted(counts.values())
+
+
+def test_a_two_phase_specimens_grains_carry_their_phase_in_the_table_and_the_frames(binary, tmp_path):
+    # The disc with two [[phase]] tables: specimen.csv names each grain's phase, the body
+    # frames carry it as the index of its [[phase]] table; both agree grain by grain.
+    text = SCENARIO.read_text() + (
+        '\n[[phase]]\nname = "matrix"\nfraction = 0.6\n'
+        '\n[[phase]]\nname = "soft"\nfraction = 0.4\nstiffness = 0.5\n')
+    scenario = tmp_path / "two_phase.toml"
+    scenario.write_text(text)
+    out = tmp_path / "run"
+    run_cleave(binary, "run", scenario, "--out", out, "--quiet", "--max-steps", "20")
+    rows = read_csv(out / "specimen.csv")
+    names = ["matrix", "soft"]
+    phase_of = {int(r["grain_id"]): names.index(r["phase"]) for r in rows}
+    assert set(phase_of.values()) == {0, 1}
+    _, first = pvd_entries(out / "bodies.pvd")[0]
+    poly = read_vtp(out / first)
+    grains = cell_array(poly, "grain_id")
+    phases = cell_array(poly, "phase")
+    assert len(grains) == len(phases) > 0
+    for g, p in zip(grains, phases):
+        assert phase_of[int(g)] == int(p)
