@@ -10,6 +10,7 @@
 #include "geometry/laguerre.hpp"
 #include "geometry/rng.hpp"
 #include "geometry/voronoi.hpp"
+#include "lognormal_check.hpp"
 
 namespace g = cleave::geometry;
 
@@ -168,18 +169,7 @@ TEST(LognormalLaguerre, FittedCellsTakeTheirTargetVolumesAndSumExactlyToTheBox) 
   const auto t = g::lognormal_laguerre(size, 150, cv, 9);
   ASSERT_EQ(t.cells.size(), 150u);
   EXPECT_EQ(g::total_volume(t.cells), g::exact_box(Eigen::Vector3d::Zero(), size).volume());
-  std::vector<double> logs;
-  double mean_log = 0.0;
-  for (std::size_t i = 0; i < t.cells.size(); ++i) {
-    const double v = t.cells[i].volume().to_double();
-    EXPECT_NEAR(v, t.targets[i], 0.01 * t.targets[i]) << i;
-    logs.push_back(std::log(std::cbrt(6.0 * v / kPi)));
-    mean_log += logs.back() / 150.0;
-  }
-  double var = 0.0;
-  for (double l : logs) var += (l - mean_log) * (l - mean_log) / 149.0;
-  const double sigma = std::sqrt(std::log(1.0 + cv * cv));
-  EXPECT_NEAR(std::sqrt(var), sigma, 5.0 * sigma / std::sqrt(2.0 * 150));
+  cleave::testing::expect_lognormal_cells(t, cv);
   EXPECT_LT(t.fit.max_relative_error, 1e-3);
 }
 
