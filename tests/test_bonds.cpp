@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -178,6 +179,12 @@ struct ModeCase {
   BondFailure mode;
   const char* name;
 };
+/// The four loads a bond carries, for the tests run once per load.
+const std::array<ModeCase, 4> kEachMode{{{BondFailure::tension, "tension"},
+                                        {BondFailure::shear, "shear"},
+                                        {BondFailure::bending, "bending"},
+                                        {BondFailure::torsion, "torsion"}}};
+std::string mode_name(const ::testing::TestParamInfo<ModeCase>& info) { return info.param.name; }
 class BondFailureAtItsLimit : public ::testing::TestWithParam<ModeCase> {};
 
 /// The relative motion that loads `mode` alone to `fraction` of its limit (eq. 2.15).
@@ -262,12 +269,8 @@ TEST_P(BondFailureAtItsLimit, HeldPastItsLimitItStaysIntactAndBreaksOnTheFirstSt
   EXPECT_EQ(held.world.bond_breaks().front().mode, c.mode) << c.name;
 }
 
-INSTANTIATE_TEST_SUITE_P(Modes, BondFailureAtItsLimit,
-                         ::testing::Values(ModeCase{BondFailure::tension, "tension"},
-                                           ModeCase{BondFailure::shear, "shear"},
-                                           ModeCase{BondFailure::bending, "bending"},
-                                           ModeCase{BondFailure::torsion, "torsion"}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(Modes, BondFailureAtItsLimit, ::testing::ValuesIn(kEachMode),
+                         mode_name);
 
 TEST(BondedPair, CompressionAddsTheContactSpringsToTheBond) {
   // Quasi-parallel model: pushed together, the bond (K_bn) and the contact (K_n per contact
@@ -629,12 +632,8 @@ TEST_P(BondStiffnessFactor, ABondOfFactorSCarriesSTimesTheClosedFormLoad) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(EachLoad, BondStiffnessFactor,
-                         ::testing::Values(ModeCase{BondFailure::tension, "tension"},
-                                           ModeCase{BondFailure::shear, "shear"},
-                                           ModeCase{BondFailure::bending, "bending"},
-                                           ModeCase{BondFailure::torsion, "torsion"}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(EachLoad, BondStiffnessFactor, ::testing::ValuesIn(kEachMode),
+                         mode_name);
 
 TEST(BondStiffnessFactor, AChainOfBondsOfOwnFactorsPullsWithTheirSeriesStiffness) {
   // Six prisms, five bonds of factors s_i (four side by side in the law's lanes, one alone):

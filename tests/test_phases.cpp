@@ -18,6 +18,7 @@
 #include "io/scenario.hpp"
 #include "io/scenario_writer.hpp"
 #include "physics/dem/world.hpp"
+#include "scenario_error_test.hpp"
 #include "sim/dynamics.hpp"
 #include "sim/phases.hpp"
 #include "sim/world_assembly.hpp"
@@ -202,20 +203,6 @@ hold_cracks = true
   return o.str();
 }
 
-/// Parses `text` and checks it throws at `line`, naming `key`, with `part` in the message.
-void expect_error(const std::string& text, int line, const std::string& key,
-                  const std::string& part) {
-  try {
-    (void)parse_scenario(text, "mem.toml");
-    ADD_FAILURE() << "no error for:\n" << text;
-  } catch (const ScenarioError& e) {
-    EXPECT_EQ(e.line(), line) << e.what();
-    EXPECT_EQ(e.key(), key) << e.what();
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-        << e.what() << "\n  lacks: " << part;
-  }
-}
-
 /// The 1-based line of the first line of `text` that starts with `start`, after line `after`.
 int line_of(const std::string& text, const std::string& start, int after = 0) {
   std::istringstream in(text);
@@ -260,35 +247,40 @@ TEST(PhaseScenario, ErrorsNameTheLineAndKey) {
   };
   // Fractions that do not sum to 1: at the last phase's fraction.
   const std::string sum = replaced("fraction = 0.25", "fraction = 0.2");
-  expect_error(sum, line_of(sum, "fraction = 0.2"), "phase[2].fraction", "sum to 0.95");
+  EXPECT_SCENARIO_ERROR(sum, line_of(sum, "fraction = 0.2"), "phase[2].fraction", "sum to 0.95");
   const std::string above = replaced("fraction = 0.75", "fraction = 1.5");
-  expect_error(above, line_of(above, "fraction = 1.5"), "phase[1].fraction", "");
+  EXPECT_SCENARIO_ERROR(above, line_of(above, "fraction = 1.5"), "phase[1].fraction", "");
   const std::string twice = replaced("name = \"alumina\"", "name = \"glass\"");
-  expect_error(twice, line_of(twice, "name = \"glass\"", line_of(twice, "fraction = 0.75")),
-               "phase[2].name", "phase[1] is named 'glass' too");
+  EXPECT_SCENARIO_ERROR(twice,
+                        line_of(twice, "name = \"glass\"", line_of(twice, "fraction = 0.75")),
+                        "phase[2].name", "phase[1] is named 'glass' too");
   const std::string unknown_key = replaced("alpha = 7.6e-6", "young = 340e9");
-  expect_error(unknown_key, line_of(unknown_key, "young"), "phase[2].young", "accepted keys");
+  EXPECT_SCENARIO_ERROR(unknown_key, line_of(unknown_key, "young"), "phase[2].young",
+                        "accepted keys");
   const std::string preset = replaced("preset = \"alumina\"", "preset = \"corundum\"");
-  expect_error(preset, line_of(preset, "preset"), "phase[2].preset", "no material 'corundum'");
+  EXPECT_SCENARIO_ERROR(preset, line_of(preset, "preset"), "phase[2].preset",
+                        "no material 'corundum'");
   const std::string cold = replaced("[thermal]\ntemperature = 1273.0\n", "");
-  expect_error(cold, line_of(cold, "alpha = 11.6e-6"), "phase[1].alpha", "needs a [thermal] table");
+  EXPECT_SCENARIO_ERROR(cold, line_of(cold, "alpha = 11.6e-6"), "phase[1].alpha",
+                        "needs a [thermal] table");
   // [[boundary]]: phases it names must exist, differ, and be joined once.
   const std::string b1 =
       good + "[[boundary]]\nphases = [\"glass\", \"zirconia\"]\nstiffness = 1.0\nstrength = 1.0\n";
-  expect_error(b1, line_of(b1, "phases = [\"glass\", \"zirconia\"]"), "boundary[1].phases",
-               "no [[phase]] is named 'zirconia'");
+  EXPECT_SCENARIO_ERROR(b1, line_of(b1, "phases = [\"glass\", \"zirconia\"]"), "boundary[1].phases",
+                        "no [[phase]] is named 'zirconia'");
   const std::string b2 =
       good + "[[boundary]]\nphases = [\"glass\", \"glass\"]\nstiffness = 1.0\nstrength = 1.0\n";
-  expect_error(b2, line_of(b2, "phases = [\"glass\", \"glass\"]"), "boundary[1].phases",
-               "names one phase twice");
+  EXPECT_SCENARIO_ERROR(b2, line_of(b2, "phases = [\"glass\", \"glass\"]"), "boundary[1].phases",
+                        "names one phase twice");
   const std::string b3 =
       good +
       "[[boundary]]\nphases = [\"glass\", \"alumina\"]\nstiffness = 1.0\nstrength = 1.0\n"
       "[[boundary]]\nphases = [\"alumina\", \"glass\"]\nstiffness = 1.0\nstrength = 1.0\n";
-  expect_error(b3, line_of(b3, "phases = [\"alumina\", \"glass\"]"), "boundary[2].phases",
-               "boundary[1] joins the same two phases");
+  EXPECT_SCENARIO_ERROR(b3, line_of(b3, "phases = [\"alumina\", \"glass\"]"), "boundary[2].phases",
+                        "boundary[1] joins the same two phases");
   const std::string b4 = good + "[[boundary]]\nphases = [\"glass\", \"alumina\"]\nstrength = 1.0\n";
-  expect_error(b4, line_of(b4, "[[boundary]]"), "boundary[1].stiffness", "missing required key");
+  EXPECT_SCENARIO_ERROR(b4, line_of(b4, "[[boundary]]"), "boundary[1].stiffness",
+                        "missing required key");
   // A [[boundary]] without phases.
   std::string lone = good;
   while (lone.find("[[phase]]") != std::string::npos) {
@@ -296,7 +288,7 @@ TEST(PhaseScenario, ErrorsNameTheLineAndKey) {
     lone.erase(at, lone.find("\n[contact]") - at);
   }
   lone += "[[boundary]]\nphases = [\"glass\", \"alumina\"]\nstiffness = 1.0\nstrength = 1.0\n";
-  expect_error(lone, line_of(lone, "[[boundary]]"), "boundary", "need [[phase]] tables");
+  EXPECT_SCENARIO_ERROR(lone, line_of(lone, "[[boundary]]"), "boundary", "need [[phase]] tables");
 }
 
 TEST(PhaseWorld, EachGrainAndBondTakesItsPhases) {
