@@ -52,14 +52,15 @@ StableStep stable_step(const Scenario& scenario, double mass, double inertia, do
   // particle-particle spring.
   const physics::BondSection section{scenario.contact.dilation_radius};
   // The stiffest phase's bonds (stiffest_bond_factor: 1 without phases).
-  const double kbn = scenario.bond.params.kbn * stiffest_bond_factor(scenario);
+  const double stiffest = stiffest_bond_factor(scenario);
+  const double kbn = scenario.bond.params.kbn * stiffest;
   double bond_normal = scenario.bond.enabled ? kbn * section.area() : 0.0;
   double bond_rolling = scenario.bond.enabled ? kbn * section.inertia() : 0.0;
   if (scenario.bond.enabled && scenario.bond.params.law == physics::BondLaw::beam) {
     // A beam of length L: E A / L along it, 12 E I / L^3 across it, 6 E I / L against an end
     // turned with the other (beam_force's element).
     physics::BondParams b = scenario.bond.params;
-    b.beam_young *= stiffest_bond_factor(scenario);
+    b.beam_young *= stiffest;
     const physics::BondSection beam{b.beam_radius};
     const double l = spacing;
     bond_normal = std::max(b.beam_young * beam.area() / l, 12.0 * b.beam_young * beam.inertia() / (l * l * l));

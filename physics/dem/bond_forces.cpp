@@ -83,7 +83,7 @@ struct Bonds::LawPass {
   }
   /// A bond's own strengths and stiffnesses: the run's parameters with them (one law for
   /// every bond; only its constants differ).
-  [[nodiscard]] BondParams strengthened(const Bond& bd) const {
+  [[nodiscard]] BondParams own_params(const Bond& bd) const {
     BondParams p = base;
     p.tbn *= bd.strength;
     p.tbs *= bd.strength;
@@ -96,7 +96,7 @@ struct Bonds::LawPass {
   /// Eqs 2.10, 2.11 and 2.15's constants of a bond: the run's, made again only when the
   /// section changes from the bond before, or its own.
   BondConstants constants_of(const Bond& bd) {
-    if (has_own(bd)) return bond_constants(strengthened(bd), bd.section);
+    if (has_own(bd)) return bond_constants(own_params(bd), bd.section);
     if (!(bd.section.radius == constants_radius)) {
       constants = bond_constants(base, bd.section);
       constants_radius = bd.section.radius;
@@ -245,7 +245,7 @@ void Bonds::LawPass::one(std::size_t k) {
   const BondParams* params = &base;
   BondParams own;
   if (has_own(bd)) {
-    own = strengthened(bd);
+    own = own_params(bd);
     params = &own;
   }
   if (beams) {

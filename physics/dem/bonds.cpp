@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include "physics/dem/bodies.hpp"
@@ -108,18 +109,24 @@ void Bonds::make(const BondParams& params, double distance, const Bodies& bodies
   params_ = params;
 }
 
-void Bonds::set_strength(std::size_t k, double factor) {
-  if (k >= bonds_.size()) throw std::out_of_range("set_bond_strength: no such bond");
+namespace {
+/// A bond's own factor `what` (strength, stiffness), checked: finite and > 0.
+void set_factor(std::vector<Bond>& bonds, std::size_t k, double factor, double Bond::*member,
+                const char* what) {
+  const std::string name = std::string("set_bond_") + what;
+  if (k >= bonds.size()) throw std::out_of_range(name + ": no such bond");
   if (!(factor > 0.0) || !std::isfinite(factor))
-    throw std::invalid_argument("set_bond_strength: the factor must be finite and > 0");
-  bonds_[k].strength = factor;
+    throw std::invalid_argument(name + ": the factor must be finite and > 0");
+  bonds[k].*member = factor;
+}
+}  // namespace
+
+void Bonds::set_strength(std::size_t k, double factor) {
+  set_factor(bonds_, k, factor, &Bond::strength, "strength");
 }
 
 void Bonds::set_stiffness(std::size_t k, double factor) {
-  if (k >= bonds_.size()) throw std::out_of_range("set_bond_stiffness: no such bond");
-  if (!(factor > 0.0) || !std::isfinite(factor))
-    throw std::invalid_argument("set_bond_stiffness: the factor must be finite and > 0");
-  bonds_[k].stiffness = factor;
+  set_factor(bonds_, k, factor, &Bond::stiffness, "stiffness");
 }
 
 BondCounts Bonds::counts() const {
